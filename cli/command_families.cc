@@ -1,0 +1,114 @@
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "chromatag/families/decoder.h"
+#include "chromatag/families/family.h"
+#include "commands.h"
+
+namespace chromatag::cli {
+namespace {
+
+struct FamiliesOptions {
+  std::string family;  // Empty: every family.
+  bool json = false;
+};
+
+// "0-4, 6-9, 11-29".
+std::string FormatRanges(const std::vector<int>& ids) {
+  std::ostringstream out;
+  for (size_t i = 0; i < ids.size();) {
+    size_t j = i;
+    while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
+    out << (i ? ", " : "") << ids[i];
+    if (j > i) out << "-" << ids[j];
+    i = j + 1;
+  }
+  return out.str();
+}
+
+nlohmann::json FamilyJson(const TagFamily& family, const CodeDecoder& decoder) {
+  nlohmann::json rejected = nlohmann::json::array();
+  for (const auto& r : family.rejected_ids())
+    rejected.push_back({{"id", r.id}, {"reason", r.reason}});
+  return {{"family", family.name()},
+          {"payload_width", family.payload_width()},
+          {"bits", family.num_bits()},
+          {"red_cells", family.num_red_cells()},
+          {"green_cells", family.num_green_cells()},
+          {"black_square_cells", family.black_square_cells()},
+          {"apriltag_ids", family.num_apriltag_ids()},
+          {"kept_ids", family.kept_ids()},
+          {"rejected_ids", rejected},
+          {"min_hamming", family.min_hamming()},
+          {"apriltag_min_hamming", family.apriltag_min_hamming()},
+          {"decoding_radius", decoder.radius()},
+          {"max_safe_radius", family.max_safe_radius()},
+          {"decoder_table_bytes", decoder.memory_bytes()}};
+}
+
+void PrintFamily(const TagFamily& family, const CodeDecoder& decoder) {
+  const int d = family.payload_width();
+  std::cout << "Family " << family.name() << "\n"
+            << "  payload        " << d << "x" << d << " = " << family.num_bits()
+            << " bits: " << family.num_red_cells() << " red cells (centre), "
+            << family.num_green_cells() << " green cells (ring)\n"
+            << "  black square   " << family.black_square_cells() << " cells (the tag size)\n"
+            << "  kept IDs       " << family.kept_ids().size() << " of "
+            << family.num_apriltag_ids() << ": " << FormatRanges(family.kept_ids()) << "\n";
+  if (family.rejected_ids().empty()) {
+    std::cout << "  rejected IDs   none\n";
+  }
+  for (size_t i = 0; i < family.rejected_ids().size(); ++i) {
+    const auto& r = family.rejected_ids()[i];
+    std::cout << (i == 0 ? "  rejected IDs   " : "                 ") << r.id << ": " << r.reason
+              << "\n";
+  }
+  std::cout << "  min Hamming    " << family.min_hamming()
+            << " over all rotations of the kept codes (AprilTag's nominal "
+            << family.apriltag_min_hamming() << ")\n"
+            << "  decoding       corrects up to " << decoder.radius() << " bits (safe up to "
+            << family.max_safe_radius() << "); table of " << decoder.memory_bytes() / 1024
+            << " KiB\n";
+}
+
+int RunFamilies(const FamiliesOptions& options) {
+  const std::vector<std::string> names =
+      options.family.empty() ? TagFamily::Names() : std::vector<std::string>{options.family};
+  nlohmann::json all = nlohmann::json::array();
+  for (size_t i = 0; i < names.size(); ++i) {
+    std::string error;
+    auto family = TagFamily::Load(names[i], &error);
+    if (!family) {
+      std::cerr << "chromatag families: " << error << "\n";
+      return kExitUsage;
+    }
+    auto decoder = CodeDecoder::Create(family, CodeDecoder::DefaultRadius(*family), &error);
+    if (!decoder) {
+      std::cerr << "chromatag families: " << error << "\n";
+      return kExitFailure;
+    }
+    if (options.json) {
+      all.push_back(FamilyJson(*family, *decoder));
+    } else {
+      if (i) std::cout << "\n";
+      PrintFamily(*family, *decoder);
+    }
+  }
+  if (options.json) std::cout << nlohmann::json{{"families", all}}.dump(2) << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterFamilies(CLI::App& app, Action* action) {
+  auto options = std::make_shared<FamiliesOptions>();
+  CLI::App* command = app.add_subcommand(
+      "families", "Show the tag families: kept and rejected IDs, cells, Hamming distances");
+  command->add_option("--family", options->family, "Only this family")
+      ->check(CLI::IsMember(TagFamily::Names()));
+  command->add_flag("--json", options->json, "Print JSON instead of a table");
+  command->callback([options, action] { *action = [options] { return RunFamilies(*options); }; });
+}
+
+}  // namespace chromatag::cli

@@ -1,0 +1,25 @@
+// The `chromatag` subcommands. Each Register<Command> adds its subcommand and
+// binds flags straight to an options struct; the Run<Command> functions hold
+// no algorithm, only input checking, library calls and output.
+#ifndef CHROMATAG_CLI_COMMANDS_H_
+#define CHROMATAG_CLI_COMMANDS_H_
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace chromatag::cli {
+
+// Exit codes: 0 success, 1 the job failed, 2 bad usage or input.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+
+// A subcommand's action, run after parsing; returns an exit code.
+using Action = std::function<int()>;
+
+void RegisterFamilies(CLI::App& app, Action* action);
+void RegisterPalettes(CLI::App& app, Action* action);
+
+}  // namespace chromatag::cli
+
+#endif  // CHROMATAG_CLI_COMMANDS_H_

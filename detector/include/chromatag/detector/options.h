@@ -1,0 +1,50 @@
+// Detector parameters (paper section 4, Algorithm 1). The detector itself
+// arrives with issue 4; its options are fixed here so that the calibration
+// tool and the CLI share one definition.
+#ifndef CHROMATAG_DETECTOR_OPTIONS_H_
+#define CHROMATAG_DETECTOR_OPTIONS_H_
+
+#include <string>
+#include <vector>
+
+namespace chromatag {
+
+struct DetectorOptions {
+  // Families to look for: "16h5", "36h11" or both.
+  std::vector<std::string> families = {"16h5"};
+
+  // N: FindADiff samples every N-th row and column, in pixels. Tag cells must
+  // be at least N/2 pixels wide to be seen. Range [1, 64]; smaller finds
+  // smaller tags, larger is faster.
+  int step = 4;
+
+  // ADiffThresh: a rise in a* from the previous sample above this seeds a
+  // candidate, in CIELAB a* units. Range (0, 200]. Lower finds fainter tags
+  // (washed-out prints) at the cost of more candidates.
+  double adiff_thresh = 25.0;
+
+  // BorderThresh: an a* (or L*) difference from the reference colour beyond
+  // which a scanned pixel counts as past a border, in CIELAB units. (0, 100].
+  double border_thresh = 5.0;
+
+  // M: successive pixels beyond BorderThresh that make a border. [1, 16].
+  int border_run = 3;
+
+  // ConvThresh: BuildPolygon stops when polygon area over the area it could
+  // still reach exceeds this ratio. (0, 1).
+  double conv_thresh = 0.98;
+
+  // Largest number of bit errors corrected while decoding; -1 picks the
+  // family's default (2, never above its safe radius).
+  int max_hamming = -1;
+
+  // Smallest accepted decision margin: the gap between the two b* clusters of
+  // a colour relative to their spread, dimensionless. [0, inf).
+  double min_decision_margin = 2.0;
+
+  bool IsValid(std::string* error) const;
+};
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_DETECTOR_OPTIONS_H_

@@ -1,0 +1,37 @@
+#include "chromatag/detector/options.h"
+
+#include <cmath>
+
+#include "chromatag/families/family.h"
+
+namespace chromatag {
+
+bool DetectorOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (families.empty()) return fail("families: at least one family is needed (16h5, 36h11)");
+  for (const auto& name : families) {
+    if (!TagFamily::Load(name))
+      return fail("families: unknown family '" + name + "' (16h5, 36h11)");
+  }
+  if (step < 1 || step > 64)
+    return fail("step (N) must be in [1, 64], got " + std::to_string(step));
+  if (!(adiff_thresh > 0.0 && adiff_thresh <= 200.0)) {
+    return fail("adiff_thresh (ADiffThresh) must be in (0, 200]");
+  }
+  if (!(border_thresh > 0.0 && border_thresh <= 100.0)) {
+    return fail("border_thresh (BorderThresh) must be in (0, 100]");
+  }
+  if (border_run < 1 || border_run > 16) return fail("border_run (M) must be in [1, 16]");
+  if (!(conv_thresh > 0.0 && conv_thresh < 1.0))
+    return fail("conv_thresh (ConvThresh) must be in (0, 1)");
+  if (max_hamming < -1) return fail("max_hamming must be -1 (family default) or at least 0");
+  if (!(min_decision_margin >= 0.0) || !std::isfinite(min_decision_margin)) {
+    return fail("min_decision_margin must be a finite number >= 0");
+  }
+  return true;
+}
+
+}  // namespace chromatag

@@ -1,0 +1,33 @@
+// Physical lengths and page sizes as users type them: "40mm", "1.5in",
+// "a4", "210x297mm". Issue 3 builds the tag and sheet renderer on these.
+#ifndef CHROMATAG_GENERATOR_UNITS_H_
+#define CHROMATAG_GENERATOR_UNITS_H_
+
+#include <optional>
+#include <string>
+
+namespace chromatag {
+
+// A length in millimetres, the unit of the generator's layouts and sidecars.
+struct Length {
+  double mm = 0.0;
+};
+
+// Parses a positive number followed by a unit: mm, cm, m or in (no space
+// needed, "40mm", "4 cm", "1.5in"). Refuses (nullopt, *error) a missing or
+// unknown unit, a zero, negative or non-finite value.
+std::optional<Length> ParseLength(const std::string& text, std::string* error = nullptr);
+
+struct PageSize {
+  std::string name;  // "a4", or "custom" for WxH.
+  double width_mm = 0.0;
+  double height_mm = 0.0;
+};
+
+// "a4", "a3", "letter", "legal" (any case), or "WxH" with a unit after the
+// height, e.g. "210x297mm", "8.5x11in".
+std::optional<PageSize> ParsePageSize(const std::string& text, std::string* error = nullptr);
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_GENERATOR_UNITS_H_

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs the Debian/Ubuntu packages the project builds, tests and runs with.
+# Quick and silent when everything is present; otherwise apt-get (through sudo
+# when not root). Used by `make demo`, `make test` and CI.
+set -euo pipefail
+
+packages=(
+  # Toolchain.
+  g++ cmake ninja-build pkg-config make
+  # Libraries (brief: Cairo, OpenCV, Eigen, Ceres, OpenColorIO, CLI11,
+  # libapriltag, nlohmann-json, poppler).
+  libapriltag-dev libcairo2-dev libopencv-dev libeigen3-dev libceres-dev
+  libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev
+  # Tests and benchmarks.
+  libgtest-dev libgmock-dev libbenchmark-dev
+  # Natural photographs for the no-false-detection tests and the benchmark.
+  opencv-doc
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$package" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$package")
+done
+[[ ${#missing[@]} -eq 0 ]] && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+sudo_cmd=()
+if [[ $(id -u) -ne 0 ]]; then
+  if ! command -v sudo >/dev/null; then
+    echo "install-deps: not root and no sudo; install these packages: ${missing[*]}" >&2
+    exit 1
+  fi
+  sudo_cmd=(sudo)
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -q >&2
+"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}" >&2
