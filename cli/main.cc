@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   chromatag::cli::Action action;
   chromatag::cli::RegisterFamilies(app, &action);
   chromatag::cli::RegisterPalettes(app, &action);
+  chromatag::cli::RegisterGenerate(app, &action);
 
   try {
     app.parse(argc, argv);

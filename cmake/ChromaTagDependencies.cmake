@@ -4,12 +4,13 @@ find_package(apriltag REQUIRED)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs calib3d videoio objdetect)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(Ceres REQUIRED)
-# Debian installs its CMake config in /usr/share/cmake, outside the default search.
-find_package(OpenColorIO REQUIRED CONFIG HINTS /usr/share/cmake)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(Threads REQUIRED)
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-pdf cairo-svg cairo-png)
+# OpenColorIO through pkg-config: Debian 12's CMake config for it computes its
+# prefix as "/" and names a missing /include.
+pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
 pkg_check_modules(POPPLER_CPP REQUIRED IMPORTED_TARGET poppler-cpp)
 if(CHROMATAG_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -1,0 +1,96 @@
+// Print-ready sheets of ChromaTags at exact physical size: layout, rendering
+// to PDF, SVG or PNG with Cairo, and the JSON sidecar that records what was
+// printed where (docs/generator.md).
+#ifndef CHROMATAG_GENERATOR_SHEET_H_
+#define CHROMATAG_GENERATOR_SHEET_H_
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "chromatag/families/family.h"
+#include "chromatag/families/palette.h"
+#include "chromatag/generator/color_lut.h"
+#include "chromatag/generator/file_util.h"
+#include "chromatag/generator/tag_renderer.h"
+#include "chromatag/generator/units.h"
+
+namespace chromatag {
+
+enum class SheetFormat { kPdf, kSvg, kPng };
+const char* SheetFormatName(SheetFormat format);  // "pdf", "svg", "png".
+
+struct SheetOptions {
+  std::shared_ptr<const TagFamily> family;
+  std::vector<int> ids;  // Kept IDs, in the order they are laid out.
+  Palette palette;       // Written as sRGB, through `color_lut` if set.
+  std::shared_ptr<const ColorLut> color_lut;
+
+  // Side of the black square (spec section 1), mm. > 0.
+  double tag_size_mm = 40.0;
+  PageSize page{"a4", 210.0, 297.0};
+  // Blank border kept on every side of the page, mm. >= 0; printers need ~5.
+  double margin_mm = 10.0;
+  // Space between neighbouring tags' footprints (quiet zone, marks and label
+  // included), mm. >= 0.
+  double gap_mm = 5.0;
+  TagDrawOptions tag;  // Quiet zone (>= 1 cell, default 2) and cut ring.
+  bool crop_marks = false;
+  bool label = true;  // "16h5  ID 3  40 mm" under each tag.
+  bool one_per_page = false;
+
+  SheetFormat format = SheetFormat::kPdf;
+  // PNG resolution, pixels per inch. [10, 4800].
+  double dpi = 300.0;
+
+  bool IsValid(std::string* error) const;
+};
+
+// Page coordinates are millimetres from the page's top-left corner, y down.
+struct PlacedTag {
+  int id = 0;
+  int page = 0;  // From 0.
+  // Black square's corners in the order of spec section 7: top-left,
+  // top-right, bottom-right, bottom-left of the upright tag.
+  std::array<std::array<double, 2>, 4> corners_mm;
+  std::array<double, 2> center_mm;
+};
+
+struct SheetLayout {
+  int num_pages = 0;
+  int columns = 0;  // Grid per page (1 x 1 with one_per_page).
+  int rows = 0;
+  double footprint_width_mm = 0.0;  // One tag with quiet zone, cut ring, marks, label.
+  double footprint_height_mm = 0.0;
+  double scale_bar_mm = 0.0;  // Length of the scale-check bar.
+  std::vector<PlacedTag> tags;
+};
+
+// Places the tags. Refuses (nullopt, *error) options that are not valid or a
+// tag that does not fit the page, saying how much room it needs and has.
+std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string* error = nullptr);
+
+// Renders and writes the sheet to `output_path` (pages after the first of an
+// SVG or PNG go to "<stem>-2.svg", ...) and its sidecar "<stem>.json", all or
+// nothing (WriteFilesAtomically). Returns false with *error on any failure.
+// On success, *written (if given) lists the files written, sidecar last.
+bool WriteSheet(const SheetOptions& options, const std::string& output_path,
+                std::string* error = nullptr, std::vector<std::string>* written = nullptr);
+
+// The files WriteSheet would write for `output_path`, in memory: the page
+// files then the sidecar. Output is byte-identical for identical options.
+std::optional<std::vector<OutputFile>> RenderSheet(const SheetOptions& options,
+                                                   const std::string& output_path,
+                                                   std::string* error = nullptr);
+
+// The sidecar path for an output path: "tags.pdf" -> "tags.json".
+std::string SidecarPath(const std::string& output_path);
+
+// Guesses the format from the extension (.pdf, .svg, .png, any case).
+std::optional<SheetFormat> FormatFromPath(const std::string& path, std::string* error = nullptr);
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_GENERATOR_SHEET_H_

@@ -1,0 +1,31 @@
+// Constants and helpers shared by the sheet layout, renderer and sidecar.
+#ifndef CHROMATAG_GENERATOR_SRC_SHEET_INTERNAL_H_
+#define CHROMATAG_GENERATOR_SRC_SHEET_INTERNAL_H_
+
+#include <string>
+
+#include "chromatag/generator/sheet.h"
+
+namespace chromatag::internal {
+
+// Height kept at the bottom of every page, above the margin, for the scale
+// bar and the line of text that explains it, mm.
+inline constexpr double kScaleStripMm = 14.0;
+// Crop marks start this far from the tag's outer corner and end at kReach.
+inline constexpr double kCropMarkGapMm = 1.0;
+inline constexpr double kCropMarkReachMm = 4.0;
+inline constexpr double kLabelLineFactor = 1.6;
+
+std::string Mm(double mm);  // "40.0"
+double LabelFontMm(const SheetOptions& options);
+double LabelHeightMm(const SheetOptions& options);
+double MarksMm(const SheetOptions& options);
+double OuterMm(const SheetOptions& options);  // Tag with quiet zone and cut ring.
+
+// The sidecar JSON for a rendered sheet (sidecar.cc).
+std::string SidecarJson(const SheetOptions& options, const SheetLayout& layout,
+                        const std::vector<OutputFile>& page_files);
+
+}  // namespace chromatag::internal
+
+#endif  // CHROMATAG_GENERATOR_SRC_SHEET_INTERNAL_H_

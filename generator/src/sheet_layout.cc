@@ -1,0 +1,155 @@
+// SheetOptions::IsValid and LayoutSheet: where every tag goes on the page.
+#include <cmath>
+#include <cstdio>
+
+#include "chromatag/generator/sheet.h"
+#include "sheet_internal.h"
+
+namespace chromatag {
+namespace internal {
+
+std::string Mm(double mm) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.1f", mm);
+  return buffer;
+}
+
+double LabelHeightMm(const SheetOptions& options) {
+  return options.label ? LabelFontMm(options) * kLabelLineFactor : 0.0;
+}
+
+double LabelFontMm(const SheetOptions& options) {
+  const double cell = options.tag_size_mm / options.family->black_square_cells();
+  return std::fmin(std::fmax(cell * 0.5, 1.8), 3.5);
+}
+
+double MarksMm(const SheetOptions& options) { return options.crop_marks ? kCropMarkReachMm : 0.0; }
+
+double OuterMm(const SheetOptions& options) {
+  return options.tag_size_mm * OuterCells(*options.family, options.tag) /
+         options.family->black_square_cells();
+}
+
+}  // namespace internal
+
+const char* SheetFormatName(SheetFormat format) {
+  switch (format) {
+    case SheetFormat::kPdf:
+      return "pdf";
+    case SheetFormat::kSvg:
+      return "svg";
+    case SheetFormat::kPng:
+      return "png";
+  }
+  return "?";
+}
+
+bool SheetOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (!family) return fail("no tag family given (16h5, 36h11)");
+  if (ids.empty()) return fail("no tag IDs given");
+  for (int id : ids) {
+    std::string why;
+    if (!family->IsValidId(id, &why)) return fail(why);
+  }
+  if (!std::isfinite(tag_size_mm) || tag_size_mm <= 0.0) {
+    return fail("the tag size must be greater than zero");
+  }
+  if (!(page.width_mm > 0.0 && page.height_mm > 0.0)) return fail("the page size must be positive");
+  if (!(margin_mm >= 0.0) || 2.0 * margin_mm >= std::fmin(page.width_mm, page.height_mm)) {
+    return fail("the margin must be >= 0 and leave room on the page");
+  }
+  if (!(gap_mm >= 0.0)) return fail("the gap between tags must be >= 0");
+  if (tag.quiet_zone_cells < 1 || tag.quiet_zone_cells > 20) {
+    return fail("the quiet zone must be 1 to 20 cells (the detector needs at least 1)");
+  }
+  if (format == SheetFormat::kPng) {
+    if (!(dpi >= 10.0 && dpi <= 4800.0)) return fail("--dpi must be in [10, 4800]");
+    const double longest_px = std::fmax(page.width_mm, page.height_mm) / 25.4 * dpi;
+    if (longest_px > 40000.0) {
+      return fail("a PNG page of " + internal::Mm(longest_px) +
+                  " pixels is too large (limit 40000); lower --dpi");
+    }
+  }
+  return true;
+}
+
+std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string* error) {
+  if (!options.IsValid(error)) return std::nullopt;
+  using namespace internal;
+  SheetLayout layout;
+  const double marks = MarksMm(options);
+  const double outer = OuterMm(options);
+  layout.footprint_width_mm = outer + 2.0 * marks;
+  layout.footprint_height_mm = outer + 2.0 * marks + LabelHeightMm(options);
+
+  const double usable_w = options.page.width_mm - 2.0 * options.margin_mm;
+  const double usable_h = options.page.height_mm - 2.0 * options.margin_mm - kScaleStripMm;
+  for (double bar : {100.0, 50.0, 20.0, 10.0}) {
+    if (bar <= usable_w) {
+      layout.scale_bar_mm = bar;
+      break;
+    }
+  }
+  if (layout.scale_bar_mm == 0.0 || usable_h <= 0.0) {
+    if (error) *error = "the page leaves no room inside its margins for tags and the scale bar";
+    return std::nullopt;
+  }
+  if (layout.footprint_width_mm > usable_w || layout.footprint_height_mm > usable_h) {
+    if (error) {
+      *error = "a " + Mm(options.tag_size_mm) + " mm " + options.family->name() + " tag needs " +
+               Mm(layout.footprint_width_mm) + " x " + Mm(layout.footprint_height_mm) +
+               " mm of paper with its quiet zone" + (options.label ? " and label" : "") +
+               "; page " + options.page.name + " (" + Mm(options.page.width_mm) + " x " +
+               Mm(options.page.height_mm) + " mm) with " + Mm(options.margin_mm) +
+               " mm margins and the scale bar leaves " + Mm(usable_w) + " x " + Mm(usable_h) +
+               " mm";
+    }
+    return std::nullopt;
+  }
+  const double gap = options.gap_mm;
+  layout.columns = options.one_per_page
+                       ? 1
+                       : static_cast<int>((usable_w + gap) / (layout.footprint_width_mm + gap));
+  layout.rows = options.one_per_page
+                    ? 1
+                    : static_cast<int>((usable_h + gap) / (layout.footprint_height_mm + gap));
+  const int per_page = layout.columns * layout.rows;
+  const int n = static_cast<int>(options.ids.size());
+  layout.num_pages = (n + per_page - 1) / per_page;
+
+  // The grid is centred in the usable area.
+  const double grid_w = layout.columns * layout.footprint_width_mm + (layout.columns - 1) * gap;
+  const double grid_h = layout.rows * layout.footprint_height_mm + (layout.rows - 1) * gap;
+  const double x0 = options.margin_mm + (usable_w - grid_w) / 2.0;
+  const double y0 = options.margin_mm + (usable_h - grid_h) / 2.0;
+  // PNG: with a whole number of pixels per cell, put the black square on a
+  // pixel edge so every cell edge is one.
+  const double px_per_mm = options.dpi / 25.4;
+  const double cell_px = options.tag_size_mm / options.family->black_square_cells() * px_per_mm;
+  const bool snap = options.format == SheetFormat::kPng &&
+                    std::fabs(cell_px - std::round(cell_px)) < 1e-6;
+  const double inset = marks + (outer - options.tag_size_mm) / 2.0;
+  for (int i = 0; i < n; ++i) {
+    const int slot = i % per_page;
+    double x = x0 + (slot % layout.columns) * (layout.footprint_width_mm + gap) + inset;
+    double y = y0 + (slot / layout.columns) * (layout.footprint_height_mm + gap) + inset;
+    if (snap) {
+      x = std::round(x * px_per_mm) / px_per_mm;
+      y = std::round(y * px_per_mm) / px_per_mm;
+    }
+    const double s = options.tag_size_mm;
+    PlacedTag placed;
+    placed.id = options.ids[i];
+    placed.page = i / per_page;
+    placed.corners_mm = {{{x, y}, {x + s, y}, {x + s, y + s}, {x, y + s}}};
+    placed.center_mm = {x + s / 2.0, y + s / 2.0};
+    layout.tags.push_back(placed);
+  }
+  return layout;
+}
+
+}  // namespace chromatag
