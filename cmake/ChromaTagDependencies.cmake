@@ -11,6 +11,7 @@ pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-pdf cairo-svg cairo
 # OpenColorIO through pkg-config: Debian 12's CMake config for it computes its
 # prefix as "/" and names a missing /include.
 pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
+pkg_check_modules(ZLIB REQUIRED IMPORTED_TARGET zlib)
 pkg_check_modules(POPPLER_CPP REQUIRED IMPORTED_TARGET poppler-cpp)
 if(CHROMATAG_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -10,7 +10,9 @@ packages=(
   # Libraries (brief: Cairo, OpenCV, Eigen, Ceres, OpenColorIO, CLI11,
   # libapriltag, nlohmann-json, poppler).
   libapriltag-dev libcairo2-dev libopencv-dev libeigen3-dev libceres-dev
-  libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev
+  libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev zlib1g-dev
+  # Fonts for the labels and notes on generated sheets.
+  fonts-dejavu-core
   # Tests and benchmarks.
   libgtest-dev libgmock-dev libbenchmark-dev
   # Natural photographs for the no-false-detection tests and the benchmark.

@@ -229,6 +229,9 @@ TEST(SheetTest, PngBlackSquareIsTheRequestedSizeWithinOnePixel) {
     std::string error;
     ASSERT_TRUE(WriteSheet(options, path, &error)) << error;
     const Raster page = ReadPng(path, options.dpi);
+    // The resolution is recorded: a pHYs chunk of 11811 pixels per metre.
+    const std::string png = ReadFile(path);
+    EXPECT_EQ(png.substr(37, 13), std::string("pHYs\0\0\x2e\x23\0\0\x2e\x23\x01", 13));
     EXPECT_EQ(page.width, 2480);  // A4 at 300 dpi.
     EXPECT_EQ(page.height, 3508);
     const auto sidecar = nlohmann::json::parse(ReadFile(SidecarPath(path)));
