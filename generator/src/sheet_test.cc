@@ -2,6 +2,8 @@
 // back, and the sidecar compared with what is on the page.
 #include "chromatag/generator/sheet.h"
 
+#include "chromatag/generator/sidecar.h"
+
 #include <gtest/gtest.h>
 #include <poppler/cpp/poppler-document.h>
 #include <poppler/cpp/poppler-page-renderer.h>
@@ -383,6 +385,44 @@ TEST(SheetTest, GridFillsThePageWithoutOverlap) {
       EXPECT_TRUE(apart) << a.id << " overlaps " << b.id;
     }
   }
+}
+
+TEST(SidecarTest, ReadsWhatWriteSheetWrote) {
+  SheetOptions options = Options16h5All();
+  options.ids = {3, 1, 2};
+  options.format = SheetFormat::kSvg;
+  options.one_per_page = true;
+  const std::string path = ::testing::TempDir() + "/sidecar_read.svg";
+  std::string error;
+  ASSERT_TRUE(WriteSheet(options, path, &error)) << error;
+  const auto record = ReadSidecar(SidecarPath(path), &error);
+  ASSERT_TRUE(record) << error;
+  EXPECT_EQ(record->family->name(), "16h5");
+  EXPECT_EQ(record->num_pages, 3);
+  ASSERT_EQ(record->files.size(), 3u);
+  EXPECT_EQ(record->files[2].path, ::testing::TempDir() + "/sidecar_read-3.svg");
+  EXPECT_EQ(record->files[0].sha256, Sha256Hex(ReadFile(path)));
+  ASSERT_EQ(record->tags.size(), 3u);
+  EXPECT_EQ(record->tags[0].id, 3);
+  EXPECT_EQ(record->tags[2].page, 2);
+  EXPECT_NEAR(record->palette[Shade::kRed1].b, 18.25, 1e-9);
+}
+
+TEST(SidecarTest, RefusesBrokenSidecarsNamingTheProblem) {
+  const std::string path = ::testing::TempDir() + "/broken_sidecar.json";
+  std::string error;
+  std::ofstream(path) << "{\"schema\": \"something-else\"}";
+  EXPECT_FALSE(ReadSidecar(path, &error));
+  EXPECT_NE(error.find("not a ChromaTag sidecar"), std::string::npos) << error;
+  std::ofstream(path) << "[1, 2";
+  EXPECT_FALSE(ReadSidecar(path, &error));
+  EXPECT_NE(error.find("not valid JSON"), std::string::npos) << error;
+  std::ofstream(path) << "{\"schema\": \"chromatag-layout\", \"schema_version\": 1}";
+  EXPECT_FALSE(ReadSidecar(path, &error));
+  EXPECT_NE(error.find("missing \"family\""), std::string::npos) << error;
+  EXPECT_FALSE(ReadSidecar("/nonexistent.json", &error));
+  EXPECT_EQ(error, "cannot read sidecar '/nonexistent.json'");
+  std::remove(path.c_str());
 }
 
 }  // namespace

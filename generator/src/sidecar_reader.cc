@@ -1,0 +1,123 @@
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "chromatag/generator/sidecar.h"
+
+namespace chromatag {
+namespace {
+
+using json = nlohmann::json;
+
+// Thrown inside ReadSidecar only, to unwind to one error message.
+struct SidecarError {
+  std::string message;
+};
+
+const json& Member(const json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key)) {
+    throw SidecarError{std::string("missing \"") + key + "\""};
+  }
+  return object.at(key);
+}
+
+double Number(const json& object, const char* key) {
+  const json& value = Member(object, key);
+  if (!value.is_number()) throw SidecarError{std::string("\"") + key + "\" must be a number"};
+  return value.get<double>();
+}
+
+std::string String(const json& object, const char* key) {
+  const json& value = Member(object, key);
+  if (!value.is_string()) throw SidecarError{std::string("\"") + key + "\" must be a string"};
+  return value.get<std::string>();
+}
+
+std::array<double, 2> Point(const json& value) {
+  if (!value.is_array() || value.size() != 2 || !value[0].is_number() || !value[1].is_number()) {
+    throw SidecarError{"a position must be [x, y] in mm"};
+  }
+  return {value[0].get<double>(), value[1].get<double>()};
+}
+
+SheetRecord Parse(const json& root, const std::string& folder) {
+  if (String(root, "schema") != "chromatag-layout") {
+    throw SidecarError{"not a ChromaTag sidecar (schema must be \"chromatag-layout\")"};
+  }
+  if (Number(root, "schema_version") != 1) {
+    throw SidecarError{"unsupported schema_version (this chromatag reads version 1)"};
+  }
+  SheetRecord record;
+  std::string error;
+  record.family = TagFamily::Load(String(root, "family"), &error);
+  if (!record.family) throw SidecarError{error};
+  record.tag_size_mm = Number(root, "tag_size_mm");
+  record.quiet_zone_cells = static_cast<int>(Number(root, "quiet_zone_cells"));
+  const json& page = Member(root, "page");
+  record.page = {String(page, "name"), Number(page, "width_mm"), Number(page, "height_mm")};
+  record.num_pages = static_cast<int>(Number(page, "count"));
+  const std::string format = String(root, "format");
+  if (!FormatFromPath("x." + format)) throw SidecarError{"unknown format \"" + format + "\""};
+  record.format = *FormatFromPath("x." + format);
+  if (record.format == SheetFormat::kPng) record.dpi = Number(root, "dpi");
+
+  const json& palette = Member(root, "palette");
+  json palette_file = {{"name", String(palette, "name")}, {"lab", Member(palette, "lab")}};
+  auto parsed = ParsePalette(palette_file.dump(), "sidecar", &error);
+  if (!parsed) throw SidecarError{error};
+  record.palette = *parsed;
+
+  for (const json& file : Member(root, "files")) {
+    record.files.push_back({folder + String(file, "path"), String(file, "sha256")});
+  }
+  const size_t expected_files = record.format == SheetFormat::kPdf ? 1 : record.num_pages;
+  if (record.files.size() != expected_files) {
+    throw SidecarError{"\"files\" must list " + std::to_string(expected_files) + " file(s)"};
+  }
+  for (const json& tag : Member(root, "tags")) {
+    PlacedTag placed;
+    placed.id = static_cast<int>(Number(tag, "id"));
+    if (!record.family->IsValidId(placed.id, &error)) throw SidecarError{error};
+    placed.page = static_cast<int>(Number(tag, "page")) - 1;
+    if (placed.page < 0 || placed.page >= record.num_pages) {
+      throw SidecarError{"tag ID " + std::to_string(placed.id) + " is on a page that does not exist"};
+    }
+    placed.center_mm = Point(Member(tag, "center_mm"));
+    const json& corners = Member(tag, "corners_mm");
+    if (!corners.is_array() || corners.size() != 4) throw SidecarError{"a tag needs 4 corners"};
+    for (int i = 0; i < 4; ++i) placed.corners_mm[i] = Point(corners[i]);
+    record.tags.push_back(placed);
+  }
+  return record;
+}
+
+}  // namespace
+
+std::optional<SheetRecord> ReadSidecar(const std::string& path, std::string* error) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    if (error) *error = "cannot read sidecar '" + path + "'";
+    return std::nullopt;
+  }
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  const json root = json::parse(buffer.str(), nullptr, /*allow_exceptions=*/false);
+  if (root.is_discarded()) {
+    if (error) *error = "sidecar '" + path + "' is not valid JSON";
+    return std::nullopt;
+  }
+  const auto slash = path.find_last_of('/');
+  const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+  try {
+    SheetRecord record = Parse(root, folder);
+    record.sidecar_path = path;
+    return record;
+  } catch (const SidecarError& e) {
+    if (error) *error = "sidecar '" + path + "': " + e.message;
+  } catch (const json::exception& e) {
+    if (error) *error = "sidecar '" + path + "': malformed (" + e.what() + ")";
+  }
+  return std::nullopt;
+}
+
+}  // namespace chromatag
