@@ -6,6 +6,23 @@
 
 namespace chromatag {
 
+bool CameraIntrinsics::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (!(fx > 0.0 && fy > 0.0 && std::isfinite(fx) && std::isfinite(fy)))
+    return fail("camera: fx and fy must be finite and > 0 (pixels)");
+  if (!std::isfinite(cx) || !std::isfinite(cy)) return fail("camera: cx and cy must be finite");
+  const size_t n = distortion.size();
+  if (!(n == 0 || n == 4 || n == 5 || n == 8))
+    return fail("camera: distortion needs 0, 4, 5 or 8 coefficients, got " + std::to_string(n));
+  for (double k : distortion) {
+    if (!std::isfinite(k)) return fail("camera: distortion coefficients must be finite");
+  }
+  return true;
+}
+
 bool DetectorOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& message) {
     if (error) *error = message;
@@ -31,6 +48,9 @@ bool DetectorOptions::IsValid(std::string* error) const {
   if (!(min_decision_margin >= 0.0) || !std::isfinite(min_decision_margin)) {
     return fail("min_decision_margin must be a finite number >= 0");
   }
+  if (camera && !camera->IsValid(error)) return false;
+  if (!(tag_size >= 0.0) || !std::isfinite(tag_size))
+    return fail("tag_size must be a finite length in metres >= 0 (0: no pose)");
   return true;
 }
 

@@ -1,13 +1,25 @@
-// Detector parameters (paper section 4, Algorithm 1). The detector itself
-// arrives with issue 4; its options are fixed here so that the calibration
-// tool and the CLI share one definition.
+// Detector parameters (paper section 4, Algorithm 1), shared by the detector,
+// the CLI and the calibration tool.
 #ifndef CHROMATAG_DETECTOR_OPTIONS_H_
 #define CHROMATAG_DETECTOR_OPTIONS_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace chromatag {
+
+// Pinhole intrinsics in pixels and OpenCV's distortion coefficients (k1, k2,
+// p1, p2[, k3[, k4, k5, k6]]; empty for none).
+struct CameraIntrinsics {
+  double fx = 0.0;
+  double fy = 0.0;
+  double cx = 0.0;
+  double cy = 0.0;
+  std::vector<double> distortion;
+
+  bool IsValid(std::string* error) const;
+};
 
 struct DetectorOptions {
   // Families to look for: "16h5", "36h11" or both.
@@ -41,6 +53,17 @@ struct DetectorOptions {
   // Smallest accepted decision margin: the gap between the two b* clusters of
   // a colour relative to their spread, dimensionless. [0, inf).
   double min_decision_margin = 2.0;
+
+  // Sub-pixel corners (PolyToQuad's second half): least-squares lines through
+  // edge points found along each side, intersected. Off gives the corners of
+  // the clustered polygon, about a pixel off; useful only to measure the gain.
+  bool refine_corners = true;
+
+  // Pose (spec section 7): when both are set, every detection carries the
+  // tag's pose in the camera frame. tag_size is the side of the black square
+  // in metres (> 0); 0 means no pose.
+  std::optional<CameraIntrinsics> camera;
+  double tag_size = 0.0;
 
   bool IsValid(std::string* error) const;
 };

@@ -1,0 +1,49 @@
+// ChromaTag detection: the paper's Algorithm 1 (section 4).
+//
+//   Detector::Create(options) -> Detect(frame) -> detections + summary.
+//
+// Thread safety: a Detector is immutable after Create. Detect() is const and
+// may be called from several threads at once on different frames; each thread
+// keeps its own scratch buffers. The detector never writes into the caller's
+// image.
+#ifndef CHROMATAG_DETECTOR_DETECTOR_H_
+#define CHROMATAG_DETECTOR_DETECTOR_H_
+
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "chromatag/detector/detection.h"
+#include "chromatag/detector/options.h"
+
+namespace chromatag {
+
+// Channel order of a 3-channel 8-bit frame: OpenCV's imread gives BGR.
+enum class PixelOrder { kBgr, kRgb };
+
+class Detector {
+ public:
+  // Loads the families and builds the decoders and colour tables. Returns
+  // nullptr and sets *error for options that fail DetectorOptions::IsValid.
+  static std::unique_ptr<Detector> Create(const DetectorOptions& options,
+                                          std::string* error = nullptr);
+  ~Detector();
+
+  // Detects every tag in `image`: CV_8UC3, any size, ROIs and padded rows
+  // allowed. Any other type gives an empty result. `result` is overwritten; passing the
+  // same one frame after frame reuses its memory.
+  void Detect(const cv::Mat& image, PixelOrder order, DetectionResult* result) const;
+  DetectionResult Detect(const cv::Mat& image, PixelOrder order = PixelOrder::kBgr) const;
+
+  const DetectorOptions& options() const;
+
+ private:
+  struct Impl;
+  explicit Detector(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_DETECTOR_DETECTOR_H_

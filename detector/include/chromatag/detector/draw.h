@@ -1,0 +1,23 @@
+// Drawing detections for people (the CLI's --overlay), kept apart from
+// detection: the detector itself never draws.
+#ifndef CHROMATAG_DETECTOR_DRAW_H_
+#define CHROMATAG_DETECTOR_DRAW_H_
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "chromatag/detector/detection.h"
+#include "chromatag/detector/options.h"
+
+namespace chromatag {
+
+// Draws into `canvas` (8-bit BGR): each tag's outer quad, its family and ID,
+// a dot on corner 0, and when the detection has a pose and `camera` is given,
+// the tag frame's axes (x red, y green, z blue, half a tag long).
+void DrawDetections(const std::vector<Detection>& detections, const CameraIntrinsics* camera,
+                    double tag_size, cv::Mat* canvas);
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_DETECTOR_DRAW_H_

@@ -1,0 +1,57 @@
+#include "chromatag/detector/color_table.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "chromatag/families/color.h"
+
+namespace chromatag {
+namespace {
+
+// CIE 1976 f(), as in families/color.cc.
+double CieF(double t) {
+  constexpr double kEpsilon = 216.0 / 24389.0;
+  constexpr double kKappa = 24389.0 / 27.0;
+  return t > kEpsilon ? std::cbrt(t) : (kKappa * t + 16.0) / 116.0;
+}
+
+}  // namespace
+
+const ColorTable& ColorTable::Get() {
+  static const ColorTable table;
+  return table;
+}
+
+ColorTable::ColorTable() : coarse_a_(32 * 32 * 32) {
+  // Each channel's contribution to X/Xn, Y, Z/Zn: the matrix columns of
+  // LinearRgbToXyz applied to a unit channel, divided by the white.
+  const double white[3] = {kD65White.X, kD65White.Y, kD65White.Z};
+  for (int channel = 0; channel < 3; ++channel) {
+    Rgb unit;
+    (channel == 0 ? unit.r : channel == 1 ? unit.g : unit.b) = 1.0;
+    const Xyz column = LinearRgbToXyz(unit);
+    const double per_unit[3] = {column.X / white[0], column.Y / white[1], column.Z / white[2]};
+    for (int v = 0; v < 256; ++v) {
+      const double linear = SrgbToLinear(v / 255.0);
+      for (int k = 0; k < 3; ++k) {
+        xyz_[channel][v][k] =
+            static_cast<int32_t>(std::lround(linear * per_unit[k] * (1 << kFixedBits)));
+      }
+    }
+  }
+  for (int i = 0; i < (1 << kFBits) + 2; ++i) {
+    f_[i] = static_cast<float>(CieF(static_cast<double>(i) / (1 << kFBits)));
+  }
+  // Coarse a*: the exact a* of each 8x8x8 block's centre colour.
+  for (int r = 0; r < 32; ++r) {
+    for (int g = 0; g < 32; ++g) {
+      for (int b = 0; b < 32; ++b) {
+        const Rgb centre{(r * 8 + 3.5) / 255.0, (g * 8 + 3.5) / 255.0, (b * 8 + 3.5) / 255.0};
+        const double a = std::clamp(SrgbToLab(centre).a, -127.0, 127.0);
+        coarse_a_[(r << 10) | (g << 5) | b] = static_cast<int8_t>(std::lround(a));
+      }
+    }
+  }
+}
+
+}  // namespace chromatag

@@ -1,0 +1,215 @@
+// Stage 5, Decode (paper section 4, Figure 6j; spec sections 3, 4 and 7).
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "stages.h"
+
+namespace chromatag::internal {
+namespace {
+
+// Each cell is read as the mean colour of a 3 x 3 grid this far apart (in
+// cells) around its centre: the middle of the cell, clear of blurred edges.
+constexpr double kCellSampleOffset = 0.2;
+// Largest mean distance, in cells, between the measured inner ring corners
+// and where a family puts them for the family to be considered.
+constexpr double kMaxRingMisfitCells = 0.35;
+
+cv::Point2d Apply(const cv::Matx33d& h, double x, double y) {
+  const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
+  return {p[0] / p[2], p[1] / p[2]};
+}
+
+cv::Matx33d UnitSquareToQuad(const Quad& quad) {
+  const cv::Point2f src[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  cv::Point2f dst[4];
+  for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(quad[i]);
+  return cv::Matx33d(cv::getPerspectiveTransform(src, dst));
+}
+
+// Mean distance in cells from where `family` puts the green/black and
+// red/green corners (1 and 2 cells inside the black square) to the nearest
+// measured ones.
+double RingMisfit(const TagFamily& family, const cv::Matx33d& image_from_tag,
+                  const Candidate& candidate) {
+  const int cells = family.black_square_cells();
+  const double side = std::sqrt(PolygonArea(std::vector<cv::Point2f>(
+      candidate.quads[kBlackWhite].begin(), candidate.quads[kBlackWhite].end())));
+  const double cell_px = side / cells;
+  double sum = 0;
+  for (int ring = kRedGreen; ring <= kGreenBlack; ++ring) {
+    const double inset = (ring == kGreenBlack ? 1.0 : 2.0) / cells;
+    const double corners[4][2] = {
+        {inset, inset}, {1 - inset, inset}, {1 - inset, 1 - inset}, {inset, 1 - inset}};
+    for (const auto& c : corners) {
+      const cv::Point2d predicted = Apply(image_from_tag, c[0], c[1]);
+      double nearest = 1e300;
+      for (const auto& measured : candidate.quads[ring])
+        nearest = std::min(nearest, cv::norm(measured - predicted));
+      sum += nearest;
+    }
+  }
+  return sum / 8.0 / cell_px;
+}
+
+struct CellSample {
+  float a = 0;
+  float b = 0;
+};
+
+CellSample ReadCell(const ImageView& image, const cv::Matx33d& image_from_tag, int cells, int row,
+                    int col) {
+  int sum[3] = {0, 0, 0};
+  int n = 0;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const double u = (col + 1.5 + dx * kCellSampleOffset) / cells;
+      const double v = (row + 1.5 + dy * kCellSampleOffset) / cells;
+      const cv::Point2d p = Apply(image_from_tag, u, v);
+      const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+      if (!image.Contains(x, y)) continue;
+      const uint8_t* px = image.Pixel(x, y);
+      sum[0] += image.R(px);
+      sum[1] += image.G(px);
+      sum[2] += image.B(px);
+      ++n;
+    }
+  }
+  if (n == 0) return {};
+  const LabF lab = image.table().Lab(static_cast<uint8_t>((sum[0] + n / 2) / n),
+                                     static_cast<uint8_t>((sum[1] + n / 2) / n),
+                                     static_cast<uint8_t>((sum[2] + n / 2) / n));
+  return {lab.a, lab.b};
+}
+
+// Spec section 3: each colour's cells split at the midpoint of their b*
+// range. Returns the split and the margin: the gap between the two groups
+// over their pooled standard deviation (at least one b* unit).
+struct Split {
+  float threshold = 0;
+  double margin = 0;
+};
+
+Split SplitShades(const std::vector<float>& values) {
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  Split split;
+  split.threshold = 0.5f * (*lo + *hi);
+  float max_low = -1e30f, min_high = 1e30f;
+  double sum[2] = {0, 0}, sum2[2] = {0, 0};
+  int count[2] = {0, 0};
+  for (float v : values) {
+    const int group = v > split.threshold ? 1 : 0;
+    if (group)
+      min_high = std::min(min_high, v);
+    else
+      max_low = std::max(max_low, v);
+    sum[group] += v;
+    sum2[group] += static_cast<double>(v) * v;
+    ++count[group];
+  }
+  double pooled = 0;
+  for (int g = 0; g < 2; ++g) {
+    if (count[g]) pooled += sum2[g] - sum[g] * sum[g] / count[g];
+  }
+  const double spread = std::sqrt(pooled / std::max(1, count[0] + count[1] - 2));
+  split.margin = (min_high - max_low) / std::max(1.0, spread);
+  return split;
+}
+
+bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
+              const Candidate& candidate, const cv::Matx33d& image_from_tag, Detection* detection) {
+  const TagFamily& family = *entry.family;
+  const int d = family.payload_width();
+  const int cells = family.black_square_cells();
+  std::vector<float> red_b, green_b;
+  std::vector<CellSample> colors(d * d);
+  float min_red_a = 1e30f, max_green_a = -1e30f;
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const CellSample c = ReadCell(image, image_from_tag, cells, row, col);
+      colors[row * d + col] = c;
+      if (family.CellColorAt(row, col) == CellColor::kRed) {
+        red_b.push_back(c.b);
+        min_red_a = std::min(min_red_a, c.a);
+      } else {
+        green_b.push_back(c.b);
+        max_green_a = std::max(max_green_a, c.a);
+      }
+    }
+  }
+  // Every red cell must be clearly redder than every green one.
+  if (min_red_a - max_green_a < 0.5f * static_cast<float>(options.adiff_thresh)) return false;
+  const Split red = SplitShades(red_b), green = SplitShades(green_b);
+  const double margin = std::min(red.margin, green.margin);
+  if (margin < options.min_decision_margin) return false;
+
+  Code observed = 0;
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const float b = colors[row * d + col].b;
+      // Bit 1 is the higher-b* red (red-1) and the lower-b* green (green-1).
+      const bool bit = family.CellColorAt(row, col) == CellColor::kRed ? b > red.threshold
+                                                                       : b <= green.threshold;
+      observed = (observed << 1) | (bit ? 1u : 0u);
+    }
+  }
+  CodeMatch match;
+  if (!entry.decoder->Decode(observed, &match)) return false;
+
+  // The observation is the tag turned `rotation` quarter turns clockwise, so
+  // the upright tag's top-left corner is the observed corner `rotation`.
+  const int k = match.rotation;
+  detection->family = family.name();
+  detection->id = match.id;
+  detection->hamming = match.hamming;
+  detection->decision_margin = margin;
+  for (int i = 0; i < 4; ++i) detection->corners[i] = candidate.quads[kBlackWhite][(i + k) % 4];
+  detection->image_from_tag = UnitSquareToQuad(detection->corners);
+  // Inner corners in the same order: each is the measured corner nearest to
+  // where the upright tag puts it.
+  for (int ring = kRedGreen; ring <= kGreenBlack; ++ring) {
+    const double inset = (ring == kGreenBlack ? 1.0 : 2.0) / cells;
+    const double corners[4][2] = {
+        {inset, inset}, {1 - inset, inset}, {1 - inset, 1 - inset}, {inset, 1 - inset}};
+    auto& out = ring == kGreenBlack ? detection->green_corners : detection->red_corners;
+    for (int i = 0; i < 4; ++i) {
+      const cv::Point2d predicted = Apply(detection->image_from_tag, corners[i][0], corners[i][1]);
+      double nearest = 1e300;
+      for (const auto& measured : candidate.quads[ring]) {
+        if (cv::norm(measured - predicted) < nearest) {
+          nearest = cv::norm(measured - predicted);
+          out[i] = measured;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool Decode(const ImageView& image, const DetectorOptions& options,
+            const std::vector<FamilyDecoder>& families, const Candidate& candidate,
+            Detection* detection) {
+  const cv::Matx33d image_from_tag = UnitSquareToQuad(candidate.quads[kBlackWhite]);
+  // The ring proportions tell the families apart (red centre 2 of 6 cells for
+  // 16h5, 4 of 8 for 36h11); try those that fit, best first.
+  std::array<std::pair<double, const FamilyDecoder*>, 4> fits;
+  size_t n = 0;
+  for (const FamilyDecoder& entry : families) {
+    const double misfit = RingMisfit(*entry.family, image_from_tag, candidate);
+    if (misfit < kMaxRingMisfitCells && n < fits.size()) fits[n++] = {misfit, &entry};
+  }
+  for (size_t i = 1; i < n; ++i) {  // Insertion sort: at most a few families.
+    for (size_t j = i; j > 0 && fits[j].first < fits[j - 1].first; --j)
+      std::swap(fits[j], fits[j - 1]);
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (DecodeAs(image, options, *fits[i].second, candidate, image_from_tag, detection))
+      return true;
+  }
+  return false;
+}
+
+}  // namespace chromatag::internal

@@ -1,0 +1,161 @@
+// Algorithm 1 of the paper, stage by stage (stages.h).
+#include "chromatag/detector/detector.h"
+
+#include <chrono>
+
+#include "chromatag/detector/pose.h"
+#include "stages.h"
+
+namespace chromatag {
+
+const char* StageName(Stage stage) {
+  switch (stage) {
+    case Stage::kFindADiff:
+      return "FindADiff";
+    case Stage::kInitialScan:
+      return "InitialScan";
+    case Stage::kBuildPolygon:
+      return "BuildPolygon";
+    case Stage::kPolyToQuad:
+      return "PolyToQuad";
+    case Stage::kDecode:
+      return "Decode";
+  }
+  return "?";
+}
+
+struct Detector::Impl {
+  DetectorOptions options;
+  std::vector<internal::FamilyDecoder> families;
+  const ColorTable* table = nullptr;
+};
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MicrosecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+}
+
+// Per-thread scratch space, so that Detect allocates nothing once warm and
+// several threads can share one Detector.
+struct Scratch {
+  internal::Candidate candidate;
+  std::vector<internal::DetectedArea> areas;
+};
+
+Scratch& ThreadScratch() {
+  thread_local Scratch scratch;
+  return scratch;
+}
+
+// The accepted tag grown by one cell, so that FindADiff skips its quiet zone.
+internal::DetectedArea AreaOf(const Detection& detection, int black_square_cells) {
+  internal::DetectedArea area;
+  const double grow = 1.0 / black_square_cells;
+  const double corners[4][2] = {
+      {-grow, -grow}, {1 + grow, -grow}, {1 + grow, 1 + grow}, {-grow, 1 + grow}};
+  area.min_y = 1e300;
+  area.max_y = -1e300;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Vec3d p = detection.image_from_tag * cv::Vec3d(corners[i][0], corners[i][1], 1.0);
+    area.quad[i] = cv::Point2d(p[0] / p[2], p[1] / p[2]);
+    area.min_y = std::min(area.min_y, area.quad[i].y);
+    area.max_y = std::max(area.max_y, area.quad[i].y);
+  }
+  return area;
+}
+
+}  // namespace
+
+Detector::Detector(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Detector::~Detector() = default;
+
+const DetectorOptions& Detector::options() const { return impl_->options; }
+
+std::unique_ptr<Detector> Detector::Create(const DetectorOptions& options, std::string* error) {
+  if (!options.IsValid(error)) return nullptr;
+  auto impl = std::make_unique<Impl>();
+  impl->options = options;
+  for (const std::string& name : options.families) {
+    internal::FamilyDecoder entry;
+    entry.family = TagFamily::Load(name, error);
+    if (!entry.family) return nullptr;
+    bool duplicate = false;
+    for (const auto& other : impl->families) duplicate |= other.family == entry.family;
+    if (duplicate) continue;
+    const int radius =
+        options.max_hamming < 0 ? CodeDecoder::DefaultRadius(*entry.family) : options.max_hamming;
+    entry.decoder = CodeDecoder::Create(entry.family, radius, error);
+    if (!entry.decoder) return nullptr;
+    impl->families.push_back(std::move(entry));
+  }
+  impl->table = &ColorTable::Get();
+  return std::unique_ptr<Detector>(new Detector(std::move(impl)));
+}
+
+DetectionResult Detector::Detect(const cv::Mat& image, PixelOrder order) const {
+  DetectionResult result;
+  Detect(image, order, &result);
+  return result;
+}
+
+void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* result) const {
+  const Clock::time_point frame_start = Clock::now();
+  result->detections.clear();
+  result->summary = DetectorSummary{};
+  if (image.empty() || image.type() != CV_8UC3) return;
+  const DetectorOptions& options = impl_->options;
+  const internal::ImageView view(image, order, *impl_->table);
+  Scratch& scratch = ThreadScratch();
+  scratch.areas.clear();
+  DetectorSummary& summary = result->summary;
+
+  // Runs one stage, adding its time and counting a rejection.
+  auto run_stage = [&summary](Stage stage, auto&& body) {
+    const Clock::time_point start = Clock::now();
+    const bool passed = body();
+    summary.stage_time_us[static_cast<int>(stage)] += MicrosecondsSince(start);
+    if (!passed) ++summary.rejected[static_cast<int>(stage)];
+    return passed;
+  };
+
+  for (int y = 0; y < view.height(); y += options.step) {
+    internal::RowCursor cursor;
+    cursor.y = y;
+    cv::Point seed;
+    while (internal::FindADiff(view, options, scratch.areas, &cursor, &seed,
+                               &summary.rejected[static_cast<int>(Stage::kFindADiff)])) {
+      ++summary.seeds;
+      internal::Candidate& candidate = scratch.candidate;
+      Detection detection;
+      if (!run_stage(Stage::kInitialScan,
+                     [&] { return internal::InitialScan(view, options, seed, &candidate); }) ||
+          !run_stage(Stage::kBuildPolygon,
+                     [&] { return internal::BuildPolygon(view, options, &candidate); }) ||
+          !run_stage(Stage::kPolyToQuad,
+                     [&] { return internal::PolyToQuad(view, options, &candidate); }) ||
+          !run_stage(Stage::kDecode, [&] {
+            return internal::Decode(view, options, impl_->families, candidate, &detection);
+          })) {
+        continue;
+      }
+      if (options.camera && options.tag_size > 0) {
+        const Clock::time_point start = Clock::now();
+        detection.has_pose =
+            EstimateTagPose(detection, *options.camera, options.tag_size, &detection.pose);
+        summary.pose_time_us += MicrosecondsSince(start);
+      }
+      const int cells = detection.family == "36h11" ? 8 : 6;
+      scratch.areas.push_back(AreaOf(detection, cells));
+      result->detections.push_back(std::move(detection));
+    }
+  }
+  summary.total_time_us = MicrosecondsSince(frame_start);
+  double others = 0;
+  for (int s = 1; s < kNumStages; ++s) others += summary.stage_time_us[s];
+  summary.stage_time_us[0] = std::max(0.0, summary.total_time_us - others - summary.pose_time_us);
+}
+
+}  // namespace chromatag

@@ -1,0 +1,47 @@
+#include "chromatag/detector/draw.h"
+
+#include <string>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace chromatag {
+
+void DrawDetections(const std::vector<Detection>& detections, const CameraIntrinsics* camera,
+                    double tag_size, cv::Mat* canvas) {
+  // Drawn at 16x sub-pixel precision so that the lines sit on the corners.
+  constexpr int kShift = 4;
+  auto fixed = [](const cv::Point2d& p) {
+    return cv::Point(cvRound(p.x * (1 << kShift)), cvRound(p.y * (1 << kShift)));
+  };
+  const int thickness = std::max(1, std::min(canvas->cols, canvas->rows) / 400);
+  for (const Detection& detection : detections) {
+    for (int i = 0; i < 4; ++i) {
+      cv::line(*canvas, fixed(detection.corners[i]), fixed(detection.corners[(i + 1) % 4]),
+               cv::Scalar(255, 255, 0), thickness, cv::LINE_AA, kShift);
+    }
+    cv::circle(*canvas, fixed(detection.corners[0]), (3 * thickness + 2) << kShift,
+               cv::Scalar(0, 0, 255), cv::FILLED, cv::LINE_AA, kShift);
+    cv::Point2d centre(0, 0);
+    for (const auto& c : detection.corners) centre += 0.25 * c;
+    const std::string label = detection.family + ":" + std::to_string(detection.id);
+    cv::putText(*canvas, label, cv::Point(cvRound(centre.x), cvRound(centre.y)),
+                cv::FONT_HERSHEY_SIMPLEX, 0.4 * thickness, cv::Scalar(255, 0, 255), thickness,
+                cv::LINE_AA);
+    if (camera && detection.has_pose && tag_size > 0) {
+      const cv::Matx33d k(camera->fx, 0, camera->cx, 0, camera->fy, camera->cy, 0, 0, 1);
+      const double axis = 0.5 * tag_size;
+      const std::vector<cv::Point3d> points = {{0, 0, 0}, {axis, 0, 0}, {0, axis, 0}, {0, 0, axis}};
+      std::vector<cv::Point2d> image;
+      cv::projectPoints(points, detection.pose.rvec, detection.pose.tvec, k,
+                        cv::Mat(camera->distortion), image);
+      const cv::Scalar colors[3] = {{0, 0, 255}, {0, 255, 0}, {255, 0, 0}};
+      for (int i = 0; i < 3; ++i) {
+        cv::line(*canvas, fixed(image[0]), fixed(image[i + 1]), colors[i], thickness + 1,
+                 cv::LINE_AA, kShift);
+      }
+    }
+  }
+}
+
+}  // namespace chromatag

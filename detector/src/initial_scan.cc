@@ -1,0 +1,86 @@
+// Stage 2, InitialScan (paper section 4, Figure 6a-c).
+#include <cmath>
+
+#include "stages.h"
+
+namespace chromatag::internal {
+namespace {
+
+constexpr int kMaxCentreIterations = 8;
+constexpr float kConvergedPx = 0.75f;
+
+const cv::Point2f kDirections[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+
+}  // namespace
+
+bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
+                 Candidate* candidate) {
+  cv::Point2f centre(static_cast<float>(seed.x), static_cast<float>(seed.y));
+  // The seed may sit on the blurred edge of the red; the reddest of it and
+  // its neighbourhood is the better ReferenceRed.
+  float reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
+  const float thresh = static_cast<float>(options.border_thresh);
+  const int reach = std::max(image.width(), image.height());
+
+  bool converged = false;
+  for (int iteration = 0; iteration < kMaxCentreIterations && !converged; ++iteration) {
+    std::array<cv::Point2f, 4> border;
+    for (int i = 0; i < 4; ++i) {
+      // Red -> green only: the a* drop of the full scan, without the rings.
+      cv::Point2f p = centre;
+      int consecutive = 0, k = 1;
+      for (; k <= reach; ++k) {
+        p = centre + static_cast<float>(k) * kDirections[i];
+        const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+        if (!image.Contains(x, y)) return false;
+        if (reference_red - image.A(x, y) > thresh) {
+          if (++consecutive == options.border_run) break;
+        } else {
+          consecutive = 0;
+        }
+      }
+      if (k > reach) return false;
+      border[i] = centre + static_cast<float>(k - options.border_run) * kDirections[i];
+    }
+    const cv::Point2f next(0.5f * (border[0].x + border[2].x), 0.5f * (border[1].y + border[3].y));
+    converged =
+        std::abs(next.x - centre.x) < kConvergedPx && std::abs(next.y - centre.y) < kConvergedPx;
+    centre = next;
+    const int cx = static_cast<int>(std::lround(centre.x)),
+              cy = static_cast<int>(std::lround(centre.y));
+    if (!image.Contains(cx, cy)) return false;
+    const float centre_red = image.MeanA3x3(cx, cy);
+    // The centre of a tag is red: if re-centring left the red, this is not one.
+    if (centre_red < reference_red - 2 * thresh) return false;
+    reference_red = centre_red;
+  }
+  if (!converged) return false;
+
+  candidate->centre = centre;
+  candidate->reference_red = reference_red;
+  candidate->scan_angles.clear();
+  for (auto& ring : candidate->points) ring.clear();
+  for (const cv::Point2f& direction : kDirections) {
+    RingHits hits;
+    if (!ScanRings(image, options, centre, direction, reference_red, &hits)) return false;
+    for (int ring = 0; ring < kNumRings; ++ring)
+      candidate->points[ring].push_back(hits.border[ring]);
+    candidate->scan_angles.push_back(std::atan2(direction.y, direction.x));
+  }
+  // Ring widths along each scan: a tag's green and black rings are each one
+  // cell, the red half-width one (16h5) or two (36h11) cells. Perspective
+  // along one line changes these ratios little.
+  for (int i = 0; i < 4; ++i) {
+    const float red = cv::norm(candidate->points[kRedGreen][i] - centre);
+    const float green =
+        cv::norm(candidate->points[kGreenBlack][i] - candidate->points[kRedGreen][i]);
+    const float black =
+        cv::norm(candidate->points[kBlackWhite][i] - candidate->points[kGreenBlack][i]);
+    if (green < 0.2f * red || green > 2.5f * red + 2.f) return false;
+    if (black < 0.2f * red || black > 2.5f * red + 2.f) return false;
+    if (black < 0.4f * green - 1.f || black > 2.5f * green + 1.f) return false;
+  }
+  return true;
+}
+
+}  // namespace chromatag::internal

@@ -1,0 +1,162 @@
+// Sub-pixel corners, the second half of PolyToQuad. The paper searches a
+// patch around each corner with GoodFeaturesToTrack, which returns integer
+// pixels (about 2 px off on the authors' own frames). Here each side is
+// located instead: along the side, the edge is found on short profiles across
+// it where the channel passes halfway between the two neighbouring rings'
+// levels; a line is fitted through those edge points, and corners are where
+// the lines meet. Blending is linear in the encoded channels used, so the
+// halfway point is unbiased for antialiasing and symmetric blur.
+#include <algorithm>
+#include <cmath>
+
+#include "stages.h"
+
+namespace chromatag::internal {
+namespace {
+
+constexpr float kProfileStep = 0.5f;  // Pixels between profile samples.
+
+struct Line {
+  cv::Point2d point;
+  cv::Point2d direction;
+};
+
+// Total least squares line through `points`, then once more without points
+// farther than three median residuals (at least half a pixel) from it.
+bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
+  for (int pass = 0; pass < 2; ++pass) {
+    if (points->size() < 3) return false;
+    cv::Point2d c(0, 0);
+    for (const auto& p : *points) c += p;
+    c *= 1.0 / static_cast<double>(points->size());
+    double sxx = 0, sxy = 0, syy = 0;
+    for (const auto& p : *points) {
+      const cv::Point2d d = p - c;
+      sxx += d.x * d.x;
+      sxy += d.x * d.y;
+      syy += d.y * d.y;
+    }
+    const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+    line->point = c;
+    line->direction = {std::cos(angle), std::sin(angle)};
+    if (pass == 1) break;
+    const cv::Point2d normal(-line->direction.y, line->direction.x);
+    std::vector<double> residual;
+    for (const auto& p : *points) residual.push_back(std::abs((p - c).dot(normal)));
+    std::vector<double> sorted = residual;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double limit = std::max(0.5, 3.0 * sorted[sorted.size() / 2]);
+    std::vector<cv::Point2d> kept;
+    for (size_t i = 0; i < points->size(); ++i) {
+      if (residual[i] <= limit) kept.push_back((*points)[i]);
+    }
+    *points = std::move(kept);
+  }
+  return true;
+}
+
+// The edge point on the profile across the side at `middle`, searched within
+// `half` pixels either way; levels are read half a cell in and out.
+bool EdgePoint(const ImageView& image, const ChannelWeights& channel, cv::Point2d middle,
+               cv::Point2d outward, double half, double level_offset, float min_contrast,
+               cv::Point2d* edge) {
+  float inside = 0, outside = 0;
+  if (!image.Sample(middle.x - level_offset * outward.x, middle.y - level_offset * outward.y,
+                    channel, &inside) ||
+      !image.Sample(middle.x + level_offset * outward.x, middle.y + level_offset * outward.y,
+                    channel, &outside)) {
+    return false;
+  }
+  if (std::abs(outside - inside) < min_contrast) return false;
+  const float mid = 0.5f * (inside + outside);
+  const int steps = static_cast<int>(std::ceil(half / kProfileStep));
+  float previous = 0;
+  double best = 1e300;
+  for (int i = -steps; i <= steps; ++i) {
+    const double s = i * kProfileStep;
+    float v = 0;
+    if (!image.Sample(middle.x + s * outward.x, middle.y + s * outward.y, channel, &v))
+      return false;
+    if (i > -steps && (previous - mid) * (v - mid) <= 0 && previous != v) {
+      const double at = s - kProfileStep + kProfileStep * (mid - previous) / (v - previous);
+      if (std::abs(at) < std::abs(best)) best = at;
+    }
+    previous = v;
+  }
+  if (best > 1e299) return false;
+  *edge = middle + best * outward;
+  return true;
+}
+
+bool RefineQuad(const ImageView& image, const ChannelWeights& channel, float min_contrast,
+                double cell, int max_samples, Quad* quad) {
+  double mean_length = 0;
+  for (int i = 0; i < 4; ++i) mean_length += 0.25 * cv::norm((*quad)[(i + 1) % 4] - (*quad)[i]);
+  std::array<Line, 4> sides;
+  std::vector<cv::Point2d> points;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d p = (*quad)[i], q = (*quad)[(i + 1) % 4];
+    const double length = cv::norm(q - p);
+    const cv::Point2d along = (q - p) / length;
+    const cv::Point2d outward(along.y, -along.x);
+    // Perspective shrinks cells with their side.
+    const double local_cell = cell * std::clamp(length / mean_length, 0.6, 1.6);
+    const double level_offset = 0.5 * local_cell;
+    const double half = std::max(1.0, 0.5 * local_cell);
+    const int samples = std::clamp(static_cast<int>(length / 2.0), 5, max_samples);
+    points.clear();
+    for (int j = 0; j < samples; ++j) {
+      // Keep clear of the corners, where the neighbouring side interferes.
+      const double t = 0.12 + 0.76 * j / (samples - 1);
+      cv::Point2d edge;
+      if (EdgePoint(image, channel, p + t * (q - p), outward, half, level_offset, min_contrast,
+                    &edge)) {
+        points.push_back(edge);
+      }
+    }
+    if (points.size() < 4) return false;
+    if (!FitLine(&points, &sides[i])) return false;
+  }
+  Quad refined;
+  for (int i = 0; i < 4; ++i) {
+    const Line& a = sides[(i + 3) % 4];
+    const Line& b = sides[i];
+    if (!IntersectLines(a.point, a.direction, b.point, b.direction, &refined[i])) return false;
+    // The refinement moves corners by the scans' error, about a pixel; a large
+    // move means a side locked onto another edge.
+    if (cv::norm(refined[i] - (*quad)[i]) > std::max(2.0, 0.75 * cell)) return false;
+  }
+  if (!IsConvexClockwise(refined)) return false;
+  *quad = refined;
+  return true;
+}
+
+double Area(const Quad& quad) {
+  return PolygonArea(std::vector<cv::Point2f>(quad.begin(), quad.end()));
+}
+
+}  // namespace
+
+bool RefineQuads(const ImageView& image, Candidate* candidate) {
+  // One cell: the width of the black ring, between the outer and green quads.
+  const double cell = 0.5 * (std::sqrt(Area(candidate->quads[kBlackWhite])) -
+                             std::sqrt(Area(candidate->quads[kGreenBlack])));
+  if (!(cell > 1.0)) return false;
+  // Contrast floors in encoded 8-bit units (gray is the sum of three).
+  constexpr float kMinGrayContrast = 30.f;
+  constexpr float kMinRedGreenContrast = 20.f;
+  // The outer border gives the reported corners and the homography: two
+  // passes, the second starting from the first's lines.
+  for (int pass = 0; pass < 2; ++pass) {
+    if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 24, &candidate->quads[kBlackWhite]))
+      return false;
+  }
+  if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 16, &candidate->quads[kGreenBlack]))
+    return false;
+  if (!RefineQuad(image, kRedMinusGreen, kMinRedGreenContrast, cell, 16,
+                  &candidate->quads[kRedGreen]))
+    return false;
+  return true;
+}
+
+}  // namespace chromatag::internal

@@ -1,0 +1,123 @@
+// The scan primitive shared by InitialScan and BuildPolygon (paper section 4):
+// walk outwards pixel by pixel until M successive pixels lie beyond a
+// threshold from the reference colour.
+#include <algorithm>
+#include <cmath>
+
+#include "stages.h"
+
+namespace chromatag::internal {
+namespace {
+
+// What changes at each border. Red -> green is the paper's a* test. Past the
+// green ring the strong signal is lightness: the two greens differ by up to
+// 9 L* (iccv17 palette) but black is 35 or more below them, and white far
+// above black; a* barely changes from black to white.
+enum class Border { kRedToGreen, kGreenToBlack, kBlackToWhite };
+
+float ValueAt(const ImageView& image, int x, int y, Border border) {
+  return border == Border::kRedToGreen ? image.A(x, y) : image.L(x, y);
+}
+
+// How far `value` lies past `reference`, positive in the direction the border
+// changes the value (a* and L* fall into green and black, L* rises into white).
+float Depth(float reference, float value, Border border) {
+  return border == Border::kBlackToWhite ? value - reference : reference - value;
+}
+
+struct Crossing {
+  cv::Point2f at;      // Sub-pixel border: where the value passes halfway.
+  cv::Point2f resume;  // The M-th pixel past the border, where the next scan starts.
+  float value_after = 0;
+  int steps = 0;  // Steps from the start to `resume`.
+};
+
+bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction, float reference,
+                Border border, float thresh, int run, int max_steps, Crossing* crossing) {
+  auto pixel = [&](int k) {
+    return cv::Point(static_cast<int>(std::lround(start.x + k * direction.x)),
+                     static_cast<int>(std::lround(start.y + k * direction.y)));
+  };
+  int consecutive = 0;
+  int k = 1;
+  for (; k <= max_steps; ++k) {
+    const cv::Point p = pixel(k);
+    if (!image.Contains(p.x, p.y)) return false;
+    if (Depth(reference, ValueAt(image, p.x, p.y, border), border) > thresh) {
+      if (++consecutive == run) break;
+    } else {
+      consecutive = 0;
+    }
+  }
+  if (k > max_steps) return false;
+  const cv::Point end = pixel(k);
+  crossing->value_after = ValueAt(image, end.x, end.y, border);
+  crossing->resume = cv::Point2f(static_cast<float>(end.x), static_cast<float>(end.y));
+  crossing->steps = k;
+  // The border is where the depth passes half the final depth, interpolated
+  // between the two pixels around it.
+  const float half = 0.5f * Depth(reference, crossing->value_after, border);
+  float previous_depth = 0.f;  // The reference itself, at the step before the run.
+  cv::Point previous = pixel(k - run);
+  if (image.Contains(previous.x, previous.y)) {
+    previous_depth = Depth(reference, ValueAt(image, previous.x, previous.y, border), border);
+  }
+  for (int j = k - run + 1; j <= k; ++j) {
+    const cv::Point p = pixel(j);
+    const float depth = Depth(reference, ValueAt(image, p.x, p.y, border), border);
+    if (depth >= half) {
+      const float span = depth - previous_depth;
+      const float t = span > 1e-6f ? std::clamp((half - previous_depth) / span, 0.f, 1.f) : 0.5f;
+      crossing->at =
+          cv::Point2f(previous.x + t * (p.x - previous.x), previous.y + t * (p.y - previous.y));
+      return true;
+    }
+    previous = p;
+    previous_depth = depth;
+  }
+  crossing->at = crossing->resume;
+  return true;
+}
+
+}  // namespace
+
+bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point2f start,
+               cv::Point2f direction, float reference_red, RingHits* hits) {
+  const float thresh = static_cast<float>(options.border_thresh);
+  const int run = options.border_run;
+  const int reach = std::max(image.width(), image.height());
+
+  Crossing red_green;
+  if (!ScanBorder(image, start, direction, reference_red, Border::kRedToGreen, thresh, run, reach,
+                  &red_green)) {
+    return false;
+  }
+  // ReferenceGreen: a tag's green is far less red than its red (the seed saw
+  // a rise above ADiffThresh); half of that allows for blur on small tags.
+  if (reference_red - red_green.value_after < 0.5f * static_cast<float>(options.adiff_thresh)) {
+    return false;
+  }
+  const int p = red_green.resume.x, q = red_green.resume.y;
+  const float green_l = image.L(p, q);
+  // The green ring and the black ring are one cell each, as wide as the red
+  // half-width (16h5) or half of it (36h11); allow for perspective.
+  const int ring_reach = 3 * red_green.steps + 6;
+
+  Crossing green_black;
+  if (!ScanBorder(image, red_green.resume, direction, green_l, Border::kGreenToBlack,
+                  std::max(thresh, 0.3f * green_l), run, ring_reach, &green_black)) {
+    return false;
+  }
+  const float black_l = green_black.value_after;
+  Crossing black_white;
+  if (!ScanBorder(image, green_black.resume, direction, black_l, Border::kBlackToWhite,
+                  std::max(thresh, 0.3f * (green_l - black_l)), run, ring_reach, &black_white)) {
+    return false;
+  }
+  // The quiet zone is the lightest part of a tag.
+  if (black_white.value_after < green_l + thresh) return false;
+  hits->border = {red_green.at, green_black.at, black_white.at};
+  return true;
+}
+
+}  // namespace chromatag::internal

@@ -1,0 +1,121 @@
+// The stages of Algorithm 1 (paper section 4), one file and one function
+// each, and the candidate they build up. Internal to the detector.
+#ifndef CHROMATAG_DETECTOR_SRC_STAGES_H_
+#define CHROMATAG_DETECTOR_SRC_STAGES_H_
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "chromatag/detector/detection.h"
+#include "chromatag/detector/options.h"
+#include "chromatag/families/decoder.h"
+#include "chromatag/families/family.h"
+#include "image_view.h"
+
+namespace chromatag::internal {
+
+// The three borders a scan from the tag centre crosses, inside out.
+enum Ring { kRedGreen = 0, kGreenBlack = 1, kBlackWhite = 2 };
+inline constexpr int kNumRings = 3;
+
+using Quad = std::array<cv::Point2d, 4>;  // Clockwise on screen (x right, y down).
+
+// Where one scan from the centre crossed each border (sub-pixel).
+struct RingHits {
+  std::array<cv::Point2f, kNumRings> border;
+};
+
+// A tag candidate as the stages build it.
+struct Candidate {
+  cv::Point2f centre;       // Converged centre of the red region (InitialScan).
+  float reference_red = 0;  // ReferenceRed, a*.
+  // Border points per ring, from every scan (InitialScan and BuildPolygon).
+  std::array<std::vector<cv::Point2f>, kNumRings> points;
+  std::vector<float> scan_angles;  // Directions already scanned, radians.
+  std::array<Quad, kNumRings> quads;
+};
+
+// An accepted detection's area, which FindADiff skips.
+struct DetectedArea {
+  Quad quad;  // The outer quad grown by one cell (the quiet zone).
+  double min_y = 0, max_y = 0;
+  // The range [x_begin, x_end] the area covers on row y; false if none.
+  bool RowSpan(double y, double* x_begin, double* x_end) const;
+};
+
+// FindADiff's position on its current sampled row.
+struct RowCursor {
+  int y = 0;
+  int x = 0;
+  int old_coarse_a = 0;
+  bool has_old = false;
+};
+
+// 1. FindADiff: advances along the cursor's row, sampling every N-th pixel,
+// to the next sample whose a* rises by more than ADiffThresh over the previous
+// sample of the row, skipping accepted areas. False at the row's end.
+// *prefilter_rejects counts rises the coarse table suggested but the accurate
+// a* refuted.
+bool FindADiff(const ImageView& image, const DetectorOptions& options,
+               const std::vector<DetectedArea>& skip, RowCursor* cursor, cv::Point* seed,
+               int* prefilter_rejects);
+
+// One scan outwards from `start` along `direction` (largest component 1, so
+// one step per pixel row or column) through the three borders. ReferenceRed
+// is carried in; ReferenceGreen and ReferenceBlack are picked up on the way.
+// False if a border is not found within reach of the previous one or the scan
+// leaves the frame.
+bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point2f start,
+               cv::Point2f direction, float reference_red, RingHits* hits);
+
+// 2. InitialScan: scans left, right, up and down from the seed to the
+// red/green border, re-centres until the centre converges, then scans on
+// through all three borders. Seeds the candidate's polygons.
+bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
+                 Candidate* candidate);
+
+// 3. BuildPolygon: greedy scans towards the largest convexity-limited
+// potential area of the outer polygon until area / (area + potential) exceeds
+// ConvThresh. Every scan adds a point to each of the three polygons.
+bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate);
+
+// 4. PolyToQuad: length-weighted k-means (K = 4) of each polygon's edge
+// directions, four lines, their intersections; then (if enabled)
+// RefineQuads for sub-pixel corners.
+bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate);
+
+// Sub-pixel corners: least-squares lines through edge points found along
+// each side of each ring (refine_corners.cc). False if a side has too few
+// edge points to fit.
+bool RefineQuads(const ImageView& image, Candidate* candidate);
+
+// A family the detector looks for, with its decoder.
+struct FamilyDecoder {
+  std::shared_ptr<const TagFamily> family;
+  std::unique_ptr<CodeDecoder> decoder;
+};
+
+// 5. Decode: picks the family whose ring proportions match, reads every
+// payload cell in b*, splits each colour at its own midpoint, looks the code
+// up over all rotations and fills the detection in the decoded orientation.
+bool Decode(const ImageView& image, const DetectorOptions& options,
+            const std::vector<FamilyDecoder>& families, const Candidate& candidate,
+            Detection* detection);
+
+// Pose from a decoded detection (pose.cc).
+bool EstimatePose(const Detection& detection, const TagFamily& family,
+                  const CameraIntrinsics& camera, double tag_size, TagPose* pose);
+
+// Geometry helpers (geometry.cc).
+double PolygonArea(const std::vector<cv::Point2f>& polygon);  // Unsigned.
+bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
+                    cv::Point2d* at);
+bool IsConvexClockwise(const Quad& quad);
+
+}  // namespace chromatag::internal
+
+#endif  // CHROMATAG_DETECTOR_SRC_STAGES_H_

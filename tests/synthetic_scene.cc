@@ -1,0 +1,133 @@
+#include "synthetic_scene.h"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "chromatag/families/family.h"
+#include "chromatag/families/palette.h"
+#include "chromatag/generator/tag_renderer.h"
+
+namespace chromatag::testing {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+cv::Matx33d Rotation(const cv::Vec3d& axis, double degrees) {
+  cv::Matx33d r;
+  cv::Rodrigues(cv::Vec3d(axis * (degrees * kPi / 180.0)), r);
+  return r;
+}
+
+// Maps the tag plane (the black square is [-0.5, 0.5]^2, u right, v down on
+// the upright tag) to scene pixels.
+cv::Matx33d SceneFromTagPlane(const SceneTag& tag) {
+  const double t = tag.tilt_axis_deg * kPi / 180.0;
+  const cv::Matx33d r =
+      Rotation({std::cos(t), std::sin(t), 0}, tag.tilt_deg) * Rotation({0, 0, 1}, tag.rotation_deg);
+  const double z = tag.distance;
+  const double f = tag.black_square_px * z;
+  const cv::Matx33d k(f, 0, tag.centre.x, 0, f, tag.centre.y, 0, 0, 1);
+  const cv::Matx33d rt(r(0, 0), r(0, 1), 0, r(1, 0), r(1, 1), 0, r(2, 0), r(2, 1), z);
+  return k * rt;
+}
+
+cv::Point2d Apply(const cv::Matx33d& h, double x, double y) {
+  const cv::Vec3d p = h * cv::Vec3d(x, y, 1);
+  return {p[0] / p[2], p[1] / p[2]};
+}
+
+cv::Mat Background(const SceneOptions& options) {
+  cv::Mat bgr;
+  if (!options.background.empty()) {
+    cv::resize(options.background, bgr, cv::Size(options.width, options.height), 0, 0,
+               cv::INTER_AREA);
+    return bgr;
+  }
+  bgr.create(options.height, options.width, CV_8UC3);
+  for (int y = 0; y < bgr.rows; ++y) {
+    for (int x = 0; x < bgr.cols; ++x) {
+      const int v = 150 + (60 * x) / std::max(1, bgr.cols) + (30 * y) / std::max(1, bgr.rows);
+      bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(v, v, v);
+    }
+  }
+  return bgr;
+}
+
+}  // namespace
+
+Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options) {
+  double smallest = 1e300;
+  for (const auto& tag : tags) smallest = std::min(smallest, tag.black_square_px);
+  // Supersampling: enough that small tags' edges are averaged properly.
+  const int s = smallest < 100 ? 4 : 2;
+  const cv::Matx33d hi_from_scene(s, 0, (s - 1) / 2.0, 0, s, (s - 1) / 2.0, 0, 0, 1);
+
+  cv::Mat hi;
+  cv::resize(Background(options), hi, cv::Size(options.width * s, options.height * s), 0, 0,
+             cv::INTER_NEAREST);
+  Scene scene;
+  for (const SceneTag& tag : tags) {
+    std::string error;
+    auto family = TagFamily::Load(tag.family, &error);
+    if (!family) throw std::runtime_error(error);
+    auto palette = BuiltinPalette(tag.palette, &error);
+    if (!palette) throw std::runtime_error(error);
+    TagColors colors = TagColors::FromPalette(*palette);
+    if (tag.swap_shades) {
+      std::swap(colors[Shade::kRed1], colors[Shade::kRed0]);
+      std::swap(colors[Shade::kGreen1], colors[Shade::kGreen0]);
+    }
+    TagDrawOptions draw;
+    draw.quiet_zone_cells = tag.quiet_zone_cells;
+    const int cells = family->black_square_cells();
+    // About 1.5 source pixels per supersampled scene pixel.
+    const double ppc = std::ceil(1.5 * tag.black_square_px * s / cells);
+    const RgbImage image = RasterizeTag(*family, tag.id, colors, ppc, draw);
+    const double edge = (OuterCells(*family, draw) - cells) / 2 * ppc;
+    // Rendered pixel centres -> tag plane.
+    const double side = cells * ppc;
+    const cv::Matx33d plane_from_render(1 / side, 0, -(edge - 0.5) / side - 0.5, 0, 1 / side,
+                                        -(edge - 0.5) / side - 0.5, 0, 0, 1);
+    const cv::Matx33d scene_from_plane = SceneFromTagPlane(tag);
+    cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<uint8_t*>(image.pixels.data()));
+    cv::Mat bgr;
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+    cv::warpPerspective(bgr, hi, cv::Mat(hi_from_scene * scene_from_plane * plane_from_render),
+                        hi.size(), cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
+    TagTruth truth;
+    truth.family = family->name();
+    truth.id = tag.id;
+    const double corners[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
+    for (int i = 0; i < 4; ++i)
+      truth.corners[i] = Apply(scene_from_plane, corners[i][0], corners[i][1]);
+    scene.truth.push_back(truth);
+  }
+  cv::resize(hi, scene.bgr, cv::Size(options.width, options.height), 0, 0, cv::INTER_AREA);
+  if (options.blur_sigma > 0)
+    cv::GaussianBlur(scene.bgr, scene.bgr, cv::Size(0, 0), options.blur_sigma);
+  if (options.gain != cv::Vec3d(1, 1, 1) || options.noise_sigma > 0) {
+    cv::Mat f;
+    scene.bgr.convertTo(f, CV_32FC3);
+    cv::multiply(f, cv::Scalar(options.gain[2], options.gain[1], options.gain[0]), f);
+    if (options.noise_sigma > 0) {
+      cv::Mat noise(f.size(), CV_32FC3);
+      cv::RNG rng(options.seed);
+      rng.fill(noise, cv::RNG::NORMAL, 0.0, options.noise_sigma);
+      f += noise;
+    }
+    f.convertTo(scene.bgr, CV_8UC3);  // Rounds and saturates.
+  }
+  return scene;
+}
+
+double MaxCornerError(const std::array<cv::Point2d, 4>& a, const std::array<cv::Point2d, 4>& b) {
+  double worst = 0;
+  for (int i = 0; i < 4; ++i) worst = std::max(worst, cv::norm(a[i] - b[i]));
+  return worst;
+}
+
+}  // namespace chromatag::testing

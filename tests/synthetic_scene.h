@@ -1,0 +1,65 @@
+// Synthetic detector scenes with exact ground truth: tags rendered by the
+// generator (RasterizeTag), placed in 3D in front of a pinhole camera, warped
+// into a background with the resulting homography (supersampled, then
+// area-averaged, so edges are antialiased like a camera's), then optionally
+// blurred, colour-cast and noised.
+#ifndef CHROMATAG_TESTS_SYNTHETIC_SCENE_H_
+#define CHROMATAG_TESTS_SYNTHETIC_SCENE_H_
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace chromatag::testing {
+
+struct SceneTag {
+  std::string family = "16h5";
+  int id = 0;
+  // Side of the black square in pixels when seen face-on at the tag's centre
+  // depth.
+  double black_square_px = 100;
+  cv::Point2d centre{0, 0};  // In scene pixels.
+  double rotation_deg = 0;   // In-plane, clockwise on screen.
+  double tilt_deg = 0;       // Out of plane, about an in-plane axis...
+  double tilt_axis_deg = 0;  // ...at this angle from the x axis.
+  // Camera distance in tag sizes; smaller means stronger perspective.
+  double distance = 4.0;
+  std::string palette = "default";
+  bool swap_shades = false;  // Print red-1 as red-0 and green-1 as green-0, and back.
+  int quiet_zone_cells = 2;
+};
+
+struct SceneOptions {
+  int width = 320;
+  int height = 240;
+  // Background: a smooth light-grey gradient, or this BGR image resized to fit.
+  cv::Mat background;
+  double blur_sigma = 0;    // Gaussian blur, scene pixels (0: none).
+  double noise_sigma = 0;   // Gaussian noise, 8-bit units.
+  cv::Vec3d gain{1, 1, 1};  // Per-channel R, G, B multipliers: a colour cast.
+  unsigned seed = 1;
+};
+
+struct TagTruth {
+  std::string family;
+  int id = 0;
+  // Black square corners, top-left of the upright tag first, clockwise;
+  // pixel centres at integers.
+  std::array<cv::Point2d, 4> corners;
+};
+
+struct Scene {
+  cv::Mat bgr;  // CV_8UC3.
+  std::vector<TagTruth> truth;
+};
+
+Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options);
+
+// Largest distance between corresponding corners.
+double MaxCornerError(const std::array<cv::Point2d, 4>& a, const std::array<cv::Point2d, 4>& b);
+
+}  // namespace chromatag::testing
+
+#endif  // CHROMATAG_TESTS_SYNTHETIC_SCENE_H_
