@@ -103,7 +103,7 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
     if (best_area < 0.0) return true;  // Every direction worth scanning was scanned.
 
     cv::Point2f direction(std::cos(best_angle), std::sin(best_angle));
-    direction /= std::max(std::abs(direction.x), std::abs(direction.y));
+
     RingHits hits;
     candidate->scan_angles.push_back(best_angle);
     if (!ScanRings(image, options, candidate->centre, direction, candidate->reference_red, &hits)) {

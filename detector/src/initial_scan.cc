@@ -9,7 +9,13 @@ namespace {
 constexpr int kMaxCentreIterations = 8;
 constexpr float kConvergedPx = 0.75f;
 
-const cv::Point2f kDirections[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+// Right, down, left, up (the paper's four scans), then the diagonals; in
+// clockwise order on screen.
+// Unit steps, so that every scan samples a ring as densely (M pixels must fit
+// in a ring whatever the direction).
+constexpr float kD = 0.70710678f;
+const cv::Point2f kDirections[8] = {{1, 0},  {kD, kD},   {0, 1},  {-kD, kD},
+                                    {-1, 0}, {-kD, -kD}, {0, -1}, {kD, -kD}};
 
 }  // namespace
 
@@ -22,15 +28,19 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   const float thresh = static_cast<float>(options.border_thresh);
   const int reach = std::max(image.width(), image.height());
 
+  // Re-centre on the centroid of the polygon of red/green border points
+  // found in eight directions. The paper averages the four axis scans, but
+  // on a strongly sheared view (tilt and rotation together) that iteration
+  // oscillates instead of converging; the centroid does not.
   bool converged = false;
   for (int iteration = 0; iteration < kMaxCentreIterations && !converged; ++iteration) {
-    std::array<cv::Point2f, 4> border;
-    for (int i = 0; i < 4; ++i) {
+    std::vector<cv::Point2f> border(8);
+    for (int i = 0; i < 8; ++i) {
       // Red -> green only: the a* drop of the full scan, without the rings.
-      cv::Point2f p = centre;
+      const cv::Point2f direction = kDirections[i];
       int consecutive = 0, k = 1;
       for (; k <= reach; ++k) {
-        p = centre + static_cast<float>(k) * kDirections[i];
+        const cv::Point2f p = centre + static_cast<float>(k) * direction;
         const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
         if (!image.Contains(x, y)) return false;
         if (reference_red - image.A(x, y) > thresh) {
@@ -40,14 +50,17 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
         }
       }
       if (k > reach) return false;
-      border[i] = centre + static_cast<float>(k - options.border_run) * kDirections[i];
+      border[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
     }
-    const cv::Point2f next(0.5f * (border[0].x + border[2].x), 0.5f * (border[1].y + border[3].y));
+    const cv::Moments moments = cv::moments(border);
+    if (!(moments.m00 > 0)) return false;
+    const cv::Point2f next(static_cast<float>(moments.m10 / moments.m00),
+                           static_cast<float>(moments.m01 / moments.m00));
     converged =
         std::abs(next.x - centre.x) < kConvergedPx && std::abs(next.y - centre.y) < kConvergedPx;
     centre = next;
-    const int cx = static_cast<int>(std::lround(centre.x)),
-              cy = static_cast<int>(std::lround(centre.y));
+    const int cx = static_cast<int>(std::lround(centre.x));
+    const int cy = static_cast<int>(std::lround(centre.y));
     if (!image.Contains(cx, cy)) return false;
     const float centre_red = image.MeanA3x3(cx, cy);
     // The centre of a tag is red: if re-centring left the red, this is not one.
@@ -60,7 +73,8 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   candidate->reference_red = reference_red;
   candidate->scan_angles.clear();
   for (auto& ring : candidate->points) ring.clear();
-  for (const cv::Point2f& direction : kDirections) {
+  for (int i = 0; i < 8; i += 2) {
+    const cv::Point2f direction = kDirections[i];
     RingHits hits;
     if (!ScanRings(image, options, centre, direction, reference_red, &hits)) return false;
     for (int ring = 0; ring < kNumRings; ++ring)

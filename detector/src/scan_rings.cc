@@ -19,15 +19,23 @@ float ValueAt(const ImageView& image, int x, int y, Border border) {
   return border == Border::kRedToGreen ? image.A(x, y) : image.L(x, y);
 }
 
-// How far `value` lies past `reference`, positive in the direction the border
-// changes the value (a* and L* fall into green and black, L* rises into white).
+// How far `value` lies past `reference` towards the next ring's colour (a*
+// falls into green, L* falls into black and rises into white).
 float Depth(float reference, float value, Border border) {
   return border == Border::kBlackToWhite ? value - reference : reference - value;
 }
 
+// Whether a pixel counts towards the M successive ones that make a border.
+// Leaving green, a pixel lighter than the green (the white beyond a ring
+// thinner than M pixels) counts as well as a darker one.
+bool Beyond(float reference, float value, Border border, float thresh) {
+  if (border == Border::kGreenToBlack) return std::abs(reference - value) > thresh;
+  return Depth(reference, value, border) > thresh;
+}
+
 struct Crossing {
   cv::Point2f at;      // Sub-pixel border: where the value passes halfway.
-  cv::Point2f resume;  // The M-th pixel past the border, where the next scan starts.
+  cv::Point2f resume;  // The next ring's reference pixel, where the next scan starts.
   float value_after = 0;
   int steps = 0;  // Steps from the start to `resume`.
 };
@@ -43,26 +51,39 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   for (; k <= max_steps; ++k) {
     const cv::Point p = pixel(k);
     if (!image.Contains(p.x, p.y)) return false;
-    if (Depth(reference, ValueAt(image, p.x, p.y, border), border) > thresh) {
+    if (Beyond(reference, ValueAt(image, p.x, p.y, border), border, thresh)) {
       if (++consecutive == run) break;
     } else {
       consecutive = 0;
     }
   }
   if (k > max_steps) return false;
-  const cv::Point end = pixel(k);
+  // The next ring's reference is the run's pixel deepest into it (the
+  // greenest, darkest or lightest): on rings thinner than M pixels the run
+  // reaches into the ring after, and its last pixel would be the wrong colour.
+  int deepest = k - run + 1;
+  float deepest_depth = -1e30f;
+  for (int j = k - run + 1; j <= k; ++j) {
+    const cv::Point p = pixel(j);
+    const float depth = Depth(reference, ValueAt(image, p.x, p.y, border), border);
+    if (depth > deepest_depth) {
+      deepest_depth = depth;
+      deepest = j;
+    }
+  }
+  const cv::Point end = pixel(deepest);
   crossing->value_after = ValueAt(image, end.x, end.y, border);
   crossing->resume = cv::Point2f(static_cast<float>(end.x), static_cast<float>(end.y));
-  crossing->steps = k;
-  // The border is where the depth passes half the final depth, interpolated
-  // between the two pixels around it.
-  const float half = 0.5f * Depth(reference, crossing->value_after, border);
+  crossing->steps = deepest;
+  // The border is where the depth passes half the reference pixel's depth,
+  // interpolated between the two pixels around it.
+  const float half = 0.5f * deepest_depth;
   float previous_depth = 0.f;  // The reference itself, at the step before the run.
   cv::Point previous = pixel(k - run);
   if (image.Contains(previous.x, previous.y)) {
     previous_depth = Depth(reference, ValueAt(image, previous.x, previous.y, border), border);
   }
-  for (int j = k - run + 1; j <= k; ++j) {
+  for (int j = k - run + 1; j <= deepest; ++j) {
     const cv::Point p = pixel(j);
     const float depth = Depth(reference, ValueAt(image, p.x, p.y, border), border);
     if (depth >= half) {

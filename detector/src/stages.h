@@ -64,8 +64,8 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
                const std::vector<DetectedArea>& skip, RowCursor* cursor, cv::Point* seed,
                int* prefilter_rejects);
 
-// One scan outwards from `start` along `direction` (largest component 1, so
-// one step per pixel row or column) through the three borders. ReferenceRed
+// One scan outwards from `start` along the unit vector `direction`, one pixel
+// (nearest) per unit step, through the three borders. ReferenceRed
 // is carried in; ReferenceGreen and ReferenceBlack are picked up on the way.
 // False if a border is not found within reach of the previous one or the scan
 // leaves the frame.
