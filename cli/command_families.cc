@@ -1,6 +1,5 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "chromatag/families/decoder.h"
 #include "chromatag/families/family.h"
@@ -13,19 +12,6 @@ struct FamiliesOptions {
   std::string family;  // Empty: every family.
   bool json = false;
 };
-
-// "0-4, 6-9, 11-29".
-std::string FormatRanges(const std::vector<int>& ids) {
-  std::ostringstream out;
-  for (size_t i = 0; i < ids.size();) {
-    size_t j = i;
-    while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
-    out << (i ? ", " : "") << ids[i];
-    if (j > i) out << "-" << ids[j];
-    i = j + 1;
-  }
-  return out.str();
-}
 
 nlohmann::json FamilyJson(const TagFamily& family, const CodeDecoder& decoder) {
   nlohmann::json rejected = nlohmann::json::array();
@@ -55,7 +41,7 @@ void PrintFamily(const TagFamily& family, const CodeDecoder& decoder) {
             << family.num_green_cells() << " green cells (ring)\n"
             << "  black square   " << family.black_square_cells() << " cells (the tag size)\n"
             << "  kept IDs       " << family.kept_ids().size() << " of "
-            << family.num_apriltag_ids() << ": " << FormatRanges(family.kept_ids()) << "\n";
+            << family.num_apriltag_ids() << ": " << FormatIdRanges(family.kept_ids()) << "\n";
   if (family.rejected_ids().empty()) {
     std::cout << "  rejected IDs   none\n";
   }

@@ -20,6 +20,7 @@ using Action = std::function<int()>;
 void RegisterFamilies(CLI::App& app, Action* action);
 void RegisterPalettes(CLI::App& app, Action* action);
 void RegisterGenerate(CLI::App& app, Action* action);
+void RegisterVerify(CLI::App& app, Action* action);
 
 }  // namespace chromatag::cli
 

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   chromatag::cli::RegisterFamilies(app, &action);
   chromatag::cli::RegisterPalettes(app, &action);
   chromatag::cli::RegisterGenerate(app, &action);
+  chromatag::cli::RegisterVerify(app, &action);
 
   try {
     app.parse(argc, argv);

@@ -15,17 +15,8 @@ namespace {
 
 using testing::CommandResult;
 using testing::CountLines;
-
-CommandResult Chromatag(const std::vector<std::string>& args) {
-  return testing::RunCommand(CHROMATAG_CLI_PATH, args);
-}
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
+using testing::ReadFile;
+constexpr auto Chromatag = testing::RunChromatag;
 
 // A fresh empty folder for one test.
 std::string MakeDir(const std::string& name) {

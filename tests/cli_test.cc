@@ -13,10 +13,8 @@ namespace {
 
 using testing::CommandResult;
 using testing::CountLines;
-
-CommandResult Chromatag(const std::vector<std::string>& args) {
-  return testing::RunCommand(CHROMATAG_CLI_PATH, args);
-}
+using testing::ReadFile;
+constexpr auto Chromatag = testing::RunChromatag;
 
 TEST(CliTest, HelpAndVersion) {
   const auto help = Chromatag({"--help"});

@@ -56,6 +56,17 @@ CommandResult RunCommand(const std::string& program, const std::vector<std::stri
   return result;
 }
 
+CommandResult RunChromatag(const std::vector<std::string>& args) {
+  return RunCommand(CHROMATAG_CLI_PATH, args);
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
 int CountLines(const std::string& text) {
   int lines = 0;
   for (char c : text) lines += c == '\n';

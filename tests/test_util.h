@@ -17,6 +17,12 @@ struct CommandResult {
 // interpretation) and collects its exit code, standard output and error.
 CommandResult RunCommand(const std::string& program, const std::vector<std::string>& args);
 
+// Runs the chromatag executable built with the tests (CHROMATAG_CLI_PATH).
+CommandResult RunChromatag(const std::vector<std::string>& args);
+
+// The whole contents of a file; empty if it cannot be read.
+std::string ReadFile(const std::string& path);
+
 // Number of lines in `text` (a last line without a newline counts).
 int CountLines(const std::string& text);
 

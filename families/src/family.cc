@@ -47,6 +47,18 @@ Code ToPayloadCode(const apriltag_family_t& family, uint64_t apriltag_code, int 
 
 int HammingDistance(Code a, Code b) { return static_cast<int>(std::bitset<64>(a ^ b).count()); }
 
+std::string FormatIdRanges(const std::vector<int>& ids) {
+  std::string out;
+  for (size_t i = 0; i < ids.size();) {
+    size_t j = i;
+    while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
+    out += (i ? ", " : "") + std::to_string(ids[i]);
+    if (j > i) out += "-" + std::to_string(ids[j]);
+    i = j + 1;
+  }
+  return out;
+}
+
 const std::vector<std::string>& TagFamily::Names() {
   static const std::vector<std::string> names = {"16h5", "36h11"};
   return names;

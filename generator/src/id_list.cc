@@ -60,16 +60,4 @@ std::optional<std::vector<int>> ParseIdList(const std::string& text, const TagFa
   return ids;
 }
 
-std::string FormatIdRanges(const std::vector<int>& ids) {
-  std::ostringstream out;
-  for (size_t i = 0; i < ids.size();) {
-    size_t j = i;
-    while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
-    out << (i ? ", " : "") << ids[i];
-    if (j > i) out << "-" << ids[j];
-    i = j + 1;
-  }
-  return out.str();
-}
-
 }  // namespace chromatag

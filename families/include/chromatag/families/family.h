@@ -98,6 +98,9 @@ class TagFamily {
 // Number of differing bits.
 int HammingDistance(Code a, Code b);
 
+// "0-4, 6-9, 11" for sorted IDs.
+std::string FormatIdRanges(const std::vector<int>& ids);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_FAMILIES_FAMILY_H_

@@ -18,9 +18,6 @@ namespace chromatag {
 std::optional<std::vector<int>> ParseIdList(const std::string& text, const TagFamily& family,
                                             std::string* error = nullptr);
 
-// "0-4, 6-9, 11" for sorted IDs.
-std::string FormatIdRanges(const std::vector<int>& ids);
-
 }  // namespace chromatag
 
 #endif  // CHROMATAG_GENERATOR_ID_LIST_H_

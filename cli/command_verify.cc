@@ -1,0 +1,282 @@
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "chromatag/families/palette.h"
+#include "chromatag/generator/sidecar.h"
+#include "chromatag/generator/units.h"
+#include "chromatag/verify/family_check.h"
+#include "chromatag/verify/sheet_check.h"
+#include "chromatag/verify/stress.h"
+#include "commands.h"
+
+namespace chromatag::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+struct VerifyCommandOptions {
+  std::string sheet;
+  std::string family;
+  bool all = false;
+  bool stress = false;
+  double dpi = 200.0;
+  std::string tolerance = "0.5mm";
+  std::string palette = "default";
+  std::string palette_file;
+  bool json = false;
+};
+
+int Fail(const std::string& message) {
+  std::cerr << "chromatag verify: " << message << "\n";
+  return kExitUsage;
+}
+
+// "\r stress 12/28" on stderr when it is a terminal.
+void Progress(const char* what, size_t done, size_t total) {
+  if (!isatty(STDERR_FILENO)) return;
+  const int width = 30;
+  const int filled = static_cast<int>(width * done / std::max<size_t>(total, 1));
+  std::fprintf(stderr, "\r%s [%s%s] %zu/%zu", what, std::string(filled, '#').c_str(),
+               std::string(width - filled, ' ').c_str(), done, total);
+  if (done == total) std::fprintf(stderr, "\r%*s\r", width + 40, "");
+  std::fflush(stderr);
+}
+
+Json SheetJson(const SheetVerdict& verdict) {
+  Json tags = Json::array();
+  for (const auto& t : verdict.tags) {
+    tags.push_back({{"id", t.expected.id},
+                    {"page", t.expected.page + 1},
+                    {"times_found", t.times_found},
+                    {"found_id", t.found_id},
+                    {"hamming", t.hamming},
+                    {"margin", t.margin},
+                    {"position_error_mm", t.position_error_mm},
+                    {"passed", t.passed},
+                    {"problem", t.problem}});
+  }
+  Json unexpected = Json::array();
+  for (const auto& u : verdict.unexpected) {
+    unexpected.push_back({{"page", u.page + 1},
+                          {"family", u.family},
+                          {"id", u.id},
+                          {"center_mm", {u.center_mm[0], u.center_mm[1]}}});
+  }
+  return {{"passed", verdict.passed},
+          {"tags_passed", verdict.tags_passed},
+          {"tags", tags},
+          {"unexpected", unexpected},
+          {"file_problems", verdict.file_problems}};
+}
+
+void PrintSheet(const SheetVerdict& verdict) {
+  std::printf("  %5s %4s %5s %7s %7s %9s  %s\n", "ID", "page", "found", "hamming", "margin",
+              "error mm", "verdict");
+  for (const auto& t : verdict.tags) {
+    std::printf("  %5d %4d %5d %7d %7.1f %9.2f  %s\n", t.expected.id, t.expected.page + 1,
+                t.times_found, t.hamming, t.margin, t.position_error_mm,
+                t.passed ? "ok" : t.problem.c_str());
+  }
+  for (const auto& u : verdict.unexpected) {
+    std::printf("  unexpected: %s ID %d on page %d at %.1f, %.1f mm, where the sidecar has no tag\n",
+                u.family.c_str(), u.id, u.page + 1, u.center_mm[0], u.center_mm[1]);
+  }
+  for (const auto& problem : verdict.file_problems) std::printf("  file: %s\n", problem.c_str());
+  std::printf("%d of %zu tags pass%s. %s\n", verdict.tags_passed, verdict.tags.size(),
+              verdict.unexpected.empty() ? ", nothing else found" : "",
+              verdict.passed ? "PASS" : "FAIL");
+}
+
+Json AuditJson(const FamilyAudit& audit) {
+  Json pairs = Json::array();
+  for (const auto& p : audit.closest_pairs) {
+    pairs.push_back(
+        {{"id_a", p.id_a}, {"id_b", p.id_b}, {"rotation", p.rotation}, {"distance", p.distance}});
+  }
+  Json flips = Json::array();
+  for (const auto& f : audit.flips) {
+    flips.push_back({{"flips", f.flips},
+                     {"exhaustive", f.exhaustive},
+                     {"trials", f.trials},
+                     {"correct", f.correct},
+                     {"wrong_id", f.wrong_id},
+                     {"rejected", f.rejected}});
+  }
+  return {{"codes", audit.num_codes},      {"min_distance", audit.min_distance},
+          {"radius", audit.radius},        {"distance_histogram", audit.histogram},
+          {"closest_pairs", pairs},        {"bit_flips", flips},
+          {"decoding_safe", audit.DecodingIsSafe()}};
+}
+
+void PrintAudit(const std::string& family, const FamilyAudit& audit) {
+  std::printf("\nFamily audit, %s: %d codes, minimum distance %d over rotations, radius %d\n",
+              family.c_str(), audit.num_codes, audit.min_distance, audit.radius);
+  std::printf("  pairs by distance:");
+  for (size_t d = 0; d < audit.histogram.size(); ++d) {
+    if (audit.histogram[d] > 0) std::printf(" %zu:%lld", d, static_cast<long long>(audit.histogram[d]));
+  }
+  std::printf("\n  closest pairs (ID a, ID b turned k quarter turns, distance):");
+  for (size_t i = 0; i < std::min<size_t>(audit.closest_pairs.size(), 10); ++i) {
+    const auto& p = audit.closest_pairs[i];
+    std::printf("%s %d-%d/%d:%d", i ? "," : "", p.id_a, p.id_b, p.rotation, p.distance);
+  }
+  std::printf("\n  bit flips   trials      correct   wrong ID    rejected\n");
+  for (const auto& f : audit.flips) {
+    std::printf("  %9d %8lld%s %11lld %10lld %11lld\n", f.flips, static_cast<long long>(f.trials),
+                f.exhaustive ? "*" : " ", static_cast<long long>(f.correct),
+                static_cast<long long>(f.wrong_id), static_cast<long long>(f.rejected));
+  }
+  std::printf("  (* every pattern; otherwise a random sample)  decoding within the radius: %s\n",
+              audit.DecodingIsSafe() ? "always right" : "NOT SAFE");
+}
+
+Json StressJson(const std::vector<TagStress>& stresses) {
+  Json all = Json::array();
+  for (const auto& s : stresses) {
+    Json conditions = Json::object();
+    for (const auto& c : s.conditions) conditions[c.condition] = c.decoded;
+    all.push_back({{"id", s.id},
+                   {"smallest_size_px", s.smallest_size_px},
+                   {"largest_tilt_deg", s.largest_tilt_deg},
+                   {"conditions", conditions}});
+  }
+  return all;
+}
+
+void PrintStress(const std::vector<TagStress>& stresses) {
+  if (stresses.empty()) return;
+  std::printf("\nStress (face-on sizes and tilts are the black square's side in pixels):\n");
+  std::printf("  %5s %9s %9s", "ID", "min size", "max tilt");
+  for (const auto& c : stresses[0].conditions) std::printf(" %14s", c.condition.c_str());
+  std::printf("\n");
+  for (const auto& s : stresses) {
+    std::printf("  %5d %9.1f %9.0f", s.id, s.smallest_size_px, s.largest_tilt_deg);
+    for (const auto& c : s.conditions) std::printf(" %14s", c.decoded ? "ok" : "FAIL");
+    std::printf("\n");
+  }
+  std::vector<TagStress> weakest = stresses;
+  std::sort(weakest.begin(), weakest.end(), [](const TagStress& a, const TagStress& b) {
+    auto fails = [](const TagStress& s) {
+      return std::count_if(s.conditions.begin(), s.conditions.end(),
+                           [](const ConditionOutcome& c) { return !c.decoded; });
+    };
+    return std::make_tuple(-fails(a), -a.smallest_size_px, a.largest_tilt_deg) <
+           std::make_tuple(-fails(b), -b.smallest_size_px, b.largest_tilt_deg);
+  });
+  std::printf("  weakest IDs:");
+  for (size_t i = 0; i < std::min<size_t>(5, weakest.size()); ++i) std::printf(" %d", weakest[i].id);
+  std::printf("\n");
+}
+
+std::vector<TagStress> RunStress(const TagFamily& family, const std::vector<int>& ids,
+                                 const Palette& palette) {
+  DetectorOptions options;
+  options.families = {family.name()};
+  auto detector = Detector::Create(options);
+  const TagColors colors = TagColors::FromPalette(palette);
+  std::vector<TagStress> stresses;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    stresses.push_back(StressTag(family, ids[i], colors, *detector));
+    Progress("stress", i + 1, ids.size());
+  }
+  return stresses;
+}
+
+int RunVerify(const VerifyCommandOptions& o) {
+  std::string error;
+  VerifyOptions options;
+  options.dpi = o.dpi;
+  const auto tolerance = ParseLength(o.tolerance, &error);
+  if (!tolerance) return Fail(error);
+  options.max_position_error_mm = tolerance->mm;
+  if (!options.IsValid(&error)) return Fail(error);
+  if (o.sheet.empty() == !(o.all && !o.family.empty())) {
+    return Fail("give a sheet (chromatag verify tags.pdf) or a family (--family 16h5 --all)");
+  }
+  Json out;
+  bool passed = false;
+  std::vector<TagStress> stresses;
+  if (!o.sheet.empty()) {
+    const auto record = ReadSidecar(SidecarPath(o.sheet), &error);
+    if (!record) return Fail(error);
+    Progress("verify", 0, 1);
+    const auto verdict = VerifySheetFile(o.sheet, options, &error);
+    Progress("verify", 1, 1);
+    if (!verdict) return Fail(error);
+    passed = verdict->passed;
+    if (o.stress) {
+      std::vector<int> ids;
+      for (const auto& tag : record->tags) ids.push_back(tag.id);
+      stresses = RunStress(*record->family, ids, record->palette);
+    }
+    if (o.json) {
+      out = SheetJson(*verdict);
+      out["sheet"] = o.sheet;
+    } else {
+      std::printf("Sheet %s: %s, %zu tags of %.1f mm on %d page(s), palette %s, at %.0f dpi\n",
+                  o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
+                  record->tag_size_mm, record->num_pages, record->palette.name.c_str(),
+                  record->format == SheetFormat::kPng ? record->dpi : o.dpi);
+      PrintSheet(*verdict);
+    }
+  } else {
+    const auto palette = o.palette_file.empty() ? BuiltinPalette(o.palette, &error)
+                                                : LoadPaletteFile(o.palette_file, &error);
+    if (!palette) return Fail(error);
+    const auto verdict = VerifyFamily(o.family, *palette, options, &error);
+    if (!verdict) return Fail(error);
+    passed = verdict->passed;
+    if (o.stress) {
+      auto family = TagFamily::Load(o.family);
+      stresses = RunStress(*family, family->kept_ids(), *palette);
+    }
+    if (o.json) {
+      out = SheetJson(verdict->sheet);
+      out["family"] = o.family;
+      out["audit"] = AuditJson(verdict->audit);
+      out["passed"] = verdict->passed;
+    } else {
+      std::printf("Every kept %s ID, rendered with palette %s and detected again:\n",
+                  o.family.c_str(), palette->name.c_str());
+      PrintSheet(verdict->sheet);
+      PrintAudit(o.family, verdict->audit);
+      std::printf("%s\n", verdict->passed ? "PASS" : "FAIL");
+    }
+  }
+  if (o.json) {
+    if (o.stress) out["stress"] = StressJson(stresses);
+    std::cout << out.dump() << "\n";
+  } else {
+    PrintStress(stresses);
+  }
+  return passed ? kExitOk : kExitFailure;
+}
+
+}  // namespace
+
+void RegisterVerify(CLI::App& app, Action* action) {
+  auto o = std::make_shared<VerifyCommandOptions>();
+  CLI::App* c = app.add_subcommand(
+      "verify", "Check that every tag of a generated sheet (or a whole family) decodes");
+  c->add_option("sheet", o->sheet, "A sheet written by 'generate' (.pdf, .svg, .png)");
+  c->add_option("--family", o->family, "With --all: check this whole family")
+      ->check(CLI::IsMember(TagFamily::Names()));
+  c->add_flag("--all", o->all, "Render every kept ID of --family and audit the family");
+  c->add_flag("--stress", o->stress,
+              "Also view every tag through camera conditions: size, tilt, blur, noise, JPEG, "
+              "casts, Bayer");
+  c->add_option("--dpi", o->dpi, "Resolution PDF and SVG pages are rasterised at")
+      ->capture_default_str();
+  c->add_option("--tolerance", o->tolerance, "Largest accepted corner position error")
+      ->capture_default_str();
+  auto* palette = c->add_option("--palette", o->palette, "Palette for --all")->capture_default_str();
+  c->add_option("--palette-file", o->palette_file, "Palette file for --all")->excludes(palette);
+  c->add_flag("--json", o->json, "Print one JSON object");
+  c->callback([o, action] { *action = [o] { return RunVerify(*o); }; });
+}
+
+}  // namespace chromatag::cli

@@ -1,0 +1,76 @@
+// `chromatag verify` as a user runs it.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "test_util.h"
+
+namespace chromatag {
+namespace {
+
+using testing::CommandResult;
+using testing::CountLines;
+using testing::ReadFile;
+constexpr auto Chromatag = testing::RunChromatag;
+
+TEST(CliVerifyTest, GeneratedSheetPassesAndATamperedSidecarFails) {
+  const std::string sheet = ::testing::TempDir() + "/cli_verify.pdf";
+  ASSERT_EQ(Chromatag({"generate", "--ids", "0-4", "--size", "30mm", "-o", sheet}).exit_code, 0);
+  const auto ok = Chromatag({"verify", sheet});
+  EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
+  EXPECT_NE(ok.out.find("5 of 5 tags pass, nothing else found. PASS"), std::string::npos) << ok.out;
+
+  const std::string sidecar = ::testing::TempDir() + "/cli_verify.json";
+  auto json = nlohmann::json::parse(ReadFile(sidecar));
+  json["tags"][2]["id"] = 9;
+  std::ofstream(sidecar) << json.dump();
+  const auto bad = Chromatag({"verify", "--json", sheet});
+  EXPECT_EQ(bad.exit_code, 1);
+  const auto report = nlohmann::json::parse(bad.out);
+  EXPECT_FALSE(report["passed"].get<bool>());
+  EXPECT_EQ(report["tags"][2]["found_id"], 2);
+  EXPECT_NE(report["tags"][2]["problem"].get<std::string>().find("16h5 ID 9"), std::string::npos);
+}
+
+TEST(CliVerifyTest, FamilyAuditRunsOnEveryKeptId) {
+  const auto result = Chromatag({"verify", "--family", "16h5", "--all", "--json"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["tags"].size(), 28u);
+  EXPECT_EQ(report["audit"]["min_distance"], 5);
+  EXPECT_TRUE(report["audit"]["decoding_safe"].get<bool>());
+  EXPECT_EQ(report["audit"]["bit_flips"][2]["wrong_id"], 0);
+}
+
+TEST(CliVerifyTest, StressReportsSizeTiltAndConditionsPerTag) {
+  const std::string sheet = ::testing::TempDir() + "/cli_stress.pdf";
+  ASSERT_EQ(Chromatag({"generate", "--ids", "0,1", "--size", "30mm", "-o", sheet}).exit_code, 0);
+  const auto result = Chromatag({"verify", "--stress", "--json", sheet});
+  const auto report = nlohmann::json::parse(result.out);
+  ASSERT_EQ(report["stress"].size(), 2u);
+  for (const auto& tag : report["stress"]) {
+    EXPECT_GT(tag["smallest_size_px"].get<double>(), 5.0);
+    EXPECT_LT(tag["smallest_size_px"].get<double>(), 60.0);
+    EXPECT_GE(tag["largest_tilt_deg"].get<double>(), 40.0);
+    EXPECT_EQ(tag["conditions"].size(), 6u);
+    EXPECT_TRUE(tag["conditions"]["blur 1.5 px"].get<bool>());
+  }
+}
+
+TEST(CliVerifyTest, BadInputIsOneLineWithExitTwo) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"verify", "/nonexistent/tags.pdf"},
+           {"verify"},
+           {"verify", "--family", "16h5"},
+           {"verify", "--family", "16h5", "--all", "--dpi", "5"},
+           {"verify", "--family", "16h5", "--all", "--tolerance", "1ft"}}) {
+    const auto result = Chromatag(args);
+    EXPECT_EQ(result.exit_code, 2) << args.back();
+    EXPECT_EQ(CountLines(result.err), 1) << result.err;
+  }
+}
+
+}  // namespace
+}  // namespace chromatag

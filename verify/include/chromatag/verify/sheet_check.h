@@ -1,0 +1,72 @@
+// Round trip: every tag a sheet's sidecar describes is found exactly once,
+// with the right ID and no bit corrected, where the sidecar says; nothing
+// else is found. `chromatag verify SHEET` is this, plus printing.
+#ifndef CHROMATAG_VERIFY_SHEET_CHECK_H_
+#define CHROMATAG_VERIFY_SHEET_CHECK_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "chromatag/detector/detector.h"
+#include "chromatag/generator/sidecar.h"
+#include "chromatag/verify/raster.h"
+
+namespace chromatag {
+
+struct VerifyOptions {
+  // Resolution PDF and SVG pages are rasterised at, pixels per inch. Higher
+  // checks small tags better and takes longer. [50, 1200].
+  double dpi = 200.0;
+  // Largest accepted distance between a detected corner and the sidecar's,
+  // mm. A tag moved by more than this on the page fails.
+  double max_position_error_mm = 0.5;
+
+  bool IsValid(std::string* error) const;
+};
+
+// The verdict on one tag of the sidecar.
+struct TagVerdict {
+  PlacedTag expected;
+  int times_found = 0;
+  int found_id = -1;  // ID of the (first) detection at its place; -1 if none.
+  int hamming = 0;
+  double margin = 0.0;
+  double position_error_mm = 0.0;  // Worst corner, mm.
+  bool passed = false;
+  std::string problem;  // Empty when passed; otherwise names what is wrong.
+};
+
+// A detection where the sidecar has no tag.
+struct UnexpectedDetection {
+  int page = 0;
+  std::string family;
+  int id = -1;
+  std::array<double, 2> center_mm{};
+};
+
+struct SheetVerdict {
+  std::vector<TagVerdict> tags;
+  std::vector<UnexpectedDetection> unexpected;
+  // The sheet file's bytes differ from the SHA-256 in its sidecar.
+  std::vector<std::string> file_problems;
+  bool passed = false;
+  int tags_passed = 0;
+};
+
+// Checks rasterised pages against the sidecar with `detector` (which should
+// look for every family, so strays of another family are found too).
+SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
+                        const Detector& detector, const VerifyOptions& options);
+
+// The whole round trip for a sheet file (.pdf, .svg or .png) whose sidecar is
+// beside it: read the sidecar, check the files' hashes, rasterise, detect and
+// check. Refuses (nullopt, *error) bad options, a missing or broken sidecar or
+// an unreadable sheet.
+std::optional<SheetVerdict> VerifySheetFile(const std::string& sheet_path,
+                                            const VerifyOptions& options,
+                                            std::string* error = nullptr);
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_VERIFY_SHEET_CHECK_H_
