@@ -96,8 +96,29 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
     cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<uint8_t*>(image.pixels.data()));
     cv::Mat bgr;
     cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-    cv::warpPerspective(bgr, hi, cv::Mat(hi_from_scene * scene_from_plane * plane_from_render),
-                        hi.size(), cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
+    // Warp only into the box the tag covers: whole-canvas warps made scenes
+    // with many tags slow.
+    const cv::Matx33d hi_from_render = hi_from_scene * scene_from_plane * plane_from_render;
+    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    for (int i = 0; i < 4; ++i) {
+      const cv::Point2d p =
+          Apply(hi_from_render, (i % 3 ? image.width : 0) - 0.5, (i / 2 ? image.height : 0) - 0.5);
+      x0 = std::min(x0, p.x);
+      y0 = std::min(y0, p.y);
+      x1 = std::max(x1, p.x);
+      y1 = std::max(y1, p.y);
+    }
+    const cv::Rect roi =
+        cv::Rect(
+            cv::Point(static_cast<int>(std::floor(x0)) - 2, static_cast<int>(std::floor(y0)) - 2),
+            cv::Point(static_cast<int>(std::ceil(x1)) + 3, static_cast<int>(std::ceil(y1)) + 3)) &
+        cv::Rect(0, 0, hi.cols, hi.rows);
+    if (!roi.empty()) {
+      const cv::Matx33d shift(1, 0, -roi.x, 0, 1, -roi.y, 0, 0, 1);
+      cv::Mat target = hi(roi);
+      cv::warpPerspective(bgr, target, cv::Mat(shift * hi_from_render), target.size(),
+                          cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
+    }
     TagTruth truth;
     truth.family = family->name();
     truth.id = tag.id;

@@ -1,7 +1,9 @@
 // Stage 1, FindADiff (paper section 4): the only stage that touches the whole
 // frame, so it is the one that sets the speed on frames without tags.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
 
 #include "stages.h"
 
@@ -26,15 +28,18 @@ bool DetectedArea::RowSpan(double y, double* x_begin, double* x_end) const {
 
 namespace {
 
-// Where the row leaves the accepted area containing x, or -1 if none does.
-int EndOfDetection(const std::vector<DetectedArea>& skip, int x, int y) {
+// The row's stretches [begin, end] inside accepted areas, sorted.
+int RowSpans(const std::vector<DetectedArea>& skip, int y,
+             std::array<std::pair<int, int>, 64>* spans) {
+  int n = 0;
   for (const DetectedArea& area : skip) {
     double begin = 0, end = 0;
-    if (area.RowSpan(y, &begin, &end) && x >= begin && x <= end) {
-      return static_cast<int>(std::floor(end)) + 1;
+    if (n < static_cast<int>(spans->size()) && area.RowSpan(y, &begin, &end)) {
+      (*spans)[n++] = {static_cast<int>(std::ceil(begin)), static_cast<int>(std::floor(end))};
     }
   }
-  return -1;
+  std::sort(spans->begin(), spans->begin() + n);
+  return n;
 }
 
 }  // namespace
@@ -54,38 +59,45 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
   const float adiff = static_cast<float>(options.adiff_thresh);
   const int y = cursor->y;
   const uint8_t* row = image.Pixel(0, y);
+  std::array<std::pair<int, int>, 64> spans;
+  const int num_spans = skip.empty() ? 0 : RowSpans(skip, y, &spans);
 
   int x = cursor->x;
   int old_a = cursor->old_coarse_a;
   bool has_old = cursor->has_old;
+  int span = 0;
   while (x < width) {
-    if (!skip.empty()) {
-      const int end = EndOfDetection(skip, x, y);
-      if (end >= 0) {
+    // The samples up to the next accepted area, or the row's end.
+    while (span < num_spans && spans[span].second < x) ++span;
+    int stop = width;
+    if (span < num_spans) {
+      if (spans[span].first <= x) {
         // MoveJToEndOfDetection: continue at the first grid column past the
         // area, with no previous sample to compare against.
-        x = (end + step - 1) / step * step;
+        x = (spans[span].second + step) / step * step;
         has_old = false;
         continue;
       }
+      stop = spans[span].first;
     }
-    const uint8_t* p = row + 3 * x;
-    const int a = coarse[((p[r] >> 3) << 10) | ((p[1] >> 3) << 5) | (p[b] >> 3)];
-    if (has_old && a - old_a > coarse_thresh) {
-      const uint8_t* q = p - 3 * step;
-      const float exact_rise = table.A(p[r], p[1], p[b]) - table.A(q[r], q[1], q[b]);
-      if (exact_rise > adiff) {
-        cursor->x = x + step;
-        cursor->old_coarse_a = a;
-        cursor->has_old = true;
-        *seed = cv::Point(x, y);
-        return true;
+    for (; x < stop; x += step) {
+      const uint8_t* p = row + 3 * x;
+      const int a = coarse[((p[r] >> 3) << 10) | ((p[1] >> 3) << 5) | (p[b] >> 3)];
+      if (has_old && a - old_a > coarse_thresh) {
+        const uint8_t* q = p - 3 * step;
+        const float exact_rise = table.A(p[r], p[1], p[b]) - table.A(q[r], q[1], q[b]);
+        if (exact_rise > adiff) {
+          cursor->x = x + step;
+          cursor->old_coarse_a = a;
+          cursor->has_old = true;
+          *seed = cv::Point(x, y);
+          return true;
+        }
+        ++*prefilter_rejects;
       }
-      ++*prefilter_rejects;
+      old_a = a;
+      has_old = true;
     }
-    old_a = a;
-    has_old = true;
-    x += step;
   }
   cursor->x = x;
   return false;

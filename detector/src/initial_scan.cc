@@ -8,6 +8,9 @@ namespace {
 
 constexpr int kMaxCentreIterations = 8;
 constexpr float kConvergedPx = 0.75f;
+// Smallest a* accepted as a tag's red: the palettes' reds have 40 or more, and
+// a colour cast or a washed-out print lowers it.
+constexpr float kMinRedA = 12.f;
 
 // Right, down, left, up (the paper's four scans), then the diagonals; in
 // clockwise order on screen.
@@ -26,7 +29,12 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // its neighbourhood is the better ReferenceRed.
   float reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
   const float thresh = static_cast<float>(options.border_thresh);
-  const int reach = std::max(image.width(), image.height());
+  // A tag's red half-width is under half the frame unless the tag is larger
+  // than the frame.
+  const int reach = std::max(image.width(), image.height()) / 2;
+  // Every palette's red has a* of 40 or more (spec section 6); a rise that
+  // ends far below that is green meeting black or white, not a tag's centre.
+  if (reference_red < kMinRedA) return false;
 
   // Re-centre on the centroid of the polygon of red/green border points
   // found in eight directions. The paper averages the four axis scans, but

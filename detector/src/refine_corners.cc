@@ -88,8 +88,9 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, cv::Point2
   return true;
 }
 
+// `max_half` bounds the search either side of the current line, in pixels.
 bool RefineQuad(const ImageView& image, const ChannelWeights& channel, float min_contrast,
-                double cell, int max_samples, Quad* quad) {
+                double cell, int max_samples, double max_half, Quad* quad) {
   double mean_length = 0;
   for (int i = 0; i < 4; ++i) mean_length += 0.25 * cv::norm((*quad)[(i + 1) % 4] - (*quad)[i]);
   std::array<Line, 4> sides;
@@ -99,10 +100,13 @@ bool RefineQuad(const ImageView& image, const ChannelWeights& channel, float min
     const double length = cv::norm(q - p);
     const cv::Point2d along = (q - p) / length;
     const cv::Point2d outward(along.y, -along.x);
-    // Perspective shrinks cells with their side.
-    const double local_cell = cell * std::clamp(length / mean_length, 0.6, 1.6);
+    // Foreshortening shrinks cells across this side as much as it shrinks
+    // the two sides next to it.
+    const double across =
+        0.5 * (cv::norm((*quad)[i] - (*quad)[(i + 3) % 4]) + cv::norm((*quad)[(i + 2) % 4] - q));
+    const double local_cell = cell * std::clamp(across / mean_length, 0.4, 2.5);
     const double level_offset = 0.5 * local_cell;
-    const double half = std::max(1.0, 0.5 * local_cell);
+    const double half = std::clamp(0.5 * local_cell, 1.0, max_half);
     const int samples = std::clamp(static_cast<int>(length / 2.0), 5, max_samples);
     points.clear();
     for (int j = 0; j < samples; ++j) {
@@ -145,15 +149,28 @@ bool RefineQuads(const ImageView& image, Candidate* candidate) {
   // Contrast floors in encoded 8-bit units (gray is the sum of three).
   constexpr float kMinGrayContrast = 30.f;
   constexpr float kMinRedGreenContrast = 20.f;
-  // The outer border gives the reported corners and the homography: two
-  // passes, the second starting from the first's lines.
-  for (int pass = 0; pass < 2; ++pass) {
-    if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 24, &candidate->quads[kBlackWhite]))
+  // The outer border gives the reported corners and the homography: repeat
+  // until the corners settle, each pass searching around the last one's
+  // lines, so that a corner the polygon missed by more than the search
+  // window is still reached.
+  constexpr int kMaxOuterPasses = 3;
+  constexpr double kSettledPx = 0.05;
+  for (int pass = 0; pass < kMaxOuterPasses; ++pass) {
+    const Quad before = candidate->quads[kBlackWhite];
+    // The first pass searches up to 4 px either side (the polygon's corners
+    // can be that far off); later ones only around the last lines.
+    const double max_half = pass == 0 ? 4.0 : 1.5;
+    if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 16, max_half,
+                    &candidate->quads[kBlackWhite]))
       return false;
+    double moved = 0;
+    for (int i = 0; i < 4; ++i)
+      moved = std::max(moved, cv::norm(candidate->quads[kBlackWhite][i] - before[i]));
+    if (moved < kSettledPx) break;
   }
-  if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 16, &candidate->quads[kGreenBlack]))
+  if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 10, 2.5, &candidate->quads[kGreenBlack]))
     return false;
-  if (!RefineQuad(image, kRedMinusGreen, kMinRedGreenContrast, cell, 16,
+  if (!RefineQuad(image, kRedMinusGreen, kMinRedGreenContrast, cell, 10, 2.5,
                   &candidate->quads[kRedGreen]))
     return false;
   return true;
