@@ -15,6 +15,9 @@ constexpr double kCellSampleOffset = 0.2;
 // Largest mean distance, in cells, between the measured inner ring corners
 // and where a family puts them for the family to be considered.
 constexpr double kMaxRingMisfitCells = 0.35;
+// A bit is corrected only if its cell's b* lies within this fraction of the
+// way from the split to its group's mean (0: on the split, 1: at the mean).
+constexpr double kMaxCorrectedCellCertainty = 0.5;
 
 cv::Point2d Apply(const cv::Matx33d& h, double x, double y) {
   const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
@@ -89,6 +92,7 @@ CellSample ReadCell(const ImageView& image, const cv::Matx33d& image_from_tag, i
 struct Split {
   float threshold = 0;
   double margin = 0;
+  double half_gap = 0;  // Half the distance between the two groups' means.
 };
 
 Split SplitShades(const std::vector<float>& values) {
@@ -114,6 +118,7 @@ Split SplitShades(const std::vector<float>& values) {
   }
   const double spread = std::sqrt(pooled / std::max(1, count[0] + count[1] - 2));
   split.margin = (min_high - max_low) / std::max(1.0, spread);
+  if (count[0] && count[1]) split.half_gap = 0.5 * (sum[1] / count[1] - sum[0] / count[0]);
   return split;
 }
 
@@ -156,6 +161,19 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   }
   CodeMatch match;
   if (!entry.decoder->Decode(observed, &match)) return false;
+  // Correct only cells whose shade is in doubt. A cell read clearly as the
+  // wrong shade is not noise: a tag printed with its shades swapped shows the
+  // complement of its code, and for 16h5 that complement lies within two bits
+  // of another ID for 10 of the 28 IDs; it would decode as that ID.
+  const Code wrong = observed ^ family.Rotate(family.CodeOf(match.id), match.rotation);
+  for (int cell = 0; cell < d * d; ++cell) {
+    if (!((wrong >> (d * d - 1 - cell)) & 1u)) continue;
+    const bool is_red = family.CellColorAt(cell / d, cell % d) == CellColor::kRed;
+    const Split& split = is_red ? red : green;
+    const double doubt =
+        std::abs(colors[cell].b - split.threshold) / std::max(1e-6, split.half_gap);
+    if (doubt > kMaxCorrectedCellCertainty) return false;
+  }
 
   // The observation is the tag turned `rotation` quarter turns clockwise, so
   // the upright tag's top-left corner is the observed corner `rotation`.

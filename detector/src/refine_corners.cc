@@ -153,14 +153,14 @@ bool RefineQuads(const ImageView& image, Candidate* candidate) {
   // until the corners settle, each pass searching around the last one's
   // lines, so that a corner the polygon missed by more than the search
   // window is still reached.
-  constexpr int kMaxOuterPasses = 3;
+  constexpr int kMaxOuterPasses = 5;
   constexpr double kSettledPx = 0.05;
   for (int pass = 0; pass < kMaxOuterPasses; ++pass) {
     const Quad before = candidate->quads[kBlackWhite];
     // The first pass searches up to 4 px either side (the polygon's corners
     // can be that far off); later ones only around the last lines.
     const double max_half = pass == 0 ? 4.0 : 1.5;
-    if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 16, max_half,
+    if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 20, max_half,
                     &candidate->quads[kBlackWhite]))
       return false;
     double moved = 0;

@@ -1,0 +1,59 @@
+#include "chromatag/detector/detector.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace chromatag {
+namespace {
+
+TEST(DetectorTest, RefusesInvalidOptionsNamingTheField) {
+  DetectorOptions options;
+  options.step = 0;
+  std::string error;
+  EXPECT_EQ(Detector::Create(options, &error), nullptr);
+  EXPECT_NE(error.find("step (N)"), std::string::npos) << error;
+  options = {};
+  options.camera = CameraIntrinsics{};
+  EXPECT_EQ(Detector::Create(options, &error), nullptr);
+  EXPECT_NE(error.find("fx and fy"), std::string::npos) << error;
+  options.camera->fx = options.camera->fy = 500;
+  options.camera->distortion = {0.1, 0.2, 0.3};
+  EXPECT_EQ(Detector::Create(options, &error), nullptr);
+  EXPECT_NE(error.find("0, 4, 5 or 8"), std::string::npos) << error;
+}
+
+TEST(DetectorTest, AnythingButEightBitThreeChannelGivesAnEmptyResult) {
+  auto detector = Detector::Create(DetectorOptions{});
+  ASSERT_TRUE(detector);
+  for (int type : {CV_8UC1, CV_8UC4, CV_16UC3, CV_32FC3}) {
+    const cv::Mat image(64, 64, type, cv::Scalar::all(1));
+    EXPECT_TRUE(detector->Detect(image).detections.empty());
+  }
+  EXPECT_TRUE(detector->Detect(cv::Mat()).detections.empty());
+}
+
+TEST(DetectorTest, FlatAndTinyFramesHaveNoCandidates) {
+  auto detector = Detector::Create(DetectorOptions{});
+  for (cv::Size size : {cv::Size(1, 1), cv::Size(3, 500), cv::Size(752, 480)}) {
+    const DetectionResult result =
+        detector->Detect(cv::Mat(size, CV_8UC3, cv::Scalar(40, 200, 90)));
+    EXPECT_TRUE(result.detections.empty());
+    EXPECT_EQ(result.summary.seeds, 0);
+  }
+}
+
+// A red square on green seeds FindADiff and passes InitialScan's red/green
+// test but has no black and white rings: rejected, and counted.
+TEST(DetectorTest, RedOnGreenWithoutRingsIsRejectedAndCounted) {
+  auto detector = Detector::Create(DetectorOptions{});
+  cv::Mat image(200, 200, CV_8UC3, cv::Scalar(60, 160, 40));  // BGR green.
+  cv::rectangle(image, cv::Rect(80, 80, 40, 40), cv::Scalar(60, 20, 220), cv::FILLED);
+  const DetectionResult result = detector->Detect(image);
+  EXPECT_TRUE(result.detections.empty());
+  EXPECT_GT(result.summary.seeds, 0);
+  EXPECT_EQ(result.summary.rejected[static_cast<int>(Stage::kInitialScan)], result.summary.seeds);
+}
+
+}  // namespace
+}  // namespace chromatag
