@@ -21,6 +21,7 @@ void RegisterFamilies(CLI::App& app, Action* action);
 void RegisterPalettes(CLI::App& app, Action* action);
 void RegisterGenerate(CLI::App& app, Action* action);
 void RegisterVerify(CLI::App& app, Action* action);
+void RegisterDetect(CLI::App& app, Action* action);
 
 }  // namespace chromatag::cli
 

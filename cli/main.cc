@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   chromatag::cli::RegisterPalettes(app, &action);
   chromatag::cli::RegisterGenerate(app, &action);
   chromatag::cli::RegisterVerify(app, &action);
+  chromatag::cli::RegisterDetect(app, &action);
 
   try {
     app.parse(argc, argv);
