@@ -1,0 +1,37 @@
+// The calibration sheet's sidecar JSON: every patch's position and intended
+// colour, the corner tags and the sheet ID (docs/calibration.md, "Sidecar").
+// Same conventions as the generator's sidecar: millimetres from the page's
+// top-left corner, x right, y down, a named schema with a version.
+#ifndef CHROMATAG_CALIB_CALIB_SIDECAR_H_
+#define CHROMATAG_CALIB_CALIB_SIDECAR_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "chromatag/calib/calib_sheet.h"
+#include "chromatag/generator/file_util.h"
+
+namespace chromatag::calib {
+
+inline constexpr const char* kCalibSheetSchema = "chromatag-calib-sheet";
+inline constexpr int kCalibSheetSchemaVersion = 1;
+
+// The sidecar text for `layout`, naming the page files it was written with
+// (their base names and SHA-256).
+std::string CalibSidecarJson(const CalibSheetLayout& layout,
+                             const std::vector<OutputFile>& page_files);
+
+// Parses and checks a sidecar: schema and version, a known family with kept
+// corner-tag IDs, a valid palette, patches inside the page with valid
+// colours. Refuses (nullopt, *error) anything else, saying what is wrong.
+std::optional<CalibSheetLayout> ParseCalibSidecar(const std::string& text,
+                                                  std::string* error = nullptr);
+
+// Reads `path` and parses it; errors name the path.
+std::optional<CalibSheetLayout> ReadCalibSidecar(const std::string& path,
+                                                 std::string* error = nullptr);
+
+}  // namespace chromatag::calib
+
+#endif  // CHROMATAG_CALIB_CALIB_SIDECAR_H_
