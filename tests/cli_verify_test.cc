@@ -55,7 +55,8 @@ TEST(CliVerifyTest, StressReportsSizeTiltAndConditionsPerTag) {
     EXPECT_LT(tag["smallest_size_px"].get<double>(), 60.0);
     EXPECT_GE(tag["largest_tilt_deg"].get<double>(), 40.0);
     EXPECT_EQ(tag["conditions"].size(), 6u);
-    EXPECT_TRUE(tag["conditions"]["blur 1.5 px"].get<bool>());
+    EXPECT_TRUE(tag["conditions"]["noise 8 levels"].get<bool>());
+    EXPECT_TRUE(tag["conditions"]["Bayer"].get<bool>());
   }
 }
 

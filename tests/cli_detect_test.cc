@@ -1,0 +1,95 @@
+// `chromatag detect` as a user runs it, on sheets made by `chromatag generate`.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "test_util.h"
+
+namespace chromatag {
+namespace {
+
+using testing::CountLines;
+using testing::ReadFile;
+constexpr auto Chromatag = testing::RunChromatag;
+
+// A folder with one PNG sheet of 16h5 IDs 0 and 3 at 150 dpi.
+std::string MakeSheet(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/cli_detect_" + name;
+  std::system(("rm -rf '" + dir + "'").c_str());
+  mkdir(dir.c_str(), 0755);
+  const auto result =
+      Chromatag({"generate", "--ids", "0,3", "--size", "25.4mm", "--dpi", "150", "-o",
+                 dir + "/sheet.png"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  return dir;
+}
+
+TEST(CliDetectTest, JsonLinesMatchTheSidecar) {
+  const std::string dir = MakeSheet("json");
+  const auto result = Chromatag({"detect", "--json", dir + "/sheet.png"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  ASSERT_EQ(CountLines(result.out), 1) << result.out;
+  const auto frame = nlohmann::json::parse(result.out);
+  EXPECT_EQ(frame["file"], dir + "/sheet.png");
+  EXPECT_EQ(frame["frame"], 0);
+  EXPECT_EQ(frame["width"], 1240);  // A4 at 150 dpi.
+  EXPECT_EQ(frame["height"], 1754);
+  EXPECT_GE(frame["time_us"].get<double>(), 0.0);
+  const auto sidecar = nlohmann::json::parse(ReadFile(dir + "/sheet.json"));
+  ASSERT_EQ(frame["detections"].size(), 2u);
+  const double px_per_mm = 150.0 / 25.4;
+  for (const auto& detection : frame["detections"]) {
+    EXPECT_EQ(detection["family"], "16h5");
+    EXPECT_EQ(detection["hamming"], 0);
+    const auto& expected = sidecar["tags"][detection["id"] == 0 ? 0 : 1];
+    ASSERT_EQ(expected["id"], detection["id"]);
+    for (int i = 0; i < 4; ++i) {
+      // Sidecar mm (pixel edges) to pixel centres.
+      const double x = expected["corners_mm"][i][0].get<double>() * px_per_mm - 0.5;
+      const double y = expected["corners_mm"][i][1].get<double>() * px_per_mm - 0.5;
+      EXPECT_NEAR(detection["corners"][i][0].get<double>(), x, 0.5) << "corner " << i;
+      EXPECT_NEAR(detection["corners"][i][1].get<double>(), y, 0.5) << "corner " << i;
+    }
+  }
+}
+
+TEST(CliDetectTest, FoldersOverlaysAndATable) {
+  const std::string dir = MakeSheet("folder");
+  const std::string overlays = dir + "/overlays";
+  mkdir(overlays.c_str(), 0755);
+  const auto result = Chromatag({"detect", "--overlay", overlays, dir});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("16h5"), std::string::npos) << result.out;
+  EXPECT_EQ(CountLines(result.out), 3) << result.out;  // Header and two tags.
+  const auto listing = testing::RunCommand("/bin/ls", {overlays});
+  EXPECT_EQ(CountLines(listing.out), 1) << listing.out;  // One overlay for the one frame.
+  EXPECT_NE(listing.out.find("sheet"), std::string::npos) << listing.out;
+}
+
+TEST(CliDetectTest, UnreadableInputsAreReportedSkippedAndFailTheRun) {
+  const std::string dir = MakeSheet("bad");
+  std::system(("echo 'not an image' > '" + dir + "/broken.png'").c_str());
+  const auto result = Chromatag({"detect", "--json", dir + "/broken.png", dir + "/sheet.png",
+                                 dir + "/missing.png"});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_EQ(CountLines(result.out), 1) << result.out;  // The readable sheet still ran.
+  EXPECT_NE(result.err.find("broken.png"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("missing.png"), std::string::npos) << result.err;
+}
+
+TEST(CliDetectTest, BadUsageIsExitTwo) {
+  const std::string dir = MakeSheet("usage");
+  EXPECT_EQ(Chromatag({"detect", "--family", "25h9", dir + "/sheet.png"}).exit_code, 2);
+  EXPECT_EQ(Chromatag({"detect"}).exit_code, 2);
+  const auto size = Chromatag({"detect", "--tag-size", "40ft", dir + "/sheet.png"});
+  EXPECT_EQ(size.exit_code, 2);
+  EXPECT_EQ(CountLines(size.err), 1) << size.err;
+}
+
+}  // namespace
+}  // namespace chromatag
