@@ -1,0 +1,70 @@
+// The side-by-side comparison (issue 7): render the data set, run every
+// detector on every frame, score, and write the report (the paper's Tables
+// 1-4 and Figure 9, corner error, false detections on tag-free frames).
+#ifndef CHROMATAG_BENCH_COMPARISON_H_
+#define CHROMATAG_BENCH_COMPARISON_H_
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "chromatag/bench/competitors.h"
+#include "chromatag/bench/dataset.h"
+#include "chromatag/bench/metrics.h"
+#include "chromatag/detector/detection.h"
+
+namespace chromatag::bench {
+
+// Detectors in report order. ChromaTag is scored against the ChromaTag of
+// each frame, the other two against the AprilTag.
+enum DetectorIndex { kChromaTag = 0, kAprilTag = 1, kAruco = 2 };
+inline constexpr int kNumDetectors = 3;
+
+struct DetectorRecord {
+  double time_us = 0.0;  // Wall time of the Detect call, one thread.
+  int num_found = 0;     // Detections reported.
+  FrameScore score;
+};
+
+struct FrameRecord {
+  FrameTruth truth;
+  std::array<DetectorRecord, kNumDetectors> detectors;
+  DetectorSummary chromatag_summary;  // Per-stage times and rejections.
+};
+
+struct RunOptions {
+  int render_threads = 2;  // Frames are rendered in parallel...
+  int chunk_frames = 64;   // ...a chunk at a time, then timed on one thread.
+};
+
+struct RunTimes {
+  double render_s = 0.0;  // Wall time spent rendering.
+  double detect_s = 0.0;  // Wall time spent in the timed detection loop.
+};
+
+// Runs all three detectors on every frame of `dataset`. Detectors take turns
+// going first on successive frames so that none is favoured by a warm cache.
+// `progress(done, total)` is called after each chunk (may be empty).
+std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
+                                       TagDetector& apriltag, TagDetector& aruco,
+                                       const RunOptions& options, RunTimes* times,
+                                       const std::function<void(int, int)>& progress = {});
+
+struct ReportInfo {
+  std::string command;  // How the run was started.
+  std::string cpu;      // Model name.
+  DatasetOptions dataset;
+  std::vector<std::string> photos;
+  RunTimes times;
+  std::array<std::string, kNumDetectors> names = {"ChromaTag", "AprilTag 3", "OpenCV ArUco"};
+};
+
+// Writes report.md, the PNG figures and frames.csv into `out_dir` (which
+// must exist) and returns the Markdown in *markdown.
+bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info,
+                 const std::string& out_dir, std::string* markdown, std::string* error);
+
+}  // namespace chromatag::bench
+
+#endif  // CHROMATAG_BENCH_COMPARISON_H_

@@ -1,0 +1,80 @@
+// The three detectors compared, behind one small interface: each takes the
+// same 8-bit BGR frame and returns 16h5 detections with their corners in the
+// tag's own orientation (spec section 7: top-left of the upright tag first,
+// then clockwise; pixel centres at integer coordinates), so that every
+// detector is scored against the same ground truth.
+#ifndef CHROMATAG_BENCH_COMPETITORS_H_
+#define CHROMATAG_BENCH_COMPETITORS_H_
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "chromatag/detector/detection.h"
+
+namespace chromatag::bench {
+
+struct FoundTag {
+  int id = -1;
+  std::array<cv::Point2d, 4> corners;  // Spec section 7 order and pixel convention.
+};
+
+class TagDetector {
+ public:
+  virtual ~TagDetector() = default;
+  virtual const std::string& name() const = 0;
+  // Detects 16h5 tags in `bgr` (CV_8UC3). Everything the detector needs to
+  // do with a colour camera frame is inside this call (AprilTag's grey
+  // conversion too), so that timing it times the whole job.
+  virtual void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) = 0;
+};
+
+// libapriltag 3 with its defaults (quad_decimate 2, refine_edges on, two bits
+// corrected), one thread, family tag16h5.
+std::unique_ptr<TagDetector> MakeAprilTagDetector();
+
+// OpenCV's ArUco module (opencv_contrib 4.6) with DetectorParameters::create()
+// defaults and DICT_APRILTAG_16h5.
+std::unique_ptr<TagDetector> MakeArucoDetector();
+
+// This project's detector (family 16h5, default DetectorOptions). The last
+// frame's summary (per-stage times and rejections) is kept for Tables 2 and 4.
+class ChromaTagDetector : public TagDetector {
+ public:
+  static std::unique_ptr<ChromaTagDetector> Create(std::string* error = nullptr);
+  ~ChromaTagDetector() override;
+  const std::string& name() const override;
+  void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) override;
+  const DetectorSummary& last_summary() const;
+
+ private:
+  struct Impl;
+  explicit ChromaTagDetector(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// How each library orders its corners, as indices into its own output for
+// the upright tag's top-left, top-right, bottom-right and bottom-left.
+// libapriltag: its homography maps the tag's (-1, 1), (1, 1), (1, -1),
+// (-1, -1) to p[0..3], with the tag's y along the rows of its upright picture
+// (downwards), so p[0] is the bottom-left and the order runs counter-clockwise
+// on screen.
+inline constexpr std::array<int, 4> kAprilTagCornerOrder = {3, 2, 1, 0};
+// OpenCV 4.6 ArUco: clockwise from its own corner 0, but its DICT_APRILTAG_*
+// codes are stored turned by 180 degrees against libapriltag's pictures, so
+// on a printed AprilTag corner 0 is the bottom-right (a known OpenCV issue,
+// opencv/opencv-python#1195, fixed for OpenCV 5).
+inline constexpr std::array<int, 4> kArucoCornerOrder = {2, 3, 0, 1};
+// libapriltag puts pixel centres at half-integer coordinates (its corners
+// come out +0.5 px in x and y against OpenCV's convention); this is
+// subtracted so all three share spec section 7's convention.
+inline constexpr double kAprilTagPixelCentre = 0.5;
+// bench_support_test checks the three on rendered frames: an order mistake
+// shows as errors of a whole side, a convention mistake as a half-pixel bias.
+
+}  // namespace chromatag::bench
+
+#endif  // CHROMATAG_BENCH_COMPETITORS_H_

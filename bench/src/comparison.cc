@@ -1,0 +1,85 @@
+#include "chromatag/bench/comparison.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+namespace chromatag::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+std::vector<Frame> RenderChunk(const Dataset& dataset, int first, int count, int threads) {
+  std::vector<Frame> frames(count);
+  std::atomic<int> next{0};
+  auto work = [&] {
+    for (int i = next++; i < count; i = next++) frames[i] = dataset.Render(first + i);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& thread : pool) thread.join();
+  return frames;
+}
+
+}  // namespace
+
+std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
+                                       TagDetector& apriltag, TagDetector& aruco,
+                                       const RunOptions& options, RunTimes* times,
+                                       const std::function<void(int, int)>& progress) {
+  const int total = dataset.options().num_frames;
+  std::array<TagDetector*, kNumDetectors> detectors = {&chromatag, &apriltag, &aruco};
+  std::vector<FrameRecord> records(total);
+  std::vector<FoundTag> found;
+  RunTimes local;
+  bool warmed_up = false;
+  for (int first = 0; first < total; first += options.chunk_frames) {
+    const int count = std::min(options.chunk_frames, total - first);
+    const auto render_start = Clock::now();
+    const std::vector<Frame> frames =
+        RenderChunk(dataset, first, count, std::max(1, options.render_threads));
+    const auto detect_start = Clock::now();
+    local.render_s += Seconds(render_start, detect_start);
+    if (!warmed_up) {  // First calls allocate; keep them out of the timings.
+      for (TagDetector* detector : detectors) {
+        for (int i = 0; i < 3; ++i) detector->Detect(frames[0].bgr, &found);
+      }
+      warmed_up = true;
+    }
+    for (int i = 0; i < count; ++i) {
+      const Frame& frame = frames[i];
+      FrameRecord& record = records[first + i];
+      record.truth = frame.truth;
+      const bool tags = frame.truth.has_tags;
+      for (int turn = 0; turn < kNumDetectors; ++turn) {
+        const int d = (first + i + turn) % kNumDetectors;
+        const auto start = Clock::now();
+        detectors[d]->Detect(frame.bgr, &found);
+        const auto end = Clock::now();
+        DetectorRecord& out = record.detectors[d];
+        out.time_us = std::chrono::duration<double, std::micro>(end - start).count();
+        out.num_found = static_cast<int>(found.size());
+        const TagTruth* own = nullptr;
+        const TagTruth* other = nullptr;
+        if (tags) {
+          own = d == kChromaTag ? &frame.truth.chromatag : &frame.truth.apriltag;
+          other = d == kChromaTag ? &frame.truth.apriltag : &frame.truth.chromatag;
+        }
+        out.score = ScoreFrame(found, own, other);
+        if (d == kChromaTag) record.chromatag_summary = chromatag.last_summary();
+      }
+    }
+    local.detect_s += Seconds(detect_start, Clock::now());
+    if (progress) progress(first + count, total);
+  }
+  if (times) *times = local;
+  return records;
+}
+
+}  // namespace chromatag::bench

@@ -1,0 +1,139 @@
+#include "chromatag/bench/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+namespace chromatag::bench {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double SignedArea(const std::vector<cv::Point2f>& polygon) {
+  double twice = 0.0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const cv::Point2f& a = polygon[i];
+    const cv::Point2f& b = polygon[(i + 1) % polygon.size()];
+    twice += static_cast<double>(a.x) * b.y - static_cast<double>(b.x) * a.y;
+  }
+  return twice / 2.0;
+}
+
+std::vector<cv::Point2f> CounterClockwise(const Quad& quad) {
+  std::vector<cv::Point2f> polygon(quad.begin(), quad.end());
+  if (SignedArea(polygon) < 0) std::reverse(polygon.begin(), polygon.end());
+  return polygon;
+}
+
+// Fallback for non-convex or self-crossing quads (a broken detection): count
+// pixels of both filled polygons on a grid 8 times finer than the image.
+double RasterIoU(const Quad& a, const Quad& b) {
+  cv::Rect2d box = cv::boundingRect(std::vector<cv::Point2f>(a.begin(), a.end()));
+  box |= cv::Rect2d(cv::boundingRect(std::vector<cv::Point2f>(b.begin(), b.end())));
+  constexpr int kScale = 8;
+  const cv::Size size(static_cast<int>(box.width * kScale) + 2,
+                      static_cast<int>(box.height * kScale) + 2);
+  if (size.area() > 16'000'000) return 0.0;  // Absurd detections do not match.
+  auto fill = [&](const Quad& quad) {
+    cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
+    std::vector<cv::Point> points;
+    for (const auto& p : quad) {
+      points.emplace_back(static_cast<int>(std::lround((p.x - box.x) * kScale)),
+                          static_cast<int>(std::lround((p.y - box.y) * kScale)));
+    }
+    cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{points}, cv::Scalar(1));
+    return mask;
+  };
+  const cv::Mat ma = fill(a), mb = fill(b);
+  const double both = cv::countNonZero(ma & mb), either = cv::countNonZero(ma | mb);
+  return either > 0 ? both / either : 0.0;
+}
+
+}  // namespace
+
+double QuadIoU(const Quad& a, const Quad& b) {
+  const std::vector<cv::Point2f> pa = CounterClockwise(a), pb = CounterClockwise(b);
+  if (!cv::isContourConvex(pa) || !cv::isContourConvex(pb)) return RasterIoU(a, b);
+  const double area_a = std::abs(SignedArea(pa)), area_b = std::abs(SignedArea(pb));
+  if (area_a <= 0.0 || area_b <= 0.0) return 0.0;
+  std::vector<cv::Point2f> overlap;
+  const double both = cv::intersectConvexConvex(pa, pb, overlap, true);
+  if (both <= 0.0) return 0.0;
+  return both / (area_a + area_b - both);
+}
+
+FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
+                      const TagTruth* other, double min_iou) {
+  FrameScore score;
+  for (const FoundTag& tag : found) {
+    const bool matches =
+        truth && tag.id == truth->id && QuadIoU(tag.corners, truth->corners) >= min_iou;
+    if (matches && !score.found) {
+      score.found = true;
+      const Quad& t = truth->corners;
+      const cv::Point2d centre = (t[0] + t[1] + t[2] + t[3]) / 4.0;
+      cv::Point2d sum;
+      for (int c = 0; c < 4; ++c) {
+        const cv::Point2d delta = tag.corners[c] - t[c];
+        score.corner_error_px[c] = std::hypot(delta.x, delta.y);
+        sum += delta;
+        const cv::Point2d outwards = t[c] - centre;
+        const double length = std::hypot(outwards.x, outwards.y);
+        if (length > 0) score.mean_radial_offset_px += delta.dot(outwards) / length / 4.0;
+      }
+      score.mean_offset_px = sum / 4.0;
+      continue;
+    }
+    ++score.false_positives;
+    if (other && QuadIoU(tag.corners, other->corners) >= min_iou) ++score.false_on_other_tag;
+  }
+  return score;
+}
+
+double Percentile(std::vector<double> values, double p) {
+  if (values.empty()) return kNaN;
+  std::sort(values.begin(), values.end());
+  const double rank = std::clamp(p, 0.0, 100.0) / 100.0 * (values.size() - 1);
+  const size_t below = static_cast<size_t>(std::floor(rank));
+  const size_t above = std::min(below + 1, values.size() - 1);
+  return values[below] + (rank - below) * (values[above] - values[below]);
+}
+
+int Bins::Index(double value) const {
+  const int i = static_cast<int>(std::floor((value - lo) / width));
+  return std::clamp(i, 0, count - 1);
+}
+
+void RecallCurve::Add(double value, bool hit) {
+  const int i = bins.Index(value);
+  ++trials[i];
+  hits[i] += hit ? 1 : 0;
+}
+
+double RecallCurve::Recall(int index) const {
+  return trials[index] > 0 ? static_cast<double>(hits[index]) / trials[index] : kNaN;
+}
+
+RecallMap::RecallMap(const Bins& x_bins, const Bins& y_bins)
+    : x_bins(x_bins),
+      y_bins(y_bins),
+      hits(static_cast<size_t>(x_bins.count) * y_bins.count),
+      trials(hits.size()) {}
+
+void RecallMap::Add(double x, double y, bool hit) {
+  const size_t i = static_cast<size_t>(y_bins.Index(y)) * x_bins.count + x_bins.Index(x);
+  ++trials[i];
+  hits[i] += hit ? 1 : 0;
+}
+
+double RecallMap::Recall(int x_index, int y_index) const {
+  const size_t i = static_cast<size_t>(y_index) * x_bins.count + x_index;
+  return trials[i] > 0 ? static_cast<double>(hits[i]) / trials[i] : kNaN;
+}
+
+int RecallMap::Trials(int x_index, int y_index) const {
+  return trials[static_cast<size_t>(y_index) * x_bins.count + x_index];
+}
+
+}  // namespace chromatag::bench

@@ -1,0 +1,174 @@
+// tag_comparison: ChromaTag against AprilTag 3 and OpenCV ArUco on the same
+// rendered frames (issue 7). `make bench` runs it; see docs/benchmarks.md.
+//
+//   tag_comparison [--frames N | --quick] [--seed S] [--threads T] [--out DIR]
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <thread>
+
+#include "chromatag/bench/comparison.h"
+
+namespace {
+
+using namespace chromatag::bench;
+
+// The model name, and the family and model numbers that identify the core
+// when a virtual machine hides the name ("AMD EPYC").
+std::string CpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, name = "unknown", family, model;
+  auto value = [](const std::string& text) {
+    const size_t colon = text.find(':');
+    const size_t start =
+        colon == std::string::npos ? std::string::npos : text.find_first_not_of(' ', colon + 1);
+    return start == std::string::npos ? std::string() : text.substr(start);
+  };
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0 && name == "unknown") name = value(line);
+    if (line.rfind("cpu family", 0) == 0 && family.empty()) family = value(line);
+    if (line.rfind("model\t", 0) == 0 && model.empty()) model = value(line);
+  }
+  const unsigned cores = std::thread::hardware_concurrency();
+  return name + " (family " + family + ", model " + model + "), " + std::to_string(cores) +
+         " logical CPUs";
+}
+
+void DrawQuad(cv::Mat& image, const Quad& quad, const cv::Scalar& color, int thickness) {
+  for (int i = 0; i < 4; ++i) {
+    cv::line(image, cv::Point2d(quad[i]) * 16, cv::Point2d(quad[(i + 1) % 4]) * 16, color,
+             thickness, cv::LINE_AA, 4);
+  }
+  cv::circle(image, cv::Point2d(quad[0]) * 16, 3 * 16, color, thickness, cv::LINE_AA, 4);
+}
+
+// A 2x2 montage of frames (two WB, two NWB) with the truth in white and each
+// detector's detections in its colour, to show what the data set looks like.
+bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetectors> detectors,
+                   const std::string& path) {
+  const cv::Scalar colors[kNumDetectors] = {{40, 40, 215}, {180, 120, 30}, {40, 160, 40}};
+  std::vector<cv::Mat> tiles;
+  for (int condition = 0; condition < kNumConditions; ++condition) {
+    int shown = 0;
+    for (int i = 0; i < dataset.options().num_frames && shown < 2; ++i) {
+      Frame frame = dataset.Render(i);
+      if (!frame.truth.has_tags || static_cast<int>(frame.truth.condition) != condition) continue;
+      // One near, fairly frontal view, then one far or steep one.
+      const TagTruth& t = frame.truth.chromatag;
+      const bool easy = t.size_px >= 60 && t.view_angle_deg <= 45;
+      if (easy != (shown == 0)) continue;
+      cv::Mat tile = frame.bgr.clone();
+      for (int d = 0; d < kNumDetectors; ++d) {
+        std::vector<FoundTag> found;
+        detectors[d]->Detect(frame.bgr, &found);
+        for (const FoundTag& tag : found) DrawQuad(tile, tag.corners, colors[d], 2);
+      }
+      DrawQuad(tile, frame.truth.chromatag.corners, cv::Scalar(255, 255, 255), 1);
+      DrawQuad(tile, frame.truth.apriltag.corners, cv::Scalar(255, 255, 255), 1);
+      std::ostringstream label;
+      label << ConditionName(frame.truth.condition) << "  frame " << i << "  ID "
+            << frame.truth.chromatag.id << "  size "
+            << static_cast<int>(frame.truth.chromatag.size_px) << " px  angle "
+            << static_cast<int>(frame.truth.chromatag.view_angle_deg) << " deg";
+      cv::putText(tile, label.str(), {8, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {0, 0, 0}, 3,
+                  cv::LINE_AA);
+      cv::putText(tile, label.str(), {8, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {255, 255, 255}, 1,
+                  cv::LINE_AA);
+      tiles.push_back(tile);
+      ++shown;
+    }
+  }
+  if (tiles.size() != 4) return false;
+  cv::Mat top, bottom, montage;
+  cv::hconcat(tiles[0], tiles[1], top);
+  cv::hconcat(tiles[2], tiles[3], bottom);
+  cv::vconcat(top, bottom, montage);
+  return cv::imwrite(path, montage, {cv::IMWRITE_JPEG_QUALITY, 88});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set (issue 7)"};
+  DatasetOptions dataset_options;
+  RunOptions run_options;
+  run_options.render_threads = std::max(1u, std::thread::hardware_concurrency());
+  bool quick = false;
+  std::string out_dir = "bench-results";
+  app.add_option("--frames", dataset_options.num_frames, "frames to render and detect")
+      ->check(CLI::Range(1, 10'000'000))
+      ->capture_default_str();
+  app.add_flag("--quick", quick, "a small run (400 frames) to check that everything works");
+  app.add_option("--seed", dataset_options.seed, "data set seed")->capture_default_str();
+  app.add_option("--threads", run_options.render_threads,
+                 "threads rendering frames (detectors always run on one)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  app.add_option("--photos", dataset_options.photo_dir, "folder of background photographs")
+      ->capture_default_str();
+  app.add_option("--out", out_dir, "folder for report.md, the PNG figures and frames.csv")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  if (quick && app.count("--frames") == 0) dataset_options.num_frames = 400;
+
+  // Every detector on one thread, OpenCV's own pool included (ArUco would
+  // otherwise spread over the cores); rendering threads are ours.
+  cv::setNumThreads(1);
+
+  std::string error;
+  const auto dataset = Dataset::Create(dataset_options, &error);
+  if (!dataset) {
+    std::cerr << "tag_comparison: " << error << "\n";
+    return 2;
+  }
+  auto chromatag = ChromaTagDetector::Create(&error);
+  if (!chromatag) {
+    std::cerr << "tag_comparison: " << error << "\n";
+    return 1;
+  }
+  auto apriltag = MakeAprilTagDetector();
+  auto aruco = MakeArucoDetector();
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) {
+    std::cerr << "tag_comparison: cannot create " << out_dir << ": " << ec.message() << "\n";
+    return 1;
+  }
+
+  std::cerr << "tag_comparison: " << dataset_options.num_frames << " frames, seed "
+            << dataset_options.seed << ", " << run_options.render_threads << " rendering threads\n";
+  RunTimes times;
+  const auto records = RunComparison(
+      *dataset, *chromatag, *apriltag, *aruco, run_options, &times, [](int done, int total) {
+        std::cerr << "\r  " << done << " / " << total << " frames" << std::flush;
+      });
+  std::cerr << "\n";
+
+  ReportInfo info;
+  std::ostringstream command;
+  for (int i = 0; i < argc; ++i) {
+    command << (i ? " " : "") << (i ? argv[i] : std::filesystem::path(argv[0]).filename().string());
+  }
+  info.command = command.str();
+  info.cpu = CpuModel();
+  info.dataset = dataset_options;
+  info.photos = dataset->photos();
+  info.times = times;
+  std::string markdown;
+  if (!WriteReport(records, info, out_dir, &markdown, &error)) {
+    std::cerr << "tag_comparison: " << error << "\n";
+    return 1;
+  }
+  if (!WriteExamples(*dataset, {chromatag.get(), apriltag.get(), aruco.get()},
+                     out_dir + "/examples.jpg")) {
+    std::cerr << "tag_comparison: could not write " << out_dir << "/examples.jpg\n";
+  }
+  std::cout << markdown << "\nWritten to " << out_dir << "/report.md\n";
+  return 0;
+}
