@@ -103,8 +103,13 @@ TEST(SheetCheckTest, RecolouredCellFailsNamingTheTag) {
   EXPECT_FALSE(verdict.tags[1].passed);
   EXPECT_NE(verdict.tags[1].problem.find("16h5 ID 1 (page 1"), std::string::npos)
       << verdict.tags[1].problem;
-  EXPECT_NE(verdict.tags[1].problem.find("1 bit(s) corrected"), std::string::npos)
-      << verdict.tags[1].problem;
+  // The detector refuses a code whose clearly coloured cell disagrees with
+  // every ID (detector/decode.cc), so the recoloured tag is either rejected
+  // or decoded with a corrected bit; both fail the sheet.
+  const std::string& problem = verdict.tags[1].problem;
+  EXPECT_TRUE(problem.find("not found") != std::string::npos ||
+              problem.find("1 bit(s) corrected") != std::string::npos)
+      << problem;
   ASSERT_EQ(verdict.file_problems.size(), 1u);
   EXPECT_NE(verdict.file_problems[0].find("was changed after it was generated"),
             std::string::npos);
