@@ -25,8 +25,10 @@ demo: build
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
+# BENCH_ARGS=--quick for a short comparison; --publish copies it to docs/benchmarks/.
+BENCH_ARGS ?=
 bench: build
-	@scripts/bench.sh $(BUILD_DIR)
+	@scripts/bench.sh $(BUILD_DIR) $(BENCH_ARGS)
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build and test run.
 asan:

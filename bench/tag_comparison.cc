@@ -4,6 +4,7 @@
 //   tag_comparison [--frames N | --quick] [--seed S] [--threads T] [--out DIR]
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -38,6 +39,15 @@ std::string CpuModel() {
   const unsigned cores = std::thread::hardware_concurrency();
   return name + " (family " + family + ", model " + model + "), " + std::to_string(cores) +
          " logical CPUs";
+}
+
+// The 1, 5 and 15 minute load averages: other work on the machine slows
+// every detector alike but makes the absolute times noisier.
+std::string LoadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one + " / " + five + " / " + fifteen;
 }
 
 void DrawQuad(cv::Mat& image, const Quad& quad, const cv::Scalar& color, int thickness) {
@@ -144,11 +154,19 @@ int main(int argc, char** argv) {
   std::cerr << "tag_comparison: " << dataset_options.num_frames << " frames, seed "
             << dataset_options.seed << ", " << run_options.render_threads << " rendering threads\n";
   RunTimes times;
+  const std::string load_before = LoadAverage();
+  const bool terminal = isatty(STDERR_FILENO);
+  int reported = 0;
   const auto records = RunComparison(
-      *dataset, *chromatag, *apriltag, *aruco, run_options, &times, [](int done, int total) {
-        std::cerr << "\r  " << done << " / " << total << " frames" << std::flush;
+      *dataset, *chromatag, *apriltag, *aruco, run_options, &times, [&](int done, int total) {
+        if (terminal) {
+          std::cerr << "\r  " << done << " / " << total << " frames" << std::flush;
+        } else if (done * 10 / total > reported || done == total) {
+          reported = done * 10 / total;
+          std::cerr << "  " << done << " / " << total << " frames\n";
+        }
       });
-  std::cerr << "\n";
+  if (terminal) std::cerr << "\n";
 
   ReportInfo info;
   std::ostringstream command;
@@ -157,6 +175,7 @@ int main(int argc, char** argv) {
   }
   info.command = command.str();
   info.cpu = CpuModel();
+  info.load = "load average " + load_before + " before the run, " + LoadAverage() + " after";
   info.dataset = dataset_options;
   info.photos = dataset->photos();
   info.times = times;

@@ -504,7 +504,7 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
   if (!FigureSection(c, &figures) || !WriteCsv(c)) return false;
   std::ostringstream out;
   out << "Command: `" << info.command << "`  \n"
-      << "CPU: " << info.cpu << "; detectors on one thread; rendering took "
+      << "CPU: " << info.cpu << "; " << info.load << ". Detectors on one thread; rendering took "
       << Fixed(info.times.render_s, 0) << " s, the timed detection loop "
       << Fixed(info.times.detect_s, 0) << " s.\n\n"
       << DatasetSection(c) << "\n"

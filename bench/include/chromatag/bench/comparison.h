@@ -54,6 +54,7 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
 struct ReportInfo {
   std::string command;  // How the run was started.
   std::string cpu;      // Model name.
+  std::string load;     // The machine's load around the run.
   DatasetOptions dataset;
   std::vector<std::string> photos;
   RunTimes times;
