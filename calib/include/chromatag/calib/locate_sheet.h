@@ -20,6 +20,11 @@ struct LocateOptions {
   // thresholds than the paper's 25 and 5 to be found at all.
   std::vector<std::array<double, 2>> threshold_ladder = {
       {25.0, 5.0}, {15.0, 8.0}, {10.0, 5.0}, {8.0, 12.0}};
+  // When the ladder fails on the photo as it is, it is tried again on a copy
+  // white-balanced on the paper with a* and b* multiplied by this, [1, 5]:
+  // the detector ignores reds below a* 12, which a washed-out print in dim
+  // light can be. The copy is used to find the tags only, never to measure.
+  double enhance_chroma = 2.0;
   // Largest root-mean-square distance, mm on the sheet, between the detected
   // tag corners and where the fitted homography puts them. (0, 10]. Beyond
   // it the sheet is not flat or the lens distorts too much for one
@@ -38,6 +43,7 @@ struct SheetLocation {
   // The thresholds that found the tags (a rung of LocateOptions's ladder).
   double adiff_thresh = 0.0;
   double border_thresh = 0.0;
+  bool enhanced = false;  // Found in the enhanced copy.
 };
 
 // Finds the four corner tags of `layout` in `bgr` (CV_8UC3, BGR) and fits

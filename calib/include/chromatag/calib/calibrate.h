@@ -1,0 +1,86 @@
+// `chromatag calibrate` as a library call: measure every photo of the
+// calibration sheet, fit the printer per photo, derive detector thresholds,
+// choose a palette, bake a printer LUT, and lay out the report (issue 6).
+#ifndef CHROMATAG_CALIB_CALIBRATE_H_
+#define CHROMATAG_CALIB_CALIBRATE_H_
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "chromatag/calib/calib_sheet.h"
+#include "chromatag/calib/locate_sheet.h"
+#include "chromatag/calib/measure.h"
+#include "chromatag/calib/palette_choice.h"
+#include "chromatag/calib/printer_model.h"
+#include "chromatag/calib/thresholds.h"
+#include "chromatag/generator/file_util.h"
+
+namespace chromatag::calib {
+
+struct CalibrateOptions {
+  LocateOptions locate;
+  MeasureOptions measure;
+  PrinterModelOptions model;
+  ThresholdOptions thresholds;
+  PaletteChoiceOptions palette;
+  int lut_size = 17;  // Grid of the .cube LUT per side, [2, 65].
+
+  bool IsValid(std::string* error) const;
+};
+
+struct PhotoInput {
+  std::string name;  // For messages and the report (the file name).
+  cv::Mat bgr;       // CV_8UC3.
+};
+
+struct PhotoResult {
+  std::string name;
+  PhotoMeasurement measurement;
+  PrinterFit fit;
+  std::vector<int> fit_patches;  // Patch index of each of fit.residual_de.
+  std::array<ShadeReading, kNumShades> shades;
+  Margins normalised;  // The sheet palette's margins, white-normalised...
+  Margins as_shot;     // ...and as the camera delivered them.
+};
+
+struct CalibrationResult {
+  CalibSheetLayout layout;
+  CalibrateOptions options;
+  std::vector<PhotoResult> photos;
+  DerivedThresholds thresholds;
+  std::optional<PaletteChoice> palette;  // None if no candidate set qualifies.
+  std::string palette_error;             // Why not, then.
+  std::string cube;                      // .cube text.
+  // Thin margins, a palette that could not be chosen, poor fits.
+  std::vector<std::string> warnings;
+};
+
+// Runs the whole calibration. A photo that cannot be used (sheet not found,
+// part of it, another sheet, exposure, too many flagged patches) refuses the
+// run: nullopt, and *error is "NAME: why".
+std::optional<CalibrationResult> Calibrate(const CalibSheetLayout& layout,
+                                           const std::vector<PhotoInput>& photos,
+                                           const CalibrateOptions& options = {},
+                                           std::string* error = nullptr);
+
+// Output file names inside the output folder.
+inline constexpr const char* kDetectorConfigFile = "detector.json";
+inline constexpr const char* kPaletteFile = "palette.json";
+inline constexpr const char* kLutFile = "printer.cube";
+inline constexpr const char* kReportPdfFile = "report.pdf";
+inline constexpr const char* kReportPngFile = "report.png";
+inline constexpr const char* kMeasurementsFile = "measurements.json";
+
+// The files to write into `folder` (for WriteFilesAtomically): the detector
+// config, the palette (if one was chosen), the LUT, the report as PDF and PNG,
+// and every measurement as JSON.
+std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
+                                         const std::string& folder);
+
+}  // namespace chromatag::calib
+
+#endif  // CHROMATAG_CALIB_CALIBRATE_H_

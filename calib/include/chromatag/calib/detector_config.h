@@ -1,0 +1,47 @@
+// Detector settings as a JSON file, written by `chromatag calibrate` and read
+// by `chromatag detect --config` (docs/calibration.md, "Detector config").
+//
+//   {
+//     "schema": "chromatag-detector-config", "schema_version": 1,
+//     "options": {"adiff_thresh": 18.5, "border_thresh": 6.0,
+//                 "min_decision_margin": 2.0, ...},
+//     "calibration": {...free-form provenance, ignored when read...}
+//   }
+//
+// "options" may name any subset of the DetectorOptions fields below; the rest
+// keep their defaults (or the caller's values). Unknown members are refused,
+// so a typo does not pass silently.
+#ifndef CHROMATAG_CALIB_DETECTOR_CONFIG_H_
+#define CHROMATAG_CALIB_DETECTOR_CONFIG_H_
+
+#include <optional>
+#include <string>
+
+#include "chromatag/detector/options.h"
+
+namespace chromatag::calib {
+
+inline constexpr const char* kDetectorConfigSchema = "chromatag-detector-config";
+
+// Writes the colour and scan fields of `options` (families, step,
+// adiff_thresh, border_thresh, border_run, conv_thresh, max_hamming,
+// min_decision_margin, refine_corners; not the camera or tag size, which
+// belong to a rig, not a print) with `provenance` (a JSON object text, or
+// empty) as "calibration".
+std::string DetectorConfigToJson(const DetectorOptions& options,
+                                 const std::string& provenance_json = "");
+
+// Applies the file's options on top of `*options` and validates the result
+// (DetectorOptions::IsValid). Refuses (false, *error) malformed JSON, another
+// schema or version, unknown or mistyped fields, and values out of range;
+// *options is untouched then.
+bool ParseDetectorConfig(const std::string& text, DetectorOptions* options,
+                         std::string* error = nullptr);
+
+// Reads and parses `path`; errors name the path.
+bool LoadDetectorConfig(const std::string& path, DetectorOptions* options,
+                        std::string* error = nullptr);
+
+}  // namespace chromatag::calib
+
+#endif  // CHROMATAG_CALIB_DETECTOR_CONFIG_H_

@@ -1,0 +1,30 @@
+// The calibration report, drawn with Cairo: the a*b* plane with the targets
+// against every photo's measurements, the margins and derived thresholds, a
+// verdict for each shade pair, the chosen palette, and CIEDE2000 per patch
+// (the printer model's residual) as a map of the sheet for every photo.
+#ifndef CHROMATAG_CALIB_REPORT_H_
+#define CHROMATAG_CALIB_REPORT_H_
+
+#include <cairo.h>
+
+#include <string>
+
+#include "chromatag/calib/calibrate.h"
+
+namespace chromatag::calib {
+
+// Width of the report in Cairo user units (points in the PDF); the height
+// grows with the number of photos.
+inline constexpr double kReportWidth = 800.0;
+double ReportHeight(const CalibrationResult& result);
+
+// Draws the report at the current transform.
+void DrawReport(cairo_t* cr, const CalibrationResult& result);
+
+// One-page PDF, and PNG at `scale` pixels per unit (1.5: 1200 pixels wide).
+std::string RenderReportPdf(const CalibrationResult& result);
+std::string RenderReportPng(const CalibrationResult& result, double scale = 1.5);
+
+}  // namespace chromatag::calib
+
+#endif  // CHROMATAG_CALIB_REPORT_H_

@@ -1,0 +1,198 @@
+// The calibration run and its output files (calibrate.h).
+#include "chromatag/calib/calibrate.h"
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "chromatag/calib/cube_lut.h"
+#include "chromatag/calib/detector_config.h"
+#include "chromatag/calib/report.h"
+#include "chromatag/families/version.h"
+
+namespace chromatag::calib {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Above this mean residual the model does not describe the photo well
+// (CIEDE2000): the LUT built from it is suspect.
+constexpr double kPoorFitMeanDeltaE = 3.0;
+
+double Round2(double v) { return std::round(v * 100.0) / 100.0; }
+Json LabJson(const Lab& lab) { return {Round2(lab.L), Round2(lab.a), Round2(lab.b)}; }
+
+std::vector<PrinterSample> Samples(const CalibSheetLayout& layout, const PhotoMeasurement& m,
+                                   std::vector<int>* patches) {
+  std::vector<PrinterSample> samples;
+  for (const Patch& patch : layout.patches) {
+    const PatchMeasurement& pm = m.patches[patch.index];
+    if (!pm.usable()) continue;
+    const Rgb sent = patch.kind == PatchKind::kPaper ? Rgb{1, 1, 1} : ToRgb(patch.rgb);
+    samples.push_back({sent, pm.lab, patch.index});
+    patches->push_back(patch.index);
+  }
+  return samples;
+}
+
+Json MarginsJson(const Margins& m) {
+  return {{"a_gap", Round2(m.a_gap)},
+          {"red_b_gap", Round2(m.red_b_gap)},
+          {"green_b_gap", Round2(m.green_b_gap)},
+          {"a_spread", Round2(m.a_spread)},
+          {"min_red_a", Round2(m.min_red_a)},
+          {"noise_a", Round2(m.noise_a)},
+          {"l_gap_white", Round2(m.l_gap_white)},
+          {"expected_decision_margin", Round2(m.decision())}};
+}
+
+std::string Provenance(const CalibrationResult& r) {
+  Json photos = Json::array();
+  for (const PhotoResult& p : r.photos) photos.push_back(p.name);
+  Json verdicts = Json::array();
+  for (const PairVerdict& v : r.thresholds.verdicts) {
+    verdicts.push_back({{"pair", v.pair}, {"verdict", VerdictName(v.verdict)}, {"why", v.why}});
+  }
+  const Json root = {{"tool", std::string("chromatag calibrate ") + kVersion},
+                     {"sheet_id", r.layout.sheet_id},
+                     {"palette", r.layout.palette.name},
+                     {"photos", photos},
+                     {"safety_factor", r.options.thresholds.safety_factor},
+                     {"worst_margins", MarginsJson(r.thresholds.worst)},
+                     {"verdicts", verdicts},
+                     {"warnings", r.warnings}};
+  return root.dump();
+}
+
+std::string MeasurementsJson(const CalibrationResult& r) {
+  Json photos = Json::array();
+  for (const PhotoResult& p : r.photos) {
+    std::vector<double> residual(r.layout.patches.size(), -1.0);
+    for (size_t i = 0; i < p.fit_patches.size(); ++i)
+      residual[p.fit_patches[i]] = p.fit.residual_de[i];
+    Json patches = Json::array();
+    for (const Patch& patch : r.layout.patches) {
+      const PatchMeasurement& m = p.measurement.patches[patch.index];
+      Json item = {{"index", patch.index},
+                   {"kind", PatchKindName(patch.kind)},
+                   {"intended", LabJson(patch.lab)},
+                   {"flags", FlagNames(m.flags)},
+                   {"pixels", m.pixels},
+                   {"as_shot", LabJson(m.as_shot)},
+                   {"lab", LabJson(m.lab)}};
+      const Rgb sent = patch.kind == PatchKind::kPaper ? Rgb{1, 1, 1} : ToRgb(patch.rgb);
+      item["model"] = LabJson(p.fit.model.Predict(sent));
+      item["model_de2000"] =
+          residual[patch.index] < 0 ? Json(nullptr) : Json(Round2(residual[patch.index]));
+      patches.push_back(item);
+    }
+    photos.push_back({{"name", p.name},
+                      {"px_per_mm", Round2(p.measurement.location.px_per_mm)},
+                      {"white_level", Round2(p.measurement.white_level)},
+                      {"flagged", p.measurement.flagged},
+                      {"fit_mean_de2000", Round2(p.fit.mean_de)},
+                      {"fit_max_de2000", Round2(p.fit.max_de)},
+                      {"margins_normalised", MarginsJson(p.normalised)},
+                      {"margins_as_shot", MarginsJson(p.as_shot)},
+                      {"patches", patches}});
+  }
+  const Json root = {{"schema", "chromatag-calib-measurements"},
+                     {"schema_version", 1},
+                     {"sheet_id", r.layout.sheet_id},
+                     {"photos", photos}};
+  return root.dump(1) + "\n";
+}
+
+std::string Join(const std::string& folder, const char* name) {
+  if (folder.empty()) return name;
+  return folder.back() == '/' ? folder + name : folder + "/" + name;
+}
+
+}  // namespace
+
+bool CalibrateOptions::IsValid(std::string* error) const {
+  if (!locate.IsValid(error) || !measure.IsValid(error) || !model.IsValid(error) ||
+      !thresholds.IsValid(error) || !palette.IsValid(error))
+    return false;
+  if (lut_size < 2 || lut_size > 65) {
+    if (error) *error = "LUT size must be in [2, 65]";
+    return false;
+  }
+  return true;
+}
+
+std::optional<CalibrationResult> Calibrate(const CalibSheetLayout& layout,
+                                           const std::vector<PhotoInput>& photos,
+                                           const CalibrateOptions& options, std::string* error) {
+  if (!options.IsValid(error)) return std::nullopt;
+  if (photos.empty()) {
+    if (error) *error = "no photo given";
+    return std::nullopt;
+  }
+  CalibrationResult result;
+  result.layout = layout;
+  result.options = options;
+  std::vector<Margins> worst_per_photo;
+  std::vector<PhotoMeasurement> measurements;
+  std::vector<PrinterModel> models;
+  for (const PhotoInput& input : photos) {
+    std::string why;
+    PhotoResult photo;
+    photo.name = input.name;
+    const auto m = MeasurePhoto(input.bgr, layout, options.measure, options.locate, &why);
+    if (!m) {
+      if (error) *error = input.name + ": " + why;
+      return std::nullopt;
+    }
+    photo.measurement = *m;
+    const auto fit = FitPrinterModel(Samples(layout, *m, &photo.fit_patches), options.model, &why);
+    if (!fit) {
+      if (error) *error = input.name + ": " + why;
+      return std::nullopt;
+    }
+    photo.fit = *fit;
+    photo.shades = ReadShades(layout, *m);
+    const std::array<ShadeReading, 4> chromatic = {photo.shades[0], photo.shades[1],
+                                                   photo.shades[2], photo.shades[3]};
+    const ShadeReading& white = photo.shades[static_cast<int>(Shade::kWhite)];
+    photo.normalised = MarginsOf(chromatic, white.lab.L, false);
+    photo.as_shot = MarginsOf(chromatic, white.as_shot.L, true);
+    worst_per_photo.push_back(Worst(photo.normalised, photo.as_shot));
+    if (fit->mean_de > kPoorFitMeanDeltaE) {
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "%s: the printer model fits poorly (mean CIEDE2000 %.1f): uneven light or "
+                    "glare? The LUT is less reliable",
+                    input.name.c_str(), fit->mean_de);
+      result.warnings.push_back(text);
+    }
+    measurements.push_back(*m);
+    models.push_back(fit->model);
+    result.photos.push_back(std::move(photo));
+  }
+  result.thresholds = DeriveThresholds(worst_per_photo, options.thresholds);
+  result.warnings.insert(result.warnings.end(), result.thresholds.warnings.begin(),
+                         result.thresholds.warnings.end());
+  result.palette = ChoosePalette(layout, measurements, options.palette, &result.palette_error);
+  if (!result.palette) result.warnings.push_back("no palette written: " + result.palette_error);
+  const auto cube = BakeCubeLut(models, options.lut_size, error);
+  if (!cube) return std::nullopt;
+  result.cube = *cube;
+  return result;
+}
+
+std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
+                                         const std::string& folder) {
+  std::vector<OutputFile> files;
+  files.push_back({Join(folder, kDetectorConfigFile),
+                   DetectorConfigToJson(result.thresholds.options, Provenance(result))});
+  if (result.palette)
+    files.push_back({Join(folder, kPaletteFile), PaletteToJson(result.palette->palette)});
+  files.push_back({Join(folder, kLutFile), result.cube});
+  files.push_back({Join(folder, kReportPdfFile), RenderReportPdf(result)});
+  files.push_back({Join(folder, kReportPngFile), RenderReportPng(result)});
+  files.push_back({Join(folder, kMeasurementsFile), MeasurementsJson(result)});
+  return files;
+}
+
+}  // namespace chromatag::calib

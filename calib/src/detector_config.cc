@@ -1,0 +1,127 @@
+// Detector config files (detector_config.h).
+#include "chromatag/calib/detector_config.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace chromatag::calib {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+struct ConfigError {
+  std::string message;
+};
+
+double Number(const Json& value, const std::string& key) {
+  if (!value.is_number()) throw ConfigError{"\"" + key + "\" must be a number"};
+  return value.get<double>();
+}
+
+int Integer(const Json& value, const std::string& key) {
+  if (!value.is_number_integer()) throw ConfigError{"\"" + key + "\" must be an integer"};
+  return value.get<int>();
+}
+
+void Apply(const Json& options, DetectorOptions* out) {
+  if (!options.is_object()) throw ConfigError{"\"options\" must be an object"};
+  for (const auto& [key, value] : options.items()) {
+    if (key == "families") {
+      if (!value.is_array()) throw ConfigError{"\"families\" must be a list, e.g. [\"16h5\"]"};
+      out->families.clear();
+      for (const Json& f : value) {
+        if (!f.is_string()) throw ConfigError{"\"families\" must hold names: \"16h5\", \"36h11\""};
+        out->families.push_back(f.get<std::string>());
+      }
+    } else if (key == "step") {
+      out->step = Integer(value, key);
+    } else if (key == "adiff_thresh") {
+      out->adiff_thresh = Number(value, key);
+    } else if (key == "border_thresh") {
+      out->border_thresh = Number(value, key);
+    } else if (key == "border_run") {
+      out->border_run = Integer(value, key);
+    } else if (key == "conv_thresh") {
+      out->conv_thresh = Number(value, key);
+    } else if (key == "max_hamming") {
+      out->max_hamming = Integer(value, key);
+    } else if (key == "min_decision_margin") {
+      out->min_decision_margin = Number(value, key);
+    } else if (key == "refine_corners") {
+      if (!value.is_boolean()) throw ConfigError{"\"refine_corners\" must be true or false"};
+      out->refine_corners = value.get<bool>();
+    } else {
+      throw ConfigError{"unknown option \"" + key +
+                        "\" (allowed: families, step, adiff_thresh, border_thresh, border_run, "
+                        "conv_thresh, max_hamming, min_decision_margin, refine_corners)"};
+    }
+  }
+}
+
+}  // namespace
+
+std::string DetectorConfigToJson(const DetectorOptions& options,
+                                 const std::string& provenance_json) {
+  Json root = {{"schema", kDetectorConfigSchema},
+               {"schema_version", 1},
+               {"options",
+                {{"families", options.families},
+                 {"step", options.step},
+                 {"adiff_thresh", options.adiff_thresh},
+                 {"border_thresh", options.border_thresh},
+                 {"border_run", options.border_run},
+                 {"conv_thresh", options.conv_thresh},
+                 {"max_hamming", options.max_hamming},
+                 {"min_decision_margin", options.min_decision_margin},
+                 {"refine_corners", options.refine_corners}}}};
+  if (!provenance_json.empty()) root["calibration"] = Json::parse(provenance_json);
+  return root.dump(2) + "\n";
+}
+
+bool ParseDetectorConfig(const std::string& text, DetectorOptions* options, std::string* error) {
+  DetectorOptions result = *options;
+  try {
+    const Json root = Json::parse(text);
+    if (!root.is_object()) throw ConfigError{"the file must hold a JSON object"};
+    for (const auto& [key, value] : root.items()) {
+      if (key != "schema" && key != "schema_version" && key != "options" && key != "calibration")
+        throw ConfigError{"unknown member \"" + key +
+                          "\" (allowed: schema, schema_version, options, calibration)"};
+    }
+    if (!root.contains("schema") || root["schema"] != kDetectorConfigSchema)
+      throw ConfigError{std::string("not a detector config (\"schema\" must be \"") +
+                        kDetectorConfigSchema + "\")"};
+    if (!root.contains("schema_version") || root["schema_version"] != 1)
+      throw ConfigError{"unsupported schema_version (this chromatag reads version 1)"};
+    if (!root.contains("options")) throw ConfigError{"missing \"options\""};
+    Apply(root["options"], &result);
+  } catch (const Json::exception& e) {
+    if (error) *error = std::string("not valid JSON: ") + e.what();
+    return false;
+  } catch (const ConfigError& e) {
+    if (error) *error = e.message;
+    return false;
+  }
+  if (!result.IsValid(error)) return false;
+  *options = result;
+  return true;
+}
+
+bool LoadDetectorConfig(const std::string& path, DetectorOptions* options, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    if (error) *error = "cannot read detector config '" + path + "'";
+    return false;
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string why;
+  if (!ParseDetectorConfig(text.str(), options, &why)) {
+    if (error) *error = "detector config '" + path + "': " + why;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace chromatag::calib

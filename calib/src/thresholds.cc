@@ -1,0 +1,214 @@
+// Margins and derived detector thresholds (thresholds.h).
+#include "chromatag/calib/thresholds.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace chromatag::calib {
+namespace {
+
+constexpr std::array<Shade, 4> kChromatic = {Shade::kRed1, Shade::kRed0, Shade::kGreen1,
+                                             Shade::kGreen0};
+
+// The detector refuses reds paler than this in a* (detector/src/initial_scan.cc).
+constexpr double kDetectorMinRedA = 12.0;
+
+std::string Format(const char* format, double a, double b = 0, double c = 0) {
+  char text[400];
+  std::snprintf(text, sizeof(text), format, a, b, c);
+  return text;
+}
+
+double CellSpread(const ShadeReading& one, const ShadeReading& zero) {
+  // The detector averages 3 x 3 pixels per cell: pixel noise shrinks by 3;
+  // the print's own unevenness (spread between repeats) does not.
+  const double repeat =
+      (one.repeat_spread_b * one.repeat_spread_b + zero.repeat_spread_b * zero.repeat_spread_b) /
+      2.0;
+  const double pixel = std::max(one.pixel_noise_b, zero.pixel_noise_b) / 3.0;
+  return std::sqrt(repeat + pixel * pixel);
+}
+
+}  // namespace
+
+bool ThresholdOptions::IsValid(std::string* error) const {
+  if (!(safety_factor >= 1 && safety_factor <= 10)) {
+    if (error) *error = "safety factor must be in [1, 10]";
+    return false;
+  }
+  if (!(min_adiff > 0 && max_adiff >= min_adiff && max_adiff <= 200 && min_border > 0 &&
+        min_border <= 100 && min_decision_margin >= 0 &&
+        max_decision_margin >= min_decision_margin)) {
+    if (error) *error = "threshold bounds must be positive and ordered";
+    return false;
+  }
+  return true;
+}
+
+const char* VerdictName(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kGood:
+      return "good";
+    case Verdict::kThin:
+      return "thin";
+    case Verdict::kFail:
+      return "fail";
+  }
+  return "?";
+}
+
+std::array<ShadeReading, kNumShades> ReadShades(const CalibSheetLayout& layout,
+                                                const PhotoMeasurement& photo) {
+  std::array<ShadeReading, kNumShades> out{};
+  std::array<std::vector<const PatchMeasurement*>, kNumShades> members;
+  for (const Patch& patch : layout.patches) {
+    const PatchMeasurement& m = photo.patches[patch.index];
+    if (!m.usable()) continue;
+    if (patch.kind == PatchKind::kPalette) members[static_cast<int>(patch.shade)].push_back(&m);
+    if (patch.kind == PatchKind::kPaper) members[static_cast<int>(Shade::kWhite)].push_back(&m);
+  }
+  for (int s = 0; s < kNumShades; ++s) {
+    ShadeReading& r = out[s];
+    r.count = static_cast<int>(members[s].size());
+    if (r.count == 0) continue;
+    for (const PatchMeasurement* m : members[s]) {
+      r.lab.L += m->lab.L / r.count;
+      r.lab.a += m->lab.a / r.count;
+      r.lab.b += m->lab.b / r.count;
+      r.as_shot.L += m->as_shot.L / r.count;
+      r.as_shot.a += m->as_shot.a / r.count;
+      r.as_shot.b += m->as_shot.b / r.count;
+      r.pixel_noise_a = std::max(r.pixel_noise_a, m->noise_a);
+      r.pixel_noise_b = std::max(r.pixel_noise_b, m->noise_b);
+    }
+    double sq = 0;
+    for (const PatchMeasurement* m : members[s]) sq += std::pow(m->lab.b - r.lab.b, 2);
+    r.repeat_spread_b = r.count > 1 ? std::sqrt(sq / (r.count - 1)) : 0.0;
+  }
+  return out;
+}
+
+Margins MarginsOf(const std::array<ShadeReading, 4>& shades, double white_l, bool as_shot) {
+  auto lab = [&](int i) { return as_shot ? shades[i].as_shot : shades[i].lab; };
+  const Lab r1 = lab(0), r0 = lab(1), g1 = lab(2), g0 = lab(3);
+  Margins m;
+  m.a_gap = std::min(r1.a, r0.a) - std::max(g1.a, g0.a);
+  m.red_b_gap = r1.b - r0.b;
+  m.green_b_gap = g0.b - g1.b;
+  m.a_spread = std::max(std::abs(r1.a - r0.a), std::abs(g1.a - g0.a));
+  m.min_red_a = std::min(r1.a, r0.a);
+  for (const ShadeReading& s : shades) m.noise_a = std::max(m.noise_a, s.pixel_noise_a);
+  m.l_gap_white = white_l - std::max(g1.L, g0.L);
+  m.red_decision = m.red_b_gap / std::max(1.0, CellSpread(shades[0], shades[1]));
+  m.green_decision = m.green_b_gap / std::max(1.0, CellSpread(shades[2], shades[3]));
+  return m;
+}
+
+Margins Worst(const Margins& a, const Margins& b) {
+  Margins m;
+  m.a_gap = std::min(a.a_gap, b.a_gap);
+  m.red_b_gap = std::min(a.red_b_gap, b.red_b_gap);
+  m.green_b_gap = std::min(a.green_b_gap, b.green_b_gap);
+  m.a_spread = std::max(a.a_spread, b.a_spread);
+  m.min_red_a = std::min(a.min_red_a, b.min_red_a);
+  m.noise_a = std::max(a.noise_a, b.noise_a);
+  m.l_gap_white = std::min(a.l_gap_white, b.l_gap_white);
+  m.red_decision = std::min(a.red_decision, b.red_decision);
+  m.green_decision = std::min(a.green_decision, b.green_decision);
+  return m;
+}
+
+DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
+                                   const ThresholdOptions& o) {
+  DerivedThresholds out;
+  if (per_photo_worst.empty()) return out;
+  Margins w = per_photo_worst[0];
+  for (const Margins& m : per_photo_worst) w = Worst(w, m);
+  out.worst = w;
+  const double s = o.safety_factor;
+  DetectorOptions& d = out.options;
+
+  d.adiff_thresh = std::clamp(w.a_gap / s, o.min_adiff, o.max_adiff);
+  // BorderThresh must stay above the a* step between two shades of one
+  // colour (with the safety factor) plus twice the pixel noise (the scan
+  // needs M pixels in a row past it, so rarer noise does not count), or the
+  // scan stops inside the red; and
+  // below the red-green gap and the quiet zone's L* lead (or it never sees
+  // the border). The upper bound wins: a scan that never leaves the red
+  // finds nothing at all.
+  const double need = s * w.a_spread + 2.0 * w.noise_a;
+  const double room = std::max(o.min_border, std::min(w.a_gap, w.l_gap_white) / s);
+  d.border_thresh = std::clamp(need, o.min_border, room);
+  if (need > room) {
+    out.warnings.push_back(Format(
+        "BorderThresh: the two shades of a colour differ by %.1f in a* (noise %.1f), too close "
+        "to the red-green gap of %.1f: scans may stop at a shade change",
+        w.a_spread, w.noise_a, w.a_gap));
+    out.warnings.back() +=
+        Format("; BorderThresh set to %.1f (wanted %.1f)", d.border_thresh, need);
+  }
+  d.min_decision_margin =
+      std::clamp(w.decision() / s, o.min_decision_margin, o.max_decision_margin);
+
+  PairVerdict a_pair{"reds / greens (a*)", w.a_gap, Verdict::kGood, ""};
+  if (w.a_gap / s < o.min_adiff) {
+    a_pair.verdict = Verdict::kFail;
+    a_pair.why =
+        Format("a* gap %.1f: too small to seed on with a safety factor of %.1f", w.a_gap, s);
+  } else if (w.min_red_a < kDetectorMinRedA + 2) {
+    a_pair.verdict = Verdict::kFail;
+    a_pair.why = Format(
+        "the reds print at a* %.1f, at the detector's floor of %.0f for a red: "
+        "tags in dimmer or cooler light will not be found",
+        w.min_red_a, kDetectorMinRedA);
+  } else if (w.a_gap / s < o.thin_adiff) {
+    a_pair.verdict = Verdict::kThin;
+    a_pair.why = Format(
+        "ADiffThresh %.1f is below %.1f, where natural scenes begin to seed "
+        "candidates: expect more false candidates (slower, not wrong)",
+        w.a_gap / s, o.thin_adiff);
+  } else {
+    a_pair.why = Format("ADiffThresh %.1f", d.adiff_thresh);
+  }
+  out.verdicts.push_back(a_pair);
+
+  const struct {
+    const char* name;
+    double gap;
+    double decision;
+  } shade_pairs[2] = {{"red-1 / red-0 (b*)", w.red_b_gap, w.red_decision},
+                      {"green-1 / green-0 (b*)", w.green_b_gap, w.green_decision}};
+  for (const auto& p : shade_pairs) {
+    PairVerdict v{p.name, p.gap, Verdict::kGood, ""};
+    if (p.gap <= 0) {
+      v.verdict = Verdict::kFail;
+      v.why = Format(
+          "the shades print in the wrong b* order (gap %.1f): tags decode as wrong "
+          "IDs; use the calibrated palette",
+          p.gap);
+    } else if (p.decision < s * o.min_decision_margin) {
+      v.verdict = Verdict::kFail;
+      v.why = Format(
+          "b* gap %.1f, expected decision margin %.1f: below %.1f, decoding is a coin "
+          "toss",
+          p.gap, p.decision, s * o.min_decision_margin);
+    } else if (p.gap < o.thin_b_gap || p.decision < o.thin_decision) {
+      v.verdict = Verdict::kThin;
+      v.why = Format(
+          "b* gap %.1f, expected decision margin %.1f: decodes, but blur or a cast "
+          "will cost IDs",
+          p.gap, p.decision);
+    } else {
+      v.why = Format("b* gap %.1f, expected decision margin %.1f", p.gap, p.decision);
+    }
+    out.verdicts.push_back(v);
+  }
+  for (const PairVerdict& v : out.verdicts) {
+    if (v.verdict != Verdict::kGood)
+      out.warnings.push_back(v.pair + " " + VerdictName(v.verdict) + ": " + v.why);
+  }
+  return out;
+}
+
+}  // namespace chromatag::calib
