@@ -22,6 +22,7 @@ void RegisterPalettes(CLI::App& app, Action* action);
 void RegisterGenerate(CLI::App& app, Action* action);
 void RegisterVerify(CLI::App& app, Action* action);
 void RegisterDetect(CLI::App& app, Action* action);
+void RegisterCalib(CLI::App& app, Action* action);  // calib-sheet and calibrate.
 
 }  // namespace chromatag::cli
 

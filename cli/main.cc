@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   chromatag::cli::RegisterGenerate(app, &action);
   chromatag::cli::RegisterVerify(app, &action);
   chromatag::cli::RegisterDetect(app, &action);
+  chromatag::cli::RegisterCalib(app, &action);
 
   try {
     app.parse(argc, argv);

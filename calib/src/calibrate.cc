@@ -185,7 +185,9 @@ std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
                                          const std::string& folder) {
   std::vector<OutputFile> files;
   files.push_back({Join(folder, kDetectorConfigFile),
-                   DetectorConfigToJson(result.thresholds.options, Provenance(result))});
+                   DetectorConfigToJson(result.thresholds.options,
+                                        {"adiff_thresh", "border_thresh", "min_decision_margin"},
+                                        Provenance(result))});
   if (result.palette)
     files.push_back({Join(folder, kPaletteFile), PaletteToJson(result.palette->palette)});
   files.push_back({Join(folder, kLutFile), result.cube});

@@ -1,6 +1,7 @@
 // Detector config files (detector_config.h).
 #include "chromatag/calib/detector_config.h"
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -62,19 +63,23 @@ void Apply(const Json& options, DetectorOptions* out) {
 }  // namespace
 
 std::string DetectorConfigToJson(const DetectorOptions& options,
+                                 const std::vector<std::string>& fields,
                                  const std::string& provenance_json) {
-  Json root = {{"schema", kDetectorConfigSchema},
-               {"schema_version", 1},
-               {"options",
-                {{"families", options.families},
-                 {"step", options.step},
-                 {"adiff_thresh", options.adiff_thresh},
-                 {"border_thresh", options.border_thresh},
-                 {"border_run", options.border_run},
-                 {"conv_thresh", options.conv_thresh},
-                 {"max_hamming", options.max_hamming},
-                 {"min_decision_margin", options.min_decision_margin},
-                 {"refine_corners", options.refine_corners}}}};
+  const Json all = {{"families", options.families},
+                    {"step", options.step},
+                    {"adiff_thresh", options.adiff_thresh},
+                    {"border_thresh", options.border_thresh},
+                    {"border_run", options.border_run},
+                    {"conv_thresh", options.conv_thresh},
+                    {"max_hamming", options.max_hamming},
+                    {"min_decision_margin", options.min_decision_margin},
+                    {"refine_corners", options.refine_corners}};
+  Json chosen = Json::object();
+  for (const auto& [key, value] : all.items()) {
+    if (fields.empty() || std::find(fields.begin(), fields.end(), key) != fields.end())
+      chosen[key] = value;
+  }
+  Json root = {{"schema", kDetectorConfigSchema}, {"schema_version", 1}, {"options", chosen}};
   if (!provenance_json.empty()) root["calibration"] = Json::parse(provenance_json);
   return root.dump(2) + "\n";
 }

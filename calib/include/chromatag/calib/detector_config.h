@@ -16,6 +16,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "chromatag/detector/options.h"
 
@@ -23,12 +24,13 @@ namespace chromatag::calib {
 
 inline constexpr const char* kDetectorConfigSchema = "chromatag-detector-config";
 
-// Writes the colour and scan fields of `options` (families, step,
-// adiff_thresh, border_thresh, border_run, conv_thresh, max_hamming,
-// min_decision_margin, refine_corners; not the camera or tag size, which
-// belong to a rig, not a print) with `provenance` (a JSON object text, or
-// empty) as "calibration".
+// Writes `fields` of `options` (names as in the file; empty: every colour and
+// scan field: families, step, adiff_thresh, border_thresh, border_run,
+// conv_thresh, max_hamming, min_decision_margin, refine_corners; never the
+// camera or tag size, which belong to a rig, not a print) with `provenance`
+// (a JSON object's text, or empty) as "calibration".
 std::string DetectorConfigToJson(const DetectorOptions& options,
+                                 const std::vector<std::string>& fields = {},
                                  const std::string& provenance_json = "");
 
 // Applies the file's options on top of `*options` and validates the result

@@ -1,0 +1,84 @@
+#include "chromatag/calib/detector_config.h"
+
+#include <gtest/gtest.h>
+
+namespace chromatag::calib {
+namespace {
+
+TEST(DetectorConfigTest, RoundTripsEveryField) {
+  DetectorOptions options;
+  options.families = {"16h5", "36h11"};
+  options.step = 3;
+  options.adiff_thresh = 12.5;
+  options.border_thresh = 7.25;
+  options.border_run = 4;
+  options.conv_thresh = 0.9;
+  options.max_hamming = 1;
+  options.min_decision_margin = 1.5;
+  options.refine_corners = false;
+  DetectorOptions back;
+  std::string error;
+  ASSERT_TRUE(ParseDetectorConfig(DetectorConfigToJson(options), &back, &error)) << error;
+  EXPECT_EQ(back.families, options.families);
+  EXPECT_EQ(back.step, 3);
+  EXPECT_DOUBLE_EQ(back.adiff_thresh, 12.5);
+  EXPECT_DOUBLE_EQ(back.border_thresh, 7.25);
+  EXPECT_EQ(back.border_run, 4);
+  EXPECT_DOUBLE_EQ(back.conv_thresh, 0.9);
+  EXPECT_EQ(back.max_hamming, 1);
+  EXPECT_DOUBLE_EQ(back.min_decision_margin, 1.5);
+  EXPECT_FALSE(back.refine_corners);
+}
+
+TEST(DetectorConfigTest, SubsetKeepsTheCallersOtherValues) {
+  DetectorOptions derived;
+  derived.adiff_thresh = 9;
+  const std::string text =
+      DetectorConfigToJson(derived, {"adiff_thresh"}, R"({"sheet_id": 7, "note": "x"})");
+  EXPECT_EQ(text.find("border_thresh"), std::string::npos);
+  EXPECT_NE(text.find("\"sheet_id\": 7"), std::string::npos);
+  DetectorOptions options;
+  options.families = {"36h11"};
+  options.border_thresh = 6;
+  std::string error;
+  ASSERT_TRUE(ParseDetectorConfig(text, &options, &error)) << error;
+  EXPECT_DOUBLE_EQ(options.adiff_thresh, 9);
+  EXPECT_DOUBLE_EQ(options.border_thresh, 6);
+  EXPECT_EQ(options.families, std::vector<std::string>{"36h11"});
+}
+
+TEST(DetectorConfigTest, RefusesBadFilesAndLeavesOptionsAlone) {
+  const struct {
+    const char* text;
+    const char* says;
+  } cases[] = {
+      {"{", "not valid JSON"},
+      {R"({"schema": "chromatag-layout", "schema_version": 1, "options": {}})", "not a detector"},
+      {R"({"schema": "chromatag-detector-config", "schema_version": 2, "options": {}})",
+       "schema_version"},
+      {R"({"schema": "chromatag-detector-config", "schema_version": 1})", "missing \"options\""},
+      {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"adif_thresh": 3}})",
+       "unknown option \"adif_thresh\""},
+      {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"step": 2.5}})",
+       "\"step\" must be an integer"},
+      {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"adiff_thresh": -1}})",
+       "adiff_thresh (ADiffThresh) must be in (0, 200]"},
+      {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {}, "x": 1})",
+       "unknown member \"x\""},
+  };
+  for (const auto& c : cases) {
+    DetectorOptions options;
+    options.adiff_thresh = 11;
+    std::string error;
+    EXPECT_FALSE(ParseDetectorConfig(c.text, &options, &error)) << c.text;
+    EXPECT_NE(error.find(c.says), std::string::npos) << error;
+    EXPECT_DOUBLE_EQ(options.adiff_thresh, 11);
+  }
+  DetectorOptions options;
+  std::string error;
+  EXPECT_FALSE(LoadDetectorConfig("/nonexistent/detector.json", &options, &error));
+  EXPECT_NE(error.find("/nonexistent/detector.json"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace chromatag::calib

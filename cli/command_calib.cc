@@ -1,0 +1,207 @@
+// `chromatag calib-sheet` and `chromatag calibrate` (issue 6,
+// docs/calibration.md): input checking, library calls and output only.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "chromatag/calib/calib_sheet.h"
+#include "chromatag/calib/calib_sidecar.h"
+#include "chromatag/calib/calibrate.h"
+#include "chromatag/families/palette.h"
+#include "chromatag/generator/file_util.h"
+#include "chromatag/generator/units.h"
+#include "commands.h"
+
+namespace chromatag::cli {
+namespace {
+
+struct CalibSheetArgs {
+  std::string output;
+  std::string palette = "default";
+  std::string palette_file;
+  std::string page = "a4";
+  int sheet_id = 0;
+  std::string tag_size = "20mm";
+  std::string format;  // Empty: from the output's extension.
+  double dpi = 300.0;
+};
+
+struct CalibrateArgs {
+  std::vector<std::string> photos;
+  std::string sheet;
+  std::string output;
+  double safety = 2.0;
+  int lut_size = 17;
+};
+
+int Fail(const char* command, int code, const std::string& message) {
+  std::cerr << "chromatag " << command << ": " << message << "\n";
+  return code;
+}
+
+std::string Extension(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  const auto slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot + 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+int RunCalibSheet(const CalibSheetArgs& args) {
+  constexpr const char* kName = "calib-sheet";
+  std::string error;
+  calib::CalibSheetOptions options;
+  const auto palette = args.palette_file.empty() ? BuiltinPalette(args.palette, &error)
+                                                 : LoadPaletteFile(args.palette_file, &error);
+  if (!palette) return Fail(kName, kExitUsage, error);
+  options.palette = *palette;
+  const auto page = ParsePageSize(args.page, &error);
+  if (!page) return Fail(kName, kExitUsage, error);
+  options.page = *page;
+  const auto tag_size = ParseLength(args.tag_size, &error);
+  if (!tag_size) return Fail(kName, kExitUsage, error);
+  options.tag_size_mm = tag_size->mm;
+  options.sheet_id = args.sheet_id;
+  const std::string format = args.format.empty() ? Extension(args.output) : args.format;
+  if (format != "pdf" && format != "png") {
+    return Fail(kName, kExitUsage,
+                "cannot tell the format of '" + args.output + "' (use .pdf or .png, or --format)");
+  }
+  if (!(args.dpi >= 50 && args.dpi <= 1200))
+    return Fail(kName, kExitUsage, "--dpi must be in [50, 1200]");
+  const auto layout = calib::LayoutCalibSheet(options, &error);
+  if (!layout) return Fail(kName, kExitUsage, error);
+  const auto files = calib::RenderCalibSheet(
+      *layout, format == "pdf" ? calib::CalibSheetFormat::kPdf : calib::CalibSheetFormat::kPng,
+      args.output, args.dpi);
+  if (files[1].path == args.output) {
+    return Fail(kName, kExitUsage,
+                "the output '" + args.output + "' would be overwritten by its sidecar");
+  }
+  if (!WriteFilesAtomically(files, &error)) return Fail(kName, kExitUsage, error);
+  int counts[4] = {0, 0, 0, 0};
+  for (const calib::Patch& p : layout->patches) ++counts[static_cast<int>(p.kind)];
+  std::cout << "Wrote calibration sheet " << layout->sheet_id << " (palette "
+            << layout->palette.name << ", page " << layout->page.name << "; corner tags "
+            << layout->family << " " << layout->tags[0].id << ", " << layout->tags[1].id << ", "
+            << layout->tags[2].id << ", " << layout->tags[3].id << "; " << layout->patches.size()
+            << " patches: " << counts[1] << " palette, " << counts[3] << " candidate, " << counts[2]
+            << " grey, " << counts[0] << " paper):\n";
+  for (const auto& file : files) std::cout << "  " << file.path << "\n";
+  std::cout << "Print at 100 % with colour management off, photograph the whole sheet, then run "
+               "'chromatag calibrate PHOTO... --sheet "
+            << files[1].path << " -o OUTDIR'.\n";
+  return kExitOk;
+}
+
+void PrintSummary(const calib::CalibrationResult& result, const std::vector<std::string>& written) {
+  const DetectorOptions& d = result.thresholds.options;
+  std::printf("Calibrated sheet %d from %zu photo(s):\n", result.layout.sheet_id,
+              result.photos.size());
+  for (const calib::PhotoResult& p : result.photos) {
+    std::printf(
+        "  %s: %.1f px/mm, white %.0f/255, %d flagged patches, model CIEDE2000 mean %.2f "
+        "max %.2f\n",
+        p.name.c_str(), p.measurement.location.px_per_mm, p.measurement.white_level,
+        p.measurement.flagged, p.fit.mean_de, p.fit.max_de);
+  }
+  std::printf(
+      "Detector thresholds: ADiffThresh %.1f, BorderThresh %.1f, min decision margin "
+      "%.2f\n",
+      d.adiff_thresh, d.border_thresh, d.min_decision_margin);
+  for (const calib::PairVerdict& v : result.thresholds.verdicts)
+    std::printf("  %-24s %-5s %s\n", v.pair.c_str(), calib::VerdictName(v.verdict), v.why.c_str());
+  if (result.palette) {
+    std::printf("Palette %s: score %.2f (sheet palette %.2f)\n",
+                result.palette->palette.name.c_str(), result.palette->score,
+                result.palette->sheet_palette_score);
+  }
+  for (const std::string& path : written) std::printf("  %s\n", path.c_str());
+  std::fflush(stdout);
+  for (const std::string& w : result.warnings) std::cerr << "warning: " << w << "\n";
+}
+
+int RunCalibrate(const CalibrateArgs& args) {
+  constexpr const char* kName = "calibrate";
+  std::string error;
+  const auto layout = calib::ReadCalibSidecar(args.sheet, &error);
+  if (!layout) return Fail(kName, kExitUsage, error);
+  calib::CalibrateOptions options;
+  options.thresholds.safety_factor = args.safety;
+  options.lut_size = args.lut_size;
+  if (!options.IsValid(&error)) return Fail(kName, kExitUsage, error);
+  std::vector<calib::PhotoInput> photos;
+  for (const std::string& path : args.photos) {
+    // Checked first: OpenCV would print its own warning for a missing file.
+    const bool readable = static_cast<bool>(std::ifstream(path));
+    cv::Mat image = readable ? cv::imread(path, cv::IMREAD_COLOR) : cv::Mat();
+    if (image.empty()) {
+      return Fail(kName, kExitUsage,
+                  "cannot read photo '" + path +
+                      "' (JPEG, PNG, TIFF or another format OpenCV "
+                      "reads)");
+    }
+    photos.push_back({path, image});
+  }
+  // Unusable photos fail the job (exit 1) and nothing is written.
+  const auto result = calib::Calibrate(*layout, photos, options, &error);
+  if (!result) return Fail(kName, kExitFailure, error);
+  std::error_code ec;
+  std::filesystem::create_directories(args.output, ec);
+  if (ec) {
+    return Fail(kName, kExitUsage,
+                "cannot create the output folder '" + args.output + "': " + ec.message());
+  }
+  const auto files = calib::CalibrationFiles(*result, args.output);
+  if (!WriteFilesAtomically(files, &error)) return Fail(kName, kExitUsage, error);
+  std::vector<std::string> written;
+  for (const auto& file : files) written.push_back(file.path);
+  PrintSummary(*result, written);
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterCalib(CLI::App& app, Action* action) {
+  auto s = std::make_shared<CalibSheetArgs>();
+  CLI::App* sheet = app.add_subcommand(
+      "calib-sheet", "Write a colour-calibration sheet (PDF or PNG) and its sidecar");
+  sheet->add_option("-o,--output", s->output, "Output .pdf or .png; the sidecar goes beside it")
+      ->required();
+  auto* palette = sheet->add_option("--palette", s->palette, "Built-in palette: default, iccv17")
+                      ->capture_default_str();
+  sheet->add_option("--palette-file", s->palette_file, "Palette JSON file (docs/palettes.md)")
+      ->excludes(palette);
+  sheet->add_option("--page", s->page, "a4, a3, letter, legal, or WxH with a unit")
+      ->capture_default_str();
+  sheet->add_option("--sheet-id", s->sheet_id, "Sheet ID 1-65535 (default: from palette and page)")
+      ->check(CLI::Range(0, 65535));
+  sheet->add_option("--tag-size", s->tag_size, "Corner tags' black square, 10-60 mm")
+      ->capture_default_str();
+  sheet->add_option("--format", s->format, "pdf or png (default: from the output's extension)")
+      ->check(CLI::IsMember({"pdf", "png"}));
+  sheet->add_option("--dpi", s->dpi, "PNG resolution in pixels per inch")->capture_default_str();
+  sheet->callback([s, action] { *action = [s] { return RunCalibSheet(*s); }; });
+
+  auto c = std::make_shared<CalibrateArgs>();
+  CLI::App* cal = app.add_subcommand(
+      "calibrate",
+      "Measure photos of a printed calibration sheet; write detector thresholds, a palette, a "
+      "printer LUT and a report");
+  cal->add_option("photos", c->photos, "Photos of the printed sheet (one per lighting)")
+      ->required();
+  cal->add_option("--sheet", c->sheet, "The sheet's sidecar JSON from 'chromatag calib-sheet'")
+      ->required();
+  cal->add_option("-o,--output", c->output, "Output folder (created if missing)")->required();
+  cal->add_option("--safety", c->safety, "Safety factor between margins and thresholds, 1-10")
+      ->capture_default_str();
+  cal->add_option("--lut-size", c->lut_size, "Grid points per side of the .cube LUT, 2-65")
+      ->capture_default_str();
+  cal->callback([c, action] { *action = [c] { return RunCalibrate(*c); }; });
+}
+
+}  // namespace chromatag::cli
