@@ -1,0 +1,180 @@
+// `chromatag calib-sheet` and `chromatag calibrate` from the command line, on
+// synthetic photos of the printed sheet: a good run whose outputs the other
+// commands accept, and every kind of bad photo failing cleanly.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "calib_sim.h"
+#include "chromatag/calib/calib_sidecar.h"
+#include "test_util.h"
+
+namespace chromatag::calib {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CommandResult;
+using testing::RunCommand;
+using testing::SimCamera;
+using testing::SimPrinter;
+
+const std::string kCli = CHROMATAG_CLI_PATH;
+
+std::string Read(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CalibCliTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("chromatag-calib-cli-" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+    const CommandResult r =
+        RunCommand(kCli, {"calib-sheet", "-o", dir_ + "/calib.pdf", "--sheet-id", "4711"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::string error;
+    auto layout = ReadCalibSidecar(dir_ + "/calib.json", &error);
+    ASSERT_TRUE(layout) << error;
+    layout_ = new CalibSheetLayout(*layout);
+  }
+  static void TearDownTestSuite() {
+    delete layout_;
+    fs::remove_all(dir_);
+  }
+
+  // Writes a synthetic photo of `layout` (the test's sheet by default).
+  static std::string Photo(const std::string& name, const SimCamera& camera,
+                           const CalibSheetLayout* layout = nullptr) {
+    const std::string path = dir_ + "/" + name;
+    cv::imwrite(path, testing::RenderSheetPhoto(layout ? *layout : *layout_, SimPrinter(), camera));
+    return path;
+  }
+
+  // Runs calibrate into a fresh output folder; returns the result.
+  static CommandResult Calibrate(const std::vector<std::string>& photos, const std::string& out) {
+    std::vector<std::string> args = {"calibrate"};
+    args.insert(args.end(), photos.begin(), photos.end());
+    args.insert(args.end(), {"--sheet", dir_ + "/calib.json", "-o", out});
+    return RunCommand(kCli, args);
+  }
+
+  static std::string dir_;
+  static CalibSheetLayout* layout_;
+};
+
+std::string CalibCliTest::dir_;
+CalibSheetLayout* CalibCliTest::layout_ = nullptr;
+
+TEST_F(CalibCliTest, SheetIsReproducibleAndNamesItsId) {
+  EXPECT_EQ(layout_->sheet_id, 4711);
+  const std::string first = Read(dir_ + "/calib.pdf");
+  const CommandResult r =
+      RunCommand(kCli, {"calib-sheet", "-o", dir_ + "/again.pdf", "--sheet-id", "4711"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("calibration sheet 4711"), std::string::npos) << r.out;
+  EXPECT_EQ(Read(dir_ + "/again.pdf"), first);
+}
+
+TEST_F(CalibCliTest, SheetBadInputIsOneLineAndExitTwo) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"calib-sheet", "-o", dir_ + "/x.txt"},
+        {"calib-sheet", "-o", dir_ + "/x.pdf", "--page", "80x80mm"},
+        {"calib-sheet", "-o", dir_ + "/x.pdf", "--palette", "nope"},
+        {"calib-sheet", "-o", dir_ + "/x.pdf", "--tag-size", "5mm"}}) {
+    const CommandResult r = RunCommand(kCli, args);
+    EXPECT_EQ(r.exit_code, 2) << args.back();
+    EXPECT_EQ(testing::CountLines(r.err), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ + "/x.pdf"));
+  }
+}
+
+TEST_F(CalibCliTest, GoodPhotosGiveOutputsTheOtherCommandsAccept) {
+  SimCamera warm;
+  warm.gains = {1.1, 1.0, 0.85};
+  SimCamera dim;
+  dim.exposure = 0.6;
+  dim.seed = 3;
+  const std::string out = dir_ + "/out";
+  const CommandResult r = Calibrate({Photo("warm.png", warm), Photo("dim.jpg", dim)}, out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("ADiffThresh"), std::string::npos) << r.out;
+  for (const char* name : {"detector.json", "palette.json", "printer.cube", "report.pdf",
+                           "report.png", "measurements.json"})
+    EXPECT_TRUE(fs::exists(out + "/" + name)) << name;
+  EXPECT_EQ(Read(out + "/report.png").substr(1, 3), "PNG");
+  const CommandResult palettes =
+      RunCommand(kCli, {"palettes", "--palette-file", out + "/palette.json"});
+  EXPECT_EQ(palettes.exit_code, 0) << palettes.err;
+  const CommandResult generate = RunCommand(
+      kCli,
+      {"generate", "--ids", "0-3", "--color-lut", out + "/printer.cube", "-o", dir_ + "/tags.pdf"});
+  EXPECT_EQ(generate.exit_code, 0) << generate.err;
+  const CommandResult generate_palette =
+      RunCommand(kCli, {"generate", "--ids", "0-3", "--palette-file", out + "/palette.json", "-o",
+                        dir_ + "/tags2.pdf"});
+  EXPECT_EQ(generate_palette.exit_code, 0) << generate_palette.err;
+}
+
+// Each bad photo: exit 1, one line naming the photo and the problem, and no
+// output folder (nothing written), even with a good photo beside it.
+TEST_F(CalibCliTest, BadPhotosFailCleanly) {
+  SimCamera good;
+  const std::string good_photo = Photo("good.png", good);
+
+  cv::imwrite(dir_ + "/empty.png", cv::Mat(900, 1200, CV_8UC3, cv::Scalar(120, 130, 125)));
+
+  SimCamera partial;  // Only the top half of the sheet in the frame.
+  partial.page_corners_px = {{{400, 100}, {1200, 100}, {1200, 1230}, {400, 1230}}};
+  partial.height = 700;
+
+  CalibSheetOptions other_options;
+  other_options.palette = layout_->palette;
+  other_options.sheet_id = 999;
+  const auto other = LayoutCalibSheet(other_options);
+  ASSERT_TRUE(other);
+
+  SimCamera bright;
+  bright.exposure = 1.6;
+  SimCamera dark;
+  dark.exposure = 0.035;
+  dark.noise_sigma = 0.8;
+
+  const struct {
+    std::string photo;
+    const char* says;
+  } cases[] = {
+      {dir_ + "/empty.png", "no ChromaTag found"},
+      {Photo("partial.png", partial), "only 2 of the 4 corner tags of sheet 4711"},
+      {Photo("other.png", good, &*other), "this is not sheet 4711"},
+      {Photo("bright.png", bright), "overexposed"},
+      {Photo("dark.png", dark), "underexposed"},
+  };
+  for (const auto& c : cases) {
+    const std::string out = dir_ + "/bad-out";
+    const CommandResult r = Calibrate({good_photo, c.photo}, out);
+    EXPECT_EQ(r.exit_code, 1) << c.photo << ": " << r.err;
+    EXPECT_EQ(testing::CountLines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(c.photo + ": "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.photo;
+  }
+  // Unreadable inputs are bad usage: exit 2.
+  const CommandResult missing = Calibrate({dir_ + "/missing.jpg"}, dir_ + "/bad-out");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_EQ(testing::CountLines(missing.err), 1) << missing.err;
+  const CommandResult wrong_sidecar = RunCommand(
+      kCli, {"calibrate", good_photo, "--sheet", dir_ + "/calib.pdf", "-o", dir_ + "/bad-out"});
+  EXPECT_EQ(wrong_sidecar.exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir_ + "/bad-out"));
+}
+
+}  // namespace
+}  // namespace chromatag::calib
