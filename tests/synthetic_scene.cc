@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/families/family.h"
@@ -141,6 +142,11 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
       f += noise;
     }
     f.convertTo(scene.bgr, CV_8UC3);  // Rounds and saturates.
+  }
+  if (options.jpeg_quality > 0) {
+    std::vector<uchar> bytes;
+    cv::imencode(".jpg", scene.bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, options.jpeg_quality});
+    scene.bgr = cv::imdecode(bytes, cv::IMREAD_COLOR);
   }
   return scene;
 }

@@ -2,7 +2,7 @@
 // generator (RasterizeTag), placed in 3D in front of a pinhole camera, warped
 // into a background with the resulting homography (supersampled, then
 // area-averaged, so edges are antialiased like a camera's), then optionally
-// blurred, colour-cast and noised.
+// blurred, colour-cast, noised and JPEG-compressed.
 #ifndef CHROMATAG_TESTS_SYNTHETIC_SCENE_H_
 #define CHROMATAG_TESTS_SYNTHETIC_SCENE_H_
 
@@ -39,6 +39,7 @@ struct SceneOptions {
   double blur_sigma = 0;    // Gaussian blur, scene pixels (0: none).
   double noise_sigma = 0;   // Gaussian noise, 8-bit units.
   cv::Vec3d gain{1, 1, 1};  // Per-channel R, G, B multipliers: a colour cast.
+  int jpeg_quality = 0;     // Encoded and decoded as JPEG last, 1-100 (0: not).
   unsigned seed = 1;
 };
 

@@ -9,15 +9,27 @@
 namespace chromatag::internal {
 namespace {
 
-// Each cell is read as the mean colour of a 3 x 3 grid this far apart (in
-// cells) around its centre: the middle of the cell, clear of blurred edges.
-constexpr double kCellSampleOffset = 0.2;
+// Each cell is read as the mean colour of an n x n grid of pixels spanning
+// this far either side of its centre (in cells): the middle half of the cell,
+// clear of edges blurred by up to about 2 px on 10 px cells. n grows with the
+// cell so that the grid's pixels are distinct, which averages sensor and JPEG
+// noise over up to 36 pixels.
+constexpr double kCellSampleReach = 0.25;
+constexpr int kMinCellSamples = 3;
+constexpr int kMaxCellSamples = 6;
 // Largest mean distance, in cells, between the measured inner ring corners
 // and where a family puts them for the family to be considered.
 constexpr double kMaxRingMisfitCells = 0.35;
 // A bit is corrected only if its cell's b* lies within this fraction of the
 // way from the split to its group's mean (0: on the split, 1: at the mean).
 constexpr double kMaxCorrectedCellCertainty = 0.5;
+// A colour with at most this many cells is never corrected (16h5's red
+// centre has 4). Its midpoint split rests on one or two extreme cells, so
+// under blur (which pulls the four adjacent cells together) or noise no cell
+// can be judged doubtful: swapped-shade 16h5 tags then decode as the ID one
+// red cell away from their complement, with margins and doubts no different
+// from true corrected reads.
+constexpr int kMaxUncorrectableCells = 4;
 
 cv::Point2d Apply(const cv::Matx33d& h, double x, double y) {
   const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
@@ -61,15 +73,23 @@ struct CellSample {
   float b = 0;
 };
 
+// The cell's grid follows the local affine approximation of the homography
+// at its centre: exact enough over half a cell, and two projections a cell
+// instead of one a sample.
 CellSample ReadCell(const ImageView& image, const cv::Matx33d& image_from_tag, int cells, int row,
-                    int col) {
+                    int col, int samples) {
+  const double u = (col + 1.5) / cells, v = (row + 1.5) / cells;
+  const double reach = kCellSampleReach / cells;
+  const cv::Point2d centre = Apply(image_from_tag, u, v);
+  const cv::Point2d du = Apply(image_from_tag, u + reach, v) - centre;
+  const cv::Point2d dv = Apply(image_from_tag, u, v + reach) - centre;
   int sum[3] = {0, 0, 0};
   int n = 0;
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
-      const double u = (col + 1.5 + dx * kCellSampleOffset) / cells;
-      const double v = (row + 1.5 + dy * kCellSampleOffset) / cells;
-      const cv::Point2d p = Apply(image_from_tag, u, v);
+  for (int j = 0; j < samples; ++j) {
+    const double t = 2.0 * j / (samples - 1) - 1.0;
+    for (int i = 0; i < samples; ++i) {
+      const double s = 2.0 * i / (samples - 1) - 1.0;
+      const cv::Point2d p = centre + s * du + t * dv;
       const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
       if (!image.Contains(x, y)) continue;
       const uint8_t* px = image.Pixel(x, y);
@@ -127,12 +147,19 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   const TagFamily& family = *entry.family;
   const int d = family.payload_width();
   const int cells = family.black_square_cells();
+  // Grid pixels one apart across the sampled middle of the cell.
+  const double cell_px =
+      std::sqrt(PolygonArea(std::vector<cv::Point2f>(candidate.quads[kBlackWhite].begin(),
+                                                     candidate.quads[kBlackWhite].end()))) /
+      cells;
+  const int samples = std::clamp(static_cast<int>(2 * kCellSampleReach * cell_px) + 1,
+                                 kMinCellSamples, kMaxCellSamples);
   std::vector<float> red_b, green_b;
   std::vector<CellSample> colors(d * d);
   float min_red_a = 1e30f, max_green_a = -1e30f;
   for (int row = 0; row < d; ++row) {
     for (int col = 0; col < d; ++col) {
-      const CellSample c = ReadCell(image, image_from_tag, cells, row, col);
+      const CellSample c = ReadCell(image, image_from_tag, cells, row, col, samples);
       colors[row * d + col] = c;
       if (family.CellColorAt(row, col) == CellColor::kRed) {
         red_b.push_back(c.b);
@@ -169,6 +196,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   for (int cell = 0; cell < d * d; ++cell) {
     if (!((wrong >> (d * d - 1 - cell)) & 1u)) continue;
     const bool is_red = family.CellColorAt(cell / d, cell % d) == CellColor::kRed;
+    if (static_cast<int>((is_red ? red_b : green_b).size()) <= kMaxUncorrectableCells) return false;
     const Split& split = is_red ? red : green;
     const double doubt =
         std::abs(colors[cell].b - split.threshold) / std::max(1e-6, split.half_gap);

@@ -28,7 +28,6 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // The seed may sit on the blurred edge of the red; the reddest of it and
   // its neighbourhood is the better ReferenceRed.
   float reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
-  const float thresh = static_cast<float>(options.border_thresh);
   // A tag's red half-width is under half the frame unless the tag is larger
   // than the frame.
   const int reach = std::max(image.width(), image.height()) / 2;
@@ -42,6 +41,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // oscillates instead of converging; the centroid does not.
   bool converged = false;
   for (int iteration = 0; iteration < kMaxCentreIterations && !converged; ++iteration) {
+    const float red_thresh = RedGreenThresh(options, reference_red);
     std::vector<cv::Point2f> border(8);
     for (int i = 0; i < 8; ++i) {
       // Red -> green only: the a* drop of the full scan, without the rings.
@@ -51,7 +51,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
         const cv::Point2f p = centre + static_cast<float>(k) * direction;
         const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
         if (!image.Contains(x, y)) return false;
-        if (reference_red - image.A(x, y) > thresh) {
+        if (reference_red - image.A(x, y) > red_thresh) {
           if (++consecutive == options.border_run) break;
         } else {
           consecutive = 0;
@@ -72,7 +72,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     if (!image.Contains(cx, cy)) return false;
     const float centre_red = image.MeanA3x3(cx, cy);
     // The centre of a tag is red: if re-centring left the red, this is not one.
-    if (centre_red < reference_red - 2 * thresh) return false;
+    if (centre_red < reference_red - red_thresh) return false;
     reference_red = centre_red;
   }
   if (!converged) return false;

@@ -15,6 +15,13 @@ namespace {
 // above black; a* barely changes from black to white.
 enum class Border { kRedToGreen, kGreenToBlack, kBlackToWhite };
 
+// How far past a run to follow a blurred edge down to its plateau, pixels
+// (Gaussian blur of sigma 2 px spreads an edge over about 4 sigma), and the
+// smallest change that counts as still descending (CIELAB units; above the
+// 8-bit quantisation of L* and a*).
+constexpr int kMaxPlateauSteps = 8;
+constexpr float kPlateauTolerance = 0.5f;
+
 float ValueAt(const ImageView& image, int x, int y, Border border) {
   return border == Border::kRedToGreen ? image.A(x, y) : image.L(x, y);
 }
@@ -71,6 +78,22 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
       deepest = j;
     }
   }
+  // On a blurred edge the run ends part way down the slope; follow it on to
+  // the plateau, so that the next ring's reference (and the halfway level
+  // below) is the ring's colour and not a blend. Stops where the value turns
+  // back (the ring after, on thin rings) or stays level.
+  for (int j = k + 1, level = 0; j <= k + kMaxPlateauSteps && level < 2; ++j) {
+    const cv::Point p = pixel(j);
+    if (!image.Contains(p.x, p.y)) break;
+    const float depth = Depth(reference, ValueAt(image, p.x, p.y, border), border);
+    if (depth > deepest_depth + kPlateauTolerance) {
+      deepest_depth = depth;
+      deepest = j;
+      level = 0;
+    } else {
+      ++level;
+    }
+  }
   const cv::Point end = pixel(deepest);
   crossing->value_after = ValueAt(image, end.x, end.y, border);
   crossing->resume = cv::Point2f(static_cast<float>(end.x), static_cast<float>(end.y));
@@ -109,8 +132,8 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
   const int reach = std::max(image.width(), image.height());
 
   Crossing red_green;
-  if (!ScanBorder(image, start, direction, reference_red, Border::kRedToGreen, thresh, run, reach,
-                  &red_green)) {
+  if (!ScanBorder(image, start, direction, reference_red, Border::kRedToGreen,
+                  RedGreenThresh(options, reference_red), run, reach, &red_green)) {
     return false;
   }
   // ReferenceGreen: a tag's green is far less red than its red (the seed saw

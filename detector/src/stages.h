@@ -3,6 +3,7 @@
 #ifndef CHROMATAG_DETECTOR_SRC_STAGES_H_
 #define CHROMATAG_DETECTOR_SRC_STAGES_H_
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <vector>
@@ -63,6 +64,16 @@ struct RowCursor {
 bool FindADiff(const ImageView& image, const DetectorOptions& options,
                const std::vector<DetectedArea>& skip, RowCursor* cursor, cv::Point* seed,
                int* prefilter_rejects);
+
+// The a* drop from ReferenceRed that counts a pixel as past the red/green
+// border: BorderThresh, or a third of the red's a* if more. The two reds share
+// one a* in the palettes, but a colour cast or JPEG's chroma blur part them by
+// 10 units or more, and BorderThresh alone then stops scans inside the red.
+// Green's a* is negative, so the drop across the border always exceeds the
+// red's a*.
+inline float RedGreenThresh(const DetectorOptions& options, float reference_red) {
+  return std::max(static_cast<float>(options.border_thresh), reference_red / 3.f);
+}
 
 // One scan outwards from `start` along the unit vector `direction`, one pixel
 // (nearest) per unit step, through the three borders. ReferenceRed
