@@ -11,6 +11,7 @@
 #include <opencv2/videoio.hpp>
 #include <sstream>
 
+#include "chromatag/calib/detector_config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/families/family.h"
@@ -28,6 +29,7 @@ struct DetectOptions {
   std::string overlay_dir;
   std::string camera_file;
   std::string tag_size;
+  std::string config;  // Detector config file, e.g. from chromatag calibrate.
   std::vector<std::string> inputs;
 };
 
@@ -203,6 +205,11 @@ int RunDetect(const DetectOptions& options) {
   detector_options.families =
       options.family == "all" ? TagFamily::Names() : std::vector<std::string>{options.family};
   std::string error;
+  if (!options.config.empty() &&
+      !calib::LoadDetectorConfig(options.config, &detector_options, &error)) {
+    std::cerr << "chromatag detect: " << error << "\n";
+    return kExitUsage;
+  }
   if (!options.camera_file.empty()) {
     CameraIntrinsics camera;
     if (!LoadCamera(options.camera_file, &camera, &error)) {
@@ -282,6 +289,8 @@ void RegisterDetect(CLI::App& app, Action* action) {
                       "distortion_coefficients), for pose");
   command->add_option("--tag-size", options->tag_size,
                       "Side of the black square, e.g. 40mm, for pose");
+  command->add_option("--config", options->config,
+                      "Detector config JSON (thresholds from 'chromatag calibrate')");
   command->add_option("INPUT", options->inputs, "Image files, folders or video files")->required();
   command->callback([options, action] { *action = [options] { return RunDetect(*options); }; });
 }

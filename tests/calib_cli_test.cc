@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -52,9 +53,10 @@ class CalibCliTest : public ::testing::Test {
 
   // Writes a synthetic photo of `layout` (the test's sheet by default).
   static std::string Photo(const std::string& name, const SimCamera& camera,
-                           const CalibSheetLayout* layout = nullptr) {
+                           const CalibSheetLayout* layout = nullptr,
+                           const SimPrinter& printer = SimPrinter()) {
     const std::string path = dir_ + "/" + name;
-    cv::imwrite(path, testing::RenderSheetPhoto(layout ? *layout : *layout_, SimPrinter(), camera));
+    cv::imwrite(path, testing::RenderSheetPhoto(layout ? *layout : *layout_, printer, camera));
     return path;
   }
 
@@ -123,6 +125,41 @@ TEST_F(CalibCliTest, GoodPhotosGiveOutputsTheOtherCommandsAccept) {
   EXPECT_EQ(generate_palette.exit_code, 0) << generate_palette.err;
 }
 
+// The thresholds calibrate writes for a washed-out printer, loaded by
+// `chromatag detect --config`, find a tag that the defaults miss.
+TEST_F(CalibCliTest, DetectWithTheCalibratedConfigFindsWashedOutTags) {
+  SimPrinter washed_out;
+  washed_out.chroma_scale = 0.2;
+  washed_out.hue_shift_deg = 4.0;
+  washed_out.dot_gain = 0.3;
+  washed_out.black_l = 18.0;
+  SimCamera warm;
+  warm.gains = {1.1, 1.0, 0.8};
+  SimCamera neutral;
+  neutral.exposure = 0.8;
+  neutral.seed = 4;
+  const std::string out = dir_ + "/out-washed";
+  const CommandResult r = Calibrate(
+      {Photo("w1.png", warm, nullptr, washed_out), Photo("w2.png", neutral, nullptr, washed_out)},
+      out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  neutral.falloff = 0;
+  const auto family = TagFamily::Load("16h5");
+  const cv::Mat frame = testing::RenderPrintedTag(
+      *family, 7, TagColors::FromPalette(layout_->palette), washed_out, neutral, 14, 320, 240);
+  const std::string tag = dir_ + "/washed-tag.png";
+  cv::imwrite(tag, frame);
+  const CommandResult plain = RunCommand(kCli, {"detect", "--json", tag});
+  EXPECT_EQ(plain.out.find("\"id\":7"), std::string::npos) << plain.out;
+  const CommandResult tuned =
+      RunCommand(kCli, {"detect", "--json", "--config", out + "/detector.json", tag});
+  EXPECT_EQ(tuned.exit_code, 0) << tuned.err;
+  EXPECT_NE(tuned.out.find("\"id\":7"), std::string::npos) << tuned.out;
+  const CommandResult bad = RunCommand(kCli, {"detect", "--config", dir_ + "/calib.json", tag});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(testing::CountLines(bad.err), 1) << bad.err;
+}
+
 // Each bad photo: exit 1, one line naming the photo and the problem, and no
 // output folder (nothing written), even with a good photo beside it.
 TEST_F(CalibCliTest, BadPhotosFailCleanly) {
@@ -174,6 +211,40 @@ TEST_F(CalibCliTest, BadPhotosFailCleanly) {
       kCli, {"calibrate", good_photo, "--sheet", dir_ + "/calib.pdf", "-o", dir_ + "/bad-out"});
   EXPECT_EQ(wrong_sidecar.exit_code, 2);
   EXPECT_FALSE(fs::exists(dir_ + "/bad-out"));
+}
+
+}  // namespace
+}  // namespace chromatag::calib
+
+namespace chromatag::calib {
+namespace {
+
+// Not a test: writes the synthetic photos behind docs/calibration.md's
+// pictures. Run with
+//   CHROMATAG_CALIB_DOCS_DIR=DIR calib_cli_test --gtest_also_run_disabled_tests
+//       --gtest_filter=*DocsPhotos*
+// after 'chromatag calib-sheet -o DIR/calib.pdf', then 'chromatag calibrate
+// DIR/warm.jpg DIR/dim.jpg --sheet DIR/calib.json -o DIR/out'.
+TEST(CalibDocs, DISABLED_DocsPhotos) {
+  const char* dir = std::getenv("CHROMATAG_CALIB_DOCS_DIR");
+  ASSERT_TRUE(dir) << "set CHROMATAG_CALIB_DOCS_DIR";
+  std::string error;
+  const auto layout = ReadCalibSidecar(std::string(dir) + "/calib.json", &error);
+  ASSERT_TRUE(layout) << error;
+  SimPrinter printer;  // Desaturates by 15 %, turns hues by 6 degrees, 25 % dot gain.
+  SimCamera warm;
+  warm.gains = {1.1, 1.0, 0.8};
+  SimCamera dim;
+  dim.exposure = 0.6;
+  dim.gains = {0.9, 1.0, 1.1};
+  dim.falloff = 0.3;
+  dim.seed = 2;
+  dim.page_corners_px = {{{560, 90}, {1180, 60}, {1130, 1140}, {520, 1170}}};
+  const std::vector<int> jpeg = {cv::IMWRITE_JPEG_QUALITY, 92};
+  cv::imwrite(std::string(dir) + "/warm.jpg", testing::RenderSheetPhoto(*layout, printer, warm),
+              jpeg);
+  cv::imwrite(std::string(dir) + "/dim.jpg", testing::RenderSheetPhoto(*layout, printer, dim),
+              jpeg);
 }
 
 }  // namespace

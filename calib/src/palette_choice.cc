@@ -137,7 +137,7 @@ std::optional<PaletteChoice> ChoosePalette(const CalibSheetLayout& layout,
   best.score = -1e300;
   const Pair* best_red = nullptr;
   const Pair* best_green = nullptr;
-  double best_a_gap = 0;
+  double best_a_gap = 0, best_total = -1e300;
   for (const Pair& r : red_pairs) {
     for (const Pair& g : green_pairs) {
       const double file_a_gap = std::min(reds[r.one].intended.a, reds[r.zero].intended.a) -
@@ -148,12 +148,17 @@ std::optional<PaletteChoice> ChoosePalette(const CalibSheetLayout& layout,
         a_gap = std::min(a_gap, r.a_bound[p] - g.a_bound[p]);
       const double score = Score(a_gap, r.worst_b_gap, g.worst_b_gap, o);
       ++best.combinations;
-      // Ties (common: one margin limits many sets) go to the smaller a* spread.
+      // The smallest margin decides; among sets it ranks equal (common: one
+      // colour's b* gap limits every set), the larger sum of all three, then
+      // the smaller a* spread between shades.
+      const double total = a_gap / o.a_goal + r.worst_b_gap / o.b_goal + g.worst_b_gap / o.b_goal;
       const double spread = std::max(r.worst_a_spread, g.worst_a_spread);
-      if (score > best.score + 1e-9 ||
-          (std::abs(score - best.score) <= 1e-9 && spread < best.a_spread)) {
+      const bool tie = std::abs(score - best.score) <= 1e-9;
+      if (score > best.score + 1e-9 || (tie && total > best_total + 1e-9) ||
+          (tie && std::abs(total - best_total) <= 1e-9 && spread < best.a_spread)) {
         best.score = score;
         best.a_spread = spread;
+        best_total = total;
         best_red = &r;
         best_green = &g;
         best_a_gap = a_gap;

@@ -241,7 +241,7 @@ void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
     cairo_fill(cr);
     Text(cr, 485, y, 8.5,
          std::string(ShadeName(static_cast<Shade>(s))) +
-             F("  L*a*b* %.1f %.1f %.1f", lab.L, lab.a, lab.b) +
+             F("  file L*a*b* %.1f %.1f %.1f", lab.L, lab.a, lab.b) +
              (p.shades[s].patch < 0 ? "  (sheet palette)" : ""));
     y += 12;
   }
@@ -264,7 +264,7 @@ void DrawMap(cairo_t* cr, const CalibrationResult& r, size_t index, double x0, d
   Text(cr, x0, y0, 9, name, true);
   Text(cr, x0, y0 + 11, 7.5,
        F("model CIEDE2000 mean %.2f, max %.2f; ", photo.fit.mean_de, photo.fit.max_de) +
-           F("%d flagged", photo.measurement.flagged));
+           std::to_string(photo.measurement.flagged) + " flagged");
   const double cell = std::min(kMapWidth / r.layout.columns, 250.0 / r.layout.rows);
   const double top = y0 + 18;
   std::vector<double> residual(r.layout.patches.size(), -1);
