@@ -29,8 +29,26 @@ results=$build_dir/bench-results
 echo "== tag_comparison -> $results/report.md"
 "$build_dir/bench/tag_comparison" "${quick[@]}" --out "$results"
 if [[ $publish == 1 ]]; then
-  docs=$(dirname "$0")/../docs/benchmarks
-  mkdir -p "$docs"
-  cp "$results"/report.md "$results"/*.png "$results"/examples.jpg "$docs"/
+  docs=$(dirname "$0")/../docs
+  mkdir -p "$docs/benchmarks"
+  cp "$results"/report.md "$results"/*.png "$results"/examples.jpg "$docs/benchmarks"/
   echo "Copied the comparison's report and figures to docs/benchmarks/"
+  # The report also goes into docs/benchmarks.md, between these two lines only.
+  begin='<!-- tag_comparison results: begin (scripts/bench.sh --publish replaces what follows) -->'
+  end='<!-- tag_comparison results: end -->'
+  doc=$docs/benchmarks.md
+  if grep -qxF "$begin" "$doc" && grep -qxF "$end" "$doc"; then
+    report=$(mktemp)
+    spliced=$(mktemp)
+    sed -E 's#\]\(((fig9|examples)[^)]*)\)#](benchmarks/\1)#g' "$results/report.md" > "$report"
+    awk -v begin="$begin" -v end="$end" -v report="$report" '
+      $0 == begin { print; while ((getline line < report) > 0) print line; skip = 1; next }
+      $0 == end { skip = 0 }
+      !skip { print }' "$doc" > "$spliced"
+    cat "$spliced" > "$doc"
+    rm -f "$report" "$spliced"
+    echo "Replaced the results in docs/benchmarks.md"
+  else
+    echo "docs/benchmarks.md has no results markers; left it alone" >&2
+  fi
 fi

@@ -109,7 +109,9 @@ std::string DatasetSection(const Context& c) {
       << Fixed(Percentile(sizes, 50), 0) << " px; viewing angle " << Fixed(Percentile(angles, 0), 0)
       << "–" << Fixed(Percentile(angles, 100), 0) << "°, median "
       << Fixed(Percentile(angles, 50), 0) << "°. Backgrounds: " << c.info.photos.size()
-      << " photographs from Debian's opencv-doc.\n";
+      << " photographs from Debian's opencv-doc. Four of the frames, with the truth in white and "
+         "the detections in red (ChromaTag), blue (AprilTag) and green (ArUco):\n\n"
+      << "![example frames](examples.jpg)\n";
   return out.str();
 }
 
@@ -274,6 +276,46 @@ std::string FailureTable(const Context& c) {
   return out.str();
 }
 
+// Recall in a few broad ranges (the paper's reading of Figure 9: similar
+// recall above about 70 px).
+std::string RecallSummary(const Context& c) {
+  struct Range {
+    std::string name;
+    bool by_size;
+    double lo, hi;
+  };
+  const Range ranges[] = {{"size < 30 px", true, 0, 30},
+                          {"size 30–70 px", true, 30, 70},
+                          {"size ≥ 70 px", true, 70, 1e9},
+                          {"angle < 45°", false, 0, 45},
+                          {"angle 45–60°", false, 45, 60},
+                          {"angle ≥ 60°", false, 60, 1e9},
+                          {"size ≥ 70 px, angle < 60°", true, 70, 1e9}};
+  Table rows;
+  for (size_t k = 0; k < sizeof(ranges) / sizeof(ranges[0]); ++k) {
+    const Range& range = ranges[k];
+    const bool also_angle = k == sizeof(ranges) / sizeof(ranges[0]) - 1;
+    std::vector<std::string> row = {range.name};
+    std::array<int, kNumDetectors> tags{}, hits{};
+    for (const auto& r : c.records) {
+      if (!r.truth.has_tags) continue;
+      for (int d = 0; d < kNumDetectors; ++d) {
+        const TagTruth& t = OwnTruth(r, d);
+        const double v = range.by_size ? t.size_px : t.view_angle_deg;
+        if (v < range.lo || v >= range.hi || (also_angle && t.view_angle_deg >= 60)) continue;
+        ++tags[d];
+        hits[d] += r.detectors[d].score.found ? 1 : 0;
+      }
+    }
+    row.push_back(Grouped(tags[kChromaTag]));
+    for (int d = 0; d < kNumDetectors; ++d) row.push_back(Percent(hits[d], tags[d]));
+    rows.push_back(row);
+  }
+  return Markdown({"range", "ChromaTags (AprilTags: about as many)", c.info.names[0] + " recall %",
+                   c.info.names[1] + " recall %", c.info.names[2] + " recall %"},
+                  rows);
+}
+
 struct Curves {
   std::vector<RecallCurve> size, angle;
   std::vector<RecallMap> map;
@@ -379,6 +421,7 @@ bool FigureSection(const Context& c, std::string* section) {
       << "![recall against angle](fig9b_recall_vs_angle.png)\n"
       << "![ChromaTag recall over size and angle](fig9c_chromatag_size_angle.png)\n"
       << "![AprilTag recall over size and angle](fig9c_apriltag_size_angle.png)\n\n"
+      << RecallSummary(c) << "\n"
       << "<details><summary>Recall per size bin</summary>\n\n"
       << curve_table(curves.size, "px") << "\n</details>\n\n"
       << "<details><summary>Recall per angle bin</summary>\n\n"
