@@ -204,6 +204,9 @@ DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
     }
     out.verdicts.push_back(v);
   }
+  // Tenths: finer than any of this is measured, and readable in the file.
+  for (double* v : {&d.adiff_thresh, &d.border_thresh, &d.min_decision_margin})
+    *v = std::round(*v * 10.0) / 10.0;
   for (const PairVerdict& v : out.verdicts) {
     if (v.verdict != Verdict::kGood)
       out.warnings.push_back(v.pair + " " + VerdictName(v.verdict) + ": " + v.why);
