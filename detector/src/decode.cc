@@ -90,7 +90,7 @@ CellSample ReadCell(const ImageView& image, const cv::Matx33d& image_from_tag, i
     for (int i = 0; i < samples; ++i) {
       const double s = 2.0 * i / (samples - 1) - 1.0;
       const cv::Point2d p = centre + s * du + t * dv;
-      const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+      const int x = RoundToInt(p.x), y = RoundToInt(p.y);
       if (!image.Contains(x, y)) continue;
       const uint8_t* px = image.Pixel(x, y);
       sum[0] += image.R(px);

@@ -49,7 +49,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       int consecutive = 0, k = 1;
       for (; k <= reach; ++k) {
         const cv::Point2f p = centre + static_cast<float>(k) * direction;
-        const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+        const int x = RoundToInt(p.x), y = RoundToInt(p.y);
         if (!image.Contains(x, y)) return false;
         if (reference_red - image.A(x, y) > red_thresh) {
           if (++consecutive == options.border_run) break;
@@ -67,8 +67,8 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     converged =
         std::abs(next.x - centre.x) < kConvergedPx && std::abs(next.y - centre.y) < kConvergedPx;
     centre = next;
-    const int cx = static_cast<int>(std::lround(centre.x));
-    const int cy = static_cast<int>(std::lround(centre.y));
+    const int cx = RoundToInt(centre.x);
+    const int cy = RoundToInt(centre.y);
     if (!image.Contains(cx, cy)) return false;
     const float centre_red = image.MeanA3x3(cx, cy);
     // The centre of a tag is red: if re-centring left the red, this is not one.

@@ -50,8 +50,7 @@ struct Crossing {
 bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction, float reference,
                 Border border, float thresh, int run, int max_steps, Crossing* crossing) {
   auto pixel = [&](int k) {
-    return cv::Point(static_cast<int>(std::lround(start.x + k * direction.x)),
-                     static_cast<int>(std::lround(start.y + k * direction.y)));
+    return cv::Point(RoundToInt(start.x + k * direction.x), RoundToInt(start.y + k * direction.y));
   };
   int consecutive = 0;
   int k = 1;
