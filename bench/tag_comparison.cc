@@ -124,6 +124,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--out", out_dir, "folder for report.md, the PNG figures and frames.csv")
       ->capture_default_str();
+  std::string label;
+  app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
   CLI11_PARSE(app, argc, argv);
   if (quick && app.count("--frames") == 0) dataset_options.num_frames = 400;
 
@@ -174,6 +176,7 @@ int main(int argc, char** argv) {
     command << (i ? " " : "") << (i ? argv[i] : std::filesystem::path(argv[0]).filename().string());
   }
   info.command = command.str();
+  info.label = label;
   info.cpu = CpuModel();
   info.load = "load average " + load_before + " before the run, " + LoadAverage() + " after";
   info.dataset = dataset_options;

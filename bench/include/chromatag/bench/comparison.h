@@ -53,6 +53,7 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
 
 struct ReportInfo {
   std::string command;  // How the run was started.
+  std::string label;    // What was measured (e.g. the commit); may be empty.
   std::string cpu;      // Model name.
   std::string load;     // The machine's load around the run.
   DatasetOptions dataset;
