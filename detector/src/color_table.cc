@@ -22,7 +22,7 @@ const ColorTable& ColorTable::Get() {
   return table;
 }
 
-ColorTable::ColorTable() : coarse_a_(32 * 32 * 32) {
+ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
   // Each channel's contribution to X/Xn, Y, Z/Zn: the matrix columns of
   // LinearRgbToXyz applied to a unit channel, divided by the white.
   const double white[3] = {kD65White.X, kD65White.Y, kD65White.Z};

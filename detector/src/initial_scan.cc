@@ -1,4 +1,6 @@
 // Stage 2, InitialScan (paper section 4, Figure 6a-c).
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "stages.h"
@@ -19,6 +21,23 @@ constexpr float kMinRedA = 12.f;
 constexpr float kD = 0.70710678f;
 const cv::Point2f kDirections[8] = {{1, 0},  {kD, kD},   {0, 1},  {-kD, kD},
                                     {-1, 0}, {-kD, -kD}, {0, -1}, {kD, -kD}};
+// Pixels past a red/green run searched for the green's full a* drop.
+constexpr int kGreenLookAhead = 6;
+
+// Area centroid of a polygon (NaN if degenerate).
+cv::Point2f PolygonCentroid(const std::array<cv::Point2f, 8>& polygon) {
+  double twice_area = 0, cx = 0, cy = 0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const cv::Point2f& p = polygon[i];
+    const cv::Point2f& q = polygon[(i + 1) % polygon.size()];
+    const double cross = static_cast<double>(p.x) * q.y - static_cast<double>(q.x) * p.y;
+    twice_area += cross;
+    cx += (p.x + q.x) * cross;
+    cy += (p.y + q.y) * cross;
+  }
+  if (std::abs(twice_area) < 1e-9) return {NAN, NAN};
+  return {static_cast<float>(cx / (3 * twice_area)), static_cast<float>(cy / (3 * twice_area))};
+}
 
 }  // namespace
 
@@ -42,28 +61,44 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   bool converged = false;
   for (int iteration = 0; iteration < kMaxCentreIterations && !converged; ++iteration) {
     const float red_thresh = RedGreenThresh(options, reference_red);
-    std::vector<cv::Point2f> border(8);
+    // The a* drop into a tag's green: at least ADiffThresh (the palettes'
+    // reds and greens are 58 or more apart), less a fifth for blur and casts.
+    const float min_drop = 0.8f * static_cast<float>(options.adiff_thresh);
+    std::array<cv::Point2f, 8> border;
     for (int i = 0; i < 8; ++i) {
       // Red -> green only: the a* drop of the full scan, without the rings.
       const cv::Point2f direction = kDirections[i];
       int consecutive = 0, k = 1;
+      float deepest_a = reference_red;
       for (; k <= reach; ++k) {
         const cv::Point2f p = centre + static_cast<float>(k) * direction;
         const int x = RoundToInt(p.x), y = RoundToInt(p.y);
         if (!image.Contains(x, y)) return false;
-        if (reference_red - image.A(x, y) > red_thresh) {
+        const float a = image.A(x, y);
+        if (reference_red - a > red_thresh) {
+          deepest_a = std::min(deepest_a, a);
           if (++consecutive == options.border_run) break;
         } else {
           consecutive = 0;
+          deepest_a = reference_red;
         }
       }
       if (k > reach) return false;
+      // Past the border lies a tag's green, far less red than its red; on a
+      // blurred edge the run may end on the slope, so look a few pixels on.
+      // Most red things that are not tags (bricks, skin, wood) fade into
+      // grey here and are dropped after one scan instead of eight per pass.
+      for (int j = k + 1; j <= k + kGreenLookAhead && reference_red - deepest_a < min_drop; ++j) {
+        const cv::Point2f p = centre + static_cast<float>(j) * direction;
+        const int x = RoundToInt(p.x), y = RoundToInt(p.y);
+        if (!image.Contains(x, y)) break;
+        deepest_a = std::min(deepest_a, image.A(x, y));
+      }
+      if (reference_red - deepest_a < min_drop) return false;
       border[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
     }
-    const cv::Moments moments = cv::moments(border);
-    if (!(moments.m00 > 0)) return false;
-    const cv::Point2f next(static_cast<float>(moments.m10 / moments.m00),
-                           static_cast<float>(moments.m01 / moments.m00));
+    const cv::Point2f next = PolygonCentroid(border);
+    if (!(std::isfinite(next.x) && std::isfinite(next.y))) return false;
     converged =
         std::abs(next.x - centre.x) < kConvergedPx && std::abs(next.y - centre.y) < kConvergedPx;
     centre = next;

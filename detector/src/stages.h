@@ -48,12 +48,15 @@ struct DetectedArea {
   bool RowSpan(double y, double* x_begin, double* x_end) const;
 };
 
-// FindADiff's position on its current sampled row.
+// FindADiff's position on its current sampled row. On the first call the
+// whole row is sampled at once (SIMD where available) and the rises the
+// coarse prefilter lets through are listed; later calls walk that list.
 struct RowCursor {
   int y = 0;
-  int x = 0;
-  int old_coarse_a = 0;
-  bool has_old = false;
+  bool sampled = false;
+  const int* rises = nullptr;  // Sample indices i with a coarse rise from i - 1.
+  int num_rises = 0;
+  int next = 0;  // Next entry of `rises` to look at.
 };
 
 // 1. FindADiff: advances along the cursor's row, sampling every N-th pixel,

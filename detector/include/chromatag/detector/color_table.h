@@ -65,7 +65,10 @@ class ColorTable {
   int CoarseA(uint8_t r, uint8_t g, uint8_t b) const {
     return coarse_a_[((r >> 3) << 10) | ((g >> 3) << 5) | (b >> 3)];
   }
+  // 32 * 32 * 32 entries followed by kCoarsePadding zero bytes, so that a
+  // 4-byte load at any entry stays inside (SIMD gathers read 32-bit words).
   const int8_t* coarse_a_table() const { return coarse_a_.data(); }
+  static constexpr int kCoarsePadding = 4;
 
   size_t memory_bytes() const { return sizeof(xyz_) + sizeof(f_) + coarse_a_.size(); }
 
