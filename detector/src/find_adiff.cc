@@ -90,19 +90,43 @@ __attribute__((target("avx2"))) int SampleRowAvx2(const RowSampler& s, int32_t* 
   const __m128i shift_r = _mm_cvtsi32_si128(8 * s.r + 3), shift_g = _mm_cvtsi32_si128(11),
                 shift_b = _mm_cvtsi32_si128(8 * s.b + 3);
   const int* table = reinterpret_cast<const int*>(s.table);
+  const __m256i pick_low =
+      _mm256_setr_epi8(0, 1, 2, -1, 12, 13, 14, -1, -1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 2, -1, 12,
+                       13, 14, -1, -1, -1, -1, -1, -1, -1, -1, -1);
+  const __m256i pick_high =
+      _mm256_setr_epi8(-1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 2, -1, 12, 13, 14, -1, -1, -1, -1, -1,
+                       -1, -1, -1, -1, 0, 1, 2, -1, 12, 13, 14, -1);
+  const __m256i in_order = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
   int i = 0;
   for (; i + 8 <= vector_count; i += 8) {
     const int* base =
         reinterpret_cast<const int*>(s.row + static_cast<ptrdiff_t>(i) * s.pixel_step);
-    const __m256i words = _mm256_i32gather_epi32(base, offsets, 1);
+    __m256i words;
+    if (s.pixel_step == 12) {
+      // N = 4: two samples in each 16-byte load, picked into 32-bit lanes
+      // by byte shuffles (cheaper than a gather); lanes hold samples
+      // 0 1 4 5 | 2 3 6 7 and are put in order after the table lookup.
+      const uint8_t* bytes = reinterpret_cast<const uint8_t*>(base);
+      const __m256i first =
+          _mm256_set_m128i(_mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 24)),
+                           _mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes)));
+      const __m256i second =
+          _mm256_set_m128i(_mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 72)),
+                           _mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 48)));
+      words = _mm256_or_si256(_mm256_shuffle_epi8(first, pick_low),
+                              _mm256_shuffle_epi8(second, pick_high));
+    } else {
+      words = _mm256_i32gather_epi32(base, offsets, 1);
+    }
     const __m256i r5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_r), mask5);
     const __m256i g5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_g), mask5);
     const __m256i b5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_b), mask5);
     const __m256i index =
         _mm256_or_si256(_mm256_or_si256(_mm256_slli_epi32(r5, 10), _mm256_slli_epi32(g5, 5)), b5);
     const __m256i entries = _mm256_i32gather_epi32(table, index, 1);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(coarse + i),
-                        _mm256_srai_epi32(_mm256_slli_epi32(entries, 24), 24));
+    __m256i a = _mm256_srai_epi32(_mm256_slli_epi32(entries, 24), 24);
+    if (s.pixel_step == 12) a = _mm256_permutevar8x32_epi32(a, in_order);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(coarse + i), a);
   }
   CoarseRowScalar(s, i, coarse);
   int n = 0;
