@@ -171,9 +171,10 @@ int main(int argc, char** argv) {
   if (terminal) std::cerr << "\n";
 
   ReportInfo info;
-  std::ostringstream command;
+  std::ostringstream command;  // As typed, arguments with spaces quoted.
   for (int i = 0; i < argc; ++i) {
-    command << (i ? " " : "") << (i ? argv[i] : std::filesystem::path(argv[0]).filename().string());
+    const std::string arg = i ? argv[i] : std::filesystem::path(argv[0]).filename().string();
+    command << (i ? " " : "") << (arg.find(' ') == std::string::npos ? arg : "'" + arg + "'");
   }
   info.command = command.str();
   info.label = label;

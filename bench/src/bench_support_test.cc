@@ -92,7 +92,7 @@ TEST(DatasetTest, SameSeedSamePixelsAnyOrder) {
 TEST(DatasetTest, CoversTheRequestedRanges) {
   int tag_free = 0, tagged = 0;
   double min_size = 1e9, max_size = 0, max_angle = 0;
-  for (int i = 0; i < 200; ++i) {
+  for (int i = 0; i < 150; ++i) {
     const FrameTruth t = SharedDataset().Render(i).truth;
     if (!t.has_tags) {
       ++tag_free;
@@ -110,8 +110,8 @@ TEST(DatasetTest, CoversTheRequestedRanges) {
       }
     }
   }
-  EXPECT_GT(tag_free, 20);  // About 20 %.
-  EXPECT_LT(tag_free, 70);
+  EXPECT_GT(tag_free, 15);  // About 20 %.
+  EXPECT_LT(tag_free, 50);
   EXPECT_LT(min_size, 20);
   EXPECT_GT(max_size, 120);
   EXPECT_GT(max_angle, 65);

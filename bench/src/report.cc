@@ -546,8 +546,8 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
   std::string figures;
   if (!FigureSection(c, &figures) || !WriteCsv(c)) return false;
   std::ostringstream out;
-  out << "Command: `" << info.command << "`" << (info.label.empty() ? "" : "; code: " + info.label)
-      << "  \n"
+  out << (info.label.empty() ? "" : "Measured: " + info.label + "  \n") << "Command: `"
+      << info.command << "`  \n"
       << "CPU: " << info.cpu << "; " << info.load << ". Detectors on one thread; rendering took "
       << Fixed(info.times.render_s, 0) << " s, the timed detection loop "
       << Fixed(info.times.detect_s, 0) << " s.\n\n"
