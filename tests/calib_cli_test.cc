@@ -215,37 +215,3 @@ TEST_F(CalibCliTest, BadPhotosFailCleanly) {
 
 }  // namespace
 }  // namespace chromatag::calib
-
-namespace chromatag::calib {
-namespace {
-
-// Not a test: writes the synthetic photos behind docs/calibration.md's
-// pictures. Run with
-//   CHROMATAG_CALIB_DOCS_DIR=DIR calib_cli_test --gtest_also_run_disabled_tests
-//       --gtest_filter=*DocsPhotos*
-// after 'chromatag calib-sheet -o DIR/calib.pdf', then 'chromatag calibrate
-// DIR/warm.jpg DIR/dim.jpg --sheet DIR/calib.json -o DIR/out'.
-TEST(CalibDocs, DISABLED_DocsPhotos) {
-  const char* dir = std::getenv("CHROMATAG_CALIB_DOCS_DIR");
-  ASSERT_TRUE(dir) << "set CHROMATAG_CALIB_DOCS_DIR";
-  std::string error;
-  const auto layout = ReadCalibSidecar(std::string(dir) + "/calib.json", &error);
-  ASSERT_TRUE(layout) << error;
-  SimPrinter printer;  // Desaturates by 15 %, turns hues by 6 degrees, 25 % dot gain.
-  SimCamera warm;
-  warm.gains = {1.1, 1.0, 0.8};
-  SimCamera dim;
-  dim.exposure = 0.6;
-  dim.gains = {0.9, 1.0, 1.1};
-  dim.falloff = 0.3;
-  dim.seed = 2;
-  dim.page_corners_px = {{{560, 90}, {1180, 60}, {1130, 1140}, {520, 1170}}};
-  const std::vector<int> jpeg = {cv::IMWRITE_JPEG_QUALITY, 92};
-  cv::imwrite(std::string(dir) + "/warm.jpg", testing::RenderSheetPhoto(*layout, printer, warm),
-              jpeg);
-  cv::imwrite(std::string(dir) + "/dim.jpg", testing::RenderSheetPhoto(*layout, printer, dim),
-              jpeg);
-}
-
-}  // namespace
-}  // namespace chromatag::calib
