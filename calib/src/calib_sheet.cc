@@ -13,6 +13,7 @@
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/version.h"
+#include "chromatag/generator/cairo_util.h"
 #include "chromatag/generator/tag_renderer.h"
 
 namespace chromatag::calib {
@@ -23,7 +24,6 @@ constexpr double kFooterMm = 6.0;  // Note below the grid.
 // White between a corner tag's black square and the nearest patch, in tag
 // cells: the detector needs one (spec section 1), 1.5 leaves room for blur.
 constexpr double kTagClearanceCells = 1.5;
-constexpr const char* kFont = "DejaVu Sans";
 constexpr double kPointsPerMm = 72.0 / 25.4;
 
 // A deterministic shuffle: std::shuffle's use of the generator is left to the
@@ -156,18 +156,6 @@ Patch MakePatch(PatchKind kind, Shade shade, const Lab& lab) {
   patch.lab = lab;
   patch.rgb = LabToSrgb8(lab);
   return patch;
-}
-
-void Text(cairo_t* cr, double x, double y, double size_mm, const std::string& text) {
-  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size_mm);
-  cairo_move_to(cr, x, y);
-  cairo_show_text(cr, text.c_str());
-}
-
-cairo_status_t AppendToString(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
 }
 
 }  // namespace
@@ -332,7 +320,7 @@ void DrawCalibPage(cairo_t* cr, const CalibSheetLayout& layout) {
                 "ChromaTag calibration sheet %d    palette %s    print at 100 %%, colour "
                 "management off",
                 layout.sheet_id, layout.palette.name.c_str());
-  Text(cr, x, top - 9.0, 3.2, title);
+  DrawText(cr, x, top - 9.0, 3.2, title);
   double bottom = 0;
   for (const Patch& patch : layout.patches)
     bottom = std::max(bottom, patch.origin_mm[1] + patch.size_mm);
@@ -342,7 +330,7 @@ void DrawCalibPage(cairo_t* cr, const CalibSheetLayout& layout) {
                 "without glare; keep its .json sidecar.",
                 layout.sheet_id, layout.patches.size());
   cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-  Text(cr, x, bottom + 4.5, 2.4, note);
+  DrawText(cr, x, bottom + 4.5, 2.4, note);
 }
 
 cv::Mat RasterizeCalibPage(const CalibSheetLayout& layout, double px_per_mm) {

@@ -8,11 +8,11 @@
 #include <cstdio>
 
 #include "chromatag/families/version.h"
+#include "chromatag/generator/cairo_util.h"
 
 namespace chromatag::calib {
 namespace {
 
-constexpr const char* kFont = "DejaVu Sans";
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kPlotX = 40, kPlotY = 92, kPlotSide = 400;
 constexpr double kMapTop = 560;  // First row of per-photo maps.
@@ -25,12 +25,8 @@ void SetColour(cairo_t* cr, const Rgb& c, double alpha = 1.0) {
 
 void Text(cairo_t* cr, double x, double y, double size, const std::string& text, bool bold = false,
           Rgb colour = {0, 0, 0}) {
-  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL,
-                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size);
   SetColour(cr, colour);
-  cairo_move_to(cr, x, y);
-  cairo_show_text(cr, text.c_str());
+  DrawText(cr, x, y, size, text, bold);
 }
 
 std::string F(const char* format, double a, double b = 0, double c = 0) {
@@ -318,11 +314,6 @@ void DrawLegendAndWarnings(cairo_t* cr, const CalibrationResult& r, double y) {
 
 int MapRows(const CalibrationResult& r) {
   return static_cast<int>((r.photos.size() + kMapsPerRow - 1) / kMapsPerRow);
-}
-
-cairo_status_t AppendToString(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
 }
 
 }  // namespace

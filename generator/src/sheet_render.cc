@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "chromatag/families/version.h"
+#include "chromatag/generator/cairo_util.h"
 #include "chromatag/generator/id_list.h"
 #include "chromatag/generator/sheet.h"
 #include "sheet_internal.h"
@@ -21,30 +22,6 @@ namespace {
 using internal::Mm;
 
 constexpr double kPointsPerMm = 72.0 / 25.4;
-constexpr const char* kFont = "DejaVu Sans";
-
-cairo_status_t AppendToString(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
-
-TagColors ColorsFor(const SheetOptions& options) {
-  TagColors colors = TagColors::FromPalette(options.palette);
-  if (options.color_lut) {
-    for (Shade shade : kAllShades) {
-      colors[shade] = ToRgb(ToRgb8(options.color_lut->Apply(colors[shade])));
-    }
-  }
-  return colors;
-}
-
-void Text(cairo_t* cr, double x, double y, double size_mm, const std::string& text) {
-  cairo_select_font_face(cr, kFont, CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(cr, size_mm);
-  cairo_move_to(cr, x, y);
-  cairo_show_text(cr, text.c_str());
-}
-
 void DrawCropMarks(cairo_t* cr, double x0, double y0, double side) {
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_line_width(cr, 0.15);
@@ -80,7 +57,7 @@ void DrawScaleBar(cairo_t* cr, const SheetOptions& options, const SheetLayout& l
                            options.family->name() + ", palette " + options.palette.name +
                            ", tag size " + Mm(options.tag_size_mm) + " mm, page " +
                            std::to_string(page + 1) + " of " + std::to_string(layout.num_pages);
-  Text(cr, x, y - 2.5, 2.4, note);
+  DrawText(cr, x, y - 2.5, 2.4, note);
 }
 
 void DrawPage(cairo_t* cr, const SheetOptions& options, const SheetLayout& layout,
@@ -98,7 +75,7 @@ void DrawPage(cairo_t* cr, const SheetOptions& options, const SheetLayout& layou
     if (options.label) {
       const double font = internal::LabelFontMm(options);
       cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
-      Text(cr, x - pad, y - pad + outer + internal::MarksMm(options) + font * 1.1,
+      DrawText(cr, x - pad, y - pad + outer + internal::MarksMm(options) + font * 1.1,
            font, options.family->name() + "  ID " + std::to_string(tag.id) + "  " +
                      Mm(options.tag_size_mm) + " mm");
     }
@@ -223,6 +200,16 @@ std::string Extension(const std::string& path) {
 
 }  // namespace
 
+TagColors SheetColors(const SheetOptions& options) {
+  TagColors colors = TagColors::FromPalette(options.palette);
+  if (options.color_lut) {
+    for (Shade shade : kAllShades) {
+      colors[shade] = ToRgb(ToRgb8(options.color_lut->Apply(colors[shade])));
+    }
+  }
+  return colors;
+}
+
 std::string SidecarPath(const std::string& output_path) { return Stem(output_path) + ".json"; }
 
 std::optional<SheetFormat> FormatFromPath(const std::string& path, std::string* error) {
@@ -246,7 +233,7 @@ std::optional<std::vector<OutputFile>> RenderSheet(const SheetOptions& options,
     if (error) *error = "the output '" + output_path + "' would be overwritten by its sidecar";
     return std::nullopt;
   }
-  const TagColors colors = ColorsFor(options);
+  const TagColors colors = SheetColors(options);
   std::vector<OutputFile> files;
   if (options.format == SheetFormat::kPdf) {
     files.push_back({output_path, RenderPdf(options, *layout, colors)});

@@ -32,12 +32,7 @@ Json PaletteJson(const Palette& palette, const TagColors& written) {
 
 std::string SidecarJson(const SheetOptions& options, const SheetLayout& layout,
                         const std::vector<OutputFile>& page_files) {
-  TagColors written = TagColors::FromPalette(options.palette);
-  if (options.color_lut) {
-    for (Shade shade : kAllShades) {
-      written[shade] = ToRgb(ToRgb8(options.color_lut->Apply(written[shade])));
-    }
-  }
+  const TagColors written = SheetColors(options);
   Json files = Json::array();
   for (const auto& file : page_files) {
     files.push_back({{"path", BaseName(file.path)}, {"sha256", Sha256Hex(file.contents)}});

@@ -85,6 +85,10 @@ std::optional<std::vector<OutputFile>> RenderSheet(const SheetOptions& options,
                                                    const std::string& output_path,
                                                    std::string* error = nullptr);
 
+// The RGB written for each shade: the palette as 8-bit sRGB, through the
+// colour LUT if one is set (rounded to 8 bits again).
+TagColors SheetColors(const SheetOptions& options);
+
 // The sidecar path for an output path: "tags.pdf" -> "tags.json".
 std::string SidecarPath(const std::string& output_path);
 

@@ -1,0 +1,26 @@
+// Small Cairo helpers shared by everything the project draws: sheets,
+// calibration sheets and reports.
+#ifndef CHROMATAG_GENERATOR_CAIRO_UTIL_H_
+#define CHROMATAG_GENERATOR_CAIRO_UTIL_H_
+
+#include <cairo.h>
+
+#include <string>
+
+namespace chromatag {
+
+// The font of every label and note (Debian's fonts-dejavu-core).
+inline constexpr const char* kLabelFont = "DejaVu Sans";
+
+// Draws `text` with its baseline starting at (x, y), `size` user units high,
+// in the current source colour.
+void DrawText(cairo_t* cr, double x, double y, double size, const std::string& text,
+              bool bold = false);
+
+// A cairo_write_func_t that appends to the std::string passed as `closure`,
+// for rendering PDF, SVG and PNG into memory.
+cairo_status_t AppendToString(void* closure, const unsigned char* data, unsigned int length);
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_GENERATOR_CAIRO_UTIL_H_
