@@ -52,12 +52,14 @@ void DrawScaleBar(cairo_t* cr, const SheetOptions& options, const SheetLayout& l
   cairo_set_line_width(cr, 0.2);
   cairo_rectangle(cr, x, y, length, 2.5);
   cairo_stroke(cr);
-  const std::string note = "This bar is " + Mm(length).substr(0, Mm(length).size() - 2) +
-                           " mm long; if not, print at 100 % (no fit to page).   ChromaTag " +
-                           options.family->name() + ", palette " + options.palette.name +
-                           ", tag size " + Mm(options.tag_size_mm) + " mm, page " +
-                           std::to_string(page + 1) + " of " + std::to_string(layout.num_pages);
-  DrawText(cr, x, y - 2.5, 2.4, note);
+  // Two lines, so that narrow pages keep both whole.
+  const std::string mm = Mm(length).substr(0, Mm(length).size() - 2);
+  DrawText(cr, x, y - 1.2, 2.4,
+           "This bar is " + mm + " mm long; if not, print at 100 % (no fit to page).");
+  DrawText(cr, x, y - 4.4, 2.4,
+           "ChromaTag " + options.family->name() + ", palette " + options.palette.name +
+               ", tag size " + Mm(options.tag_size_mm) + " mm, page " + std::to_string(page + 1) +
+               " of " + std::to_string(layout.num_pages));
 }
 
 void DrawPage(cairo_t* cr, const SheetOptions& options, const SheetLayout& layout,
