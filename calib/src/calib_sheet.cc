@@ -14,6 +14,7 @@
 #include "chromatag/families/family.h"
 #include "chromatag/families/version.h"
 #include "chromatag/generator/cairo_util.h"
+#include "chromatag/generator/sheet.h"
 #include "chromatag/generator/tag_renderer.h"
 
 namespace chromatag::calib {
@@ -381,15 +382,11 @@ std::vector<OutputFile> RenderCalibSheet(const CalibSheetLayout& layout, CalibSh
     cairo_scale(cr, px_per_mm, px_per_mm);
     DrawCalibPage(cr, layout);
     cairo_destroy(cr);
-    cairo_surface_write_to_png_stream(surface, AppendToString, &bytes);
+    bytes = EncodePng(surface, dpi);
     cairo_surface_destroy(surface);
   }
   std::vector<OutputFile> files = {{output_path, bytes}};
-  const auto dot = output_path.find_last_of('.');
-  const auto slash = output_path.find_last_of('/');
-  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
-  const std::string sidecar = (has_ext ? output_path.substr(0, dot) : output_path) + ".json";
-  files.push_back({sidecar, CalibSidecarJson(layout, files)});
+  files.push_back({SidecarPath(output_path), CalibSidecarJson(layout, files)});
   return files;
 }
 

@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <zlib.h>
-
 #include <cmath>
 #include <cstdio>
 
@@ -152,24 +150,6 @@ std::string RenderSvgPage(const SheetOptions& options, const SheetLayout& layout
   return bytes;
 }
 
-// Cairo writes no resolution into PNGs; without one, printing software picks
-// its own scale. Inserts a pHYs chunk (pixels per metre) after IHDR.
-void AddPngResolution(std::string* png, double dpi) {
-  const uint32_t per_metre = static_cast<uint32_t>(std::lround(dpi / 0.0254));
-  std::string chunk = "pHYs";
-  for (int repeat = 0; repeat < 2; ++repeat) {
-    for (int shift = 24; shift >= 0; shift -= 8) chunk.push_back(static_cast<char>(per_metre >> shift));
-  }
-  chunk.push_back(1);  // Unit: metre.
-  const uint32_t crc =
-      crc32(0, reinterpret_cast<const Bytef*>(chunk.data()), static_cast<uInt>(chunk.size()));
-  std::string bytes = {0, 0, 0, 9};  // Data length.
-  bytes += chunk;
-  for (int shift = 24; shift >= 0; shift -= 8) bytes.push_back(static_cast<char>(crc >> shift));
-  constexpr size_t kAfterIhdr = 8 + 25;  // Signature, then IHDR's 4 + 4 + 13 + 4 bytes.
-  png->insert(kAfterIhdr, bytes);
-}
-
 std::string RenderPngPage(const SheetOptions& options, const SheetLayout& layout,
                           const TagColors& colors, int page) {
   const double px_per_mm = options.dpi / 25.4;
@@ -180,10 +160,8 @@ std::string RenderPngPage(const SheetOptions& options, const SheetLayout& layout
   cairo_scale(cr, px_per_mm, px_per_mm);
   DrawPage(cr, options, layout, colors, page);
   cairo_destroy(cr);
-  std::string bytes;
-  cairo_surface_write_to_png_stream(surface, AppendToString, &bytes);
+  const std::string bytes = EncodePng(surface, options.dpi);
   cairo_surface_destroy(surface);
-  AddPngResolution(&bytes, options.dpi);
   return bytes;
 }
 

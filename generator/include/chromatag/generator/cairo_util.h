@@ -21,6 +21,10 @@ void DrawText(cairo_t* cr, double x, double y, double size, const std::string& t
 // for rendering PDF, SVG and PNG into memory.
 cairo_status_t AppendToString(void* closure, const unsigned char* data, unsigned int length);
 
+// Encodes an image surface as PNG with its resolution recorded (a pHYs chunk,
+// which Cairo does not write), so that it prints at the intended size.
+std::string EncodePng(cairo_surface_t* surface, double dpi);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_GENERATOR_CAIRO_UTIL_H_
