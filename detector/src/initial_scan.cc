@@ -109,6 +109,17 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     // The centre of a tag is red: if re-centring left the red, this is not one.
     if (centre_red < reference_red - red_thresh) return false;
     reference_red = centre_red;
+    // After the first pass the centre lies well inside the red region, and a
+    // tag shows all three rings from there in each axis direction (the final
+    // scans below ask the same of the converged centre). Red things that are
+    // not tags (sweets, paint, skin next to something green) rarely do, and
+    // are dropped here instead of after several more passes of eight scans.
+    if (iteration == 0 && !converged) {
+      for (int i = 0; i < 8; i += 2) {
+        RingHits hits;
+        if (!ScanRings(image, options, centre, kDirections[i], reference_red, &hits)) return false;
+      }
+    }
   }
   if (!converged) return false;
 
