@@ -128,6 +128,12 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
                cv::Point2f direction, float reference_red, RingHits* hits) {
   const float thresh = static_cast<float>(options.border_thresh);
   const int run = options.border_run;
+  // The green and black rings are one cell wide, under 4 px on tags below
+  // about 25 px; blur and JPEG eat into them from both sides, and M = 3
+  // pixels past the border missed most such tags. Their borders need one
+  // pixel fewer (at least 2). Red -> green keeps M: the red region is twice
+  // as wide, and its border is where false candidates are sorted out.
+  const int ring_run = run > 2 ? run - 1 : run;
   const int reach = std::max(image.width(), image.height());
 
   Crossing red_green;
@@ -148,13 +154,14 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
 
   Crossing green_black;
   if (!ScanBorder(image, red_green.resume, direction, green_l, Border::kGreenToBlack,
-                  std::max(thresh, 0.3f * green_l), run, ring_reach, &green_black)) {
+                  std::max(thresh, 0.3f * green_l), ring_run, ring_reach, &green_black)) {
     return false;
   }
   const float black_l = green_black.value_after;
   Crossing black_white;
   if (!ScanBorder(image, green_black.resume, direction, black_l, Border::kBlackToWhite,
-                  std::max(thresh, 0.3f * (green_l - black_l)), run, ring_reach, &black_white)) {
+                  std::max(thresh, 0.3f * (green_l - black_l)), ring_run, ring_reach,
+                  &black_white)) {
     return false;
   }
   // The quiet zone is the lightest part of a tag.
