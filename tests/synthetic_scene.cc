@@ -129,8 +129,24 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
     scene.truth.push_back(truth);
   }
   cv::resize(hi, scene.bgr, cv::Size(options.width, options.height), 0, 0, cv::INTER_AREA);
-  if (options.blur_sigma > 0)
+  if (options.blur_sigma > 0 && options.blur_in_linear_light) {
+    // As a lens does: decode the sRGB curve, blur, encode again.
+    cv::Mat f;
+    scene.bgr.convertTo(f, CV_32FC3, 1.0 / 255);
+    f.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+      for (int c = 0; c < 3; ++c)
+        p[c] = p[c] <= 0.04045f ? p[c] / 12.92f : std::pow((p[c] + 0.055f) / 1.055f, 2.4f);
+    });
+    cv::GaussianBlur(f, f, cv::Size(0, 0), options.blur_sigma);
+    f.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+      for (int c = 0; c < 3; ++c)
+        p[c] = 255.f *
+               (p[c] <= 0.0031308f ? 12.92f * p[c] : 1.055f * std::pow(p[c], 1 / 2.4f) - 0.055f);
+    });
+    f.convertTo(scene.bgr, CV_8UC3);
+  } else if (options.blur_sigma > 0) {
     cv::GaussianBlur(scene.bgr, scene.bgr, cv::Size(0, 0), options.blur_sigma);
+  }
   if (options.gain != cv::Vec3d(1, 1, 1) || options.noise_sigma > 0) {
     cv::Mat f;
     scene.bgr.convertTo(f, CV_32FC3);

@@ -36,7 +36,10 @@ struct SceneOptions {
   int height = 240;
   // Background: a smooth light-grey gradient, or this BGR image resized to fit.
   cv::Mat background;
-  double blur_sigma = 0;    // Gaussian blur, scene pixels (0: none).
+  double blur_sigma = 0;  // Gaussian blur, scene pixels (0: none).
+  // Blur in linear light, as a camera's optics do, rather than on the sRGB
+  // values: dark rings then look thinner.
+  bool blur_in_linear_light = false;
   double noise_sigma = 0;   // Gaussian noise, 8-bit units.
   cv::Vec3d gain{1, 1, 1};  // Per-channel R, G, B multipliers: a colour cast.
   int jpeg_quality = 0;     // Encoded and decoded as JPEG last, 1-100 (0: not).
