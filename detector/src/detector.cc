@@ -43,6 +43,7 @@ double MicrosecondsSince(Clock::time_point start) {
 struct Scratch {
   internal::Candidate candidate;
   std::vector<internal::DetectedArea> areas;
+  std::vector<internal::RejectedRegion> rejected;
 };
 
 Scratch& ThreadScratch() {
@@ -110,6 +111,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   const internal::ImageView view(image, order, *impl_->table);
   Scratch& scratch = ThreadScratch();
   scratch.areas.clear();
+  scratch.rejected.clear();
   DetectorSummary& summary = result->summary;
 
   // Runs one stage, adding its time and counting a rejection.
@@ -131,7 +133,10 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       internal::Candidate& candidate = scratch.candidate;
       Detection detection;
       if (!run_stage(Stage::kInitialScan,
-                     [&] { return internal::InitialScan(view, options, seed, &candidate); }) ||
+                     [&] {
+                       return internal::InitialScan(view, options, seed, &candidate,
+                                                    &scratch.rejected);
+                     }) ||
           !run_stage(Stage::kBuildPolygon,
                      [&] { return internal::BuildPolygon(view, options, &candidate); }) ||
           !run_stage(Stage::kPolyToQuad,

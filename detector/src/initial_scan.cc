@@ -41,9 +41,34 @@ cv::Point2f PolygonCentroid(const std::array<cv::Point2f, 8>& polygon) {
 
 }  // namespace
 
+bool RejectedRegion::Contains(cv::Point2f p) const {
+  if (p.x < min_x || p.x > max_x || p.y < min_y || p.y > max_y) return false;
+  bool inside = false;  // Even-odd rule.
+  for (size_t i = 0, j = border.size() - 1; i < border.size(); j = i++) {
+    const cv::Point2f& a = border[i];
+    const cv::Point2f& b = border[j];
+    if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y))
+      inside = !inside;
+  }
+  return inside;
+}
+
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
-                 Candidate* candidate) {
+                 Candidate* candidate, std::vector<RejectedRegion>* rejected) {
   cv::Point2f centre(static_cast<float>(seed.x), static_cast<float>(seed.y));
+  // Red things that are not tags span many of FindADiff's rows, and each row
+  // seeds them again: a seed inside a region already rejected in this frame
+  // would be rejected again.
+  if (rejected) {
+    for (const RejectedRegion& region : *rejected)
+      if (region.Contains(centre)) return false;
+  }
+  RejectedRegion region;
+  bool have_region = false;
+  auto reject = [&]() {
+    if (rejected && have_region) rejected->push_back(region);
+    return false;
+  };
   // The seed may sit on the blurred edge of the red; the reddest of it and
   // its neighbourhood is the better ReferenceRed.
   float reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
@@ -52,7 +77,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   const int reach = std::max(image.width(), image.height()) / 2;
   // Every palette's red has a* of 40 or more (spec section 6); a rise that
   // ends far below that is green meeting black or white, not a tag's centre.
-  if (reference_red < kMinRedA) return false;
+  if (reference_red < kMinRedA) return reject();
 
   // Re-centre on the centroid of the polygon of red/green border points
   // found in eight directions. The paper averages the four axis scans, but
@@ -73,7 +98,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       for (; k <= reach; ++k) {
         const cv::Point2f p = centre + static_cast<float>(k) * direction;
         const int x = RoundToInt(p.x), y = RoundToInt(p.y);
-        if (!image.Contains(x, y)) return false;
+        if (!image.Contains(x, y)) return reject();
         const float a = image.A(x, y);
         if (reference_red - a > red_thresh) {
           deepest_a = std::min(deepest_a, a);
@@ -83,7 +108,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
           deepest_a = reference_red;
         }
       }
-      if (k > reach) return false;
+      if (k > reach) return reject();
       // Past the border lies a tag's green, far less red than its red; on a
       // blurred edge the run may end on the slope, so look a few pixels on.
       // Most red things that are not tags (bricks, skin, wood) fade into
@@ -94,20 +119,38 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
         if (!image.Contains(x, y)) break;
         deepest_a = std::min(deepest_a, image.A(x, y));
       }
-      if (reference_red - deepest_a < min_drop) return false;
+      if (reference_red - deepest_a < min_drop) return reject();
       border[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
     }
+    // Grown a little about its centre: the seeds of later rows lie on the
+    // region's left edge, where the polygon's sides cut inside.
+    const cv::Point2f middle = PolygonCentroid(border);
+    for (int i = 0; i < 8; ++i) {
+      const cv::Point2f out = border[i] - middle;
+      const float length = std::sqrt(out.dot(out));
+      region.border[i] = length > 1e-3f ? border[i] + out * ((0.15f * length + 2.f) / length)
+                                       : border[i];
+    }
+    region.min_x = region.max_x = region.border[0].x;
+    region.min_y = region.max_y = region.border[0].y;
+    for (const cv::Point2f& p : region.border) {
+      region.min_x = std::min(region.min_x, p.x);
+      region.max_x = std::max(region.max_x, p.x);
+      region.min_y = std::min(region.min_y, p.y);
+      region.max_y = std::max(region.max_y, p.y);
+    }
+    have_region = true;
     const cv::Point2f next = PolygonCentroid(border);
-    if (!(std::isfinite(next.x) && std::isfinite(next.y))) return false;
+    if (!(std::isfinite(next.x) && std::isfinite(next.y))) return reject();
     converged =
         std::abs(next.x - centre.x) < kConvergedPx && std::abs(next.y - centre.y) < kConvergedPx;
     centre = next;
     const int cx = RoundToInt(centre.x);
     const int cy = RoundToInt(centre.y);
-    if (!image.Contains(cx, cy)) return false;
+    if (!image.Contains(cx, cy)) return reject();
     const float centre_red = image.MeanA3x3(cx, cy);
     // The centre of a tag is red: if re-centring left the red, this is not one.
-    if (centre_red < reference_red - red_thresh) return false;
+    if (centre_red < reference_red - red_thresh) return reject();
     reference_red = centre_red;
     // After the first pass the centre lies well inside the red region, and a
     // tag shows all three rings from there in each axis direction (the final
@@ -117,11 +160,12 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     if (iteration == 0 && !converged) {
       for (int i = 0; i < 8; i += 2) {
         RingHits hits;
-        if (!ScanRings(image, options, centre, kDirections[i], reference_red, &hits)) return false;
+        if (!ScanRings(image, options, centre, kDirections[i], reference_red, &hits))
+          return reject();
       }
     }
   }
-  if (!converged) return false;
+  if (!converged) return reject();
 
   candidate->centre = centre;
   candidate->reference_red = reference_red;
@@ -130,7 +174,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   for (int i = 0; i < 8; i += 2) {
     const cv::Point2f direction = kDirections[i];
     RingHits hits;
-    if (!ScanRings(image, options, centre, direction, reference_red, &hits)) return false;
+    if (!ScanRings(image, options, centre, direction, reference_red, &hits)) return reject();
     for (int ring = 0; ring < kNumRings; ++ring)
       candidate->points[ring].push_back(hits.border[ring]);
     candidate->scan_angles.push_back(std::atan2(direction.y, direction.x));
@@ -144,9 +188,9 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
         cv::norm(candidate->points[kGreenBlack][i] - candidate->points[kRedGreen][i]);
     const float black =
         cv::norm(candidate->points[kBlackWhite][i] - candidate->points[kGreenBlack][i]);
-    if (green < 0.2f * red || green > 2.5f * red + 2.f) return false;
-    if (black < 0.2f * red || black > 2.5f * red + 2.f) return false;
-    if (black < 0.4f * green - 1.f || black > 2.5f * green + 1.f) return false;
+    if (green < 0.2f * red || green > 2.5f * red + 2.f) return reject();
+    if (black < 0.2f * red || black > 2.5f * red + 2.f) return reject();
+    if (black < 0.4f * green - 1.f || black > 2.5f * green + 1.f) return reject();
   }
   return true;
 }

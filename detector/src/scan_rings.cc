@@ -22,6 +22,10 @@ enum class Border { kRedToGreen, kGreenToBlack, kBlackToWhite };
 constexpr int kMaxPlateauSteps = 8;
 constexpr float kPlateauTolerance = 0.5f;
 
+// Red half-widths (pixels from the scan's start to the green) up to which the
+// green and black rings count as thin (see ScanRings).
+constexpr int kThinRingSteps = 12;
+
 float ValueAt(const ImageView& image, int x, int y, Border border) {
   return border == Border::kRedToGreen ? image.A(x, y) : image.L(x, y);
 }
@@ -128,12 +132,6 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
                cv::Point2f direction, float reference_red, RingHits* hits) {
   const float thresh = static_cast<float>(options.border_thresh);
   const int run = options.border_run;
-  // The green and black rings are one cell wide, under 4 px on tags below
-  // about 25 px; blur and JPEG eat into them from both sides, and M = 3
-  // pixels past the border missed most such tags. Their borders need one
-  // pixel fewer (at least 2). Red -> green keeps M: the red region is twice
-  // as wide, and its border is where false candidates are sorted out.
-  const int ring_run = run > 2 ? run - 1 : run;
   const int reach = std::max(image.width(), image.height());
 
   Crossing red_green;
@@ -151,6 +149,13 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
   // The green ring and the black ring are one cell each, as wide as the red
   // half-width (16h5) or half of it (36h11); allow for perspective.
   const int ring_reach = 3 * red_green.steps + 6;
+  // The green and black rings are one cell wide, under 5 px on tags below
+  // 30 px; blur and JPEG eat into them from both sides, and M = 3 pixels past
+  // the border missed most such tags. On small tags (a narrow red region)
+  // their borders need one pixel fewer (at least 2); larger tags keep M, which
+  // keeps their border points as steady. Red -> green always keeps M: its
+  // border is where candidates that are not tags are sorted out.
+  const int ring_run = run > 2 && red_green.steps <= kThinRingSteps ? run - 1 : run;
 
   Crossing green_black;
   if (!ScanBorder(image, red_green.resume, direction, green_l, Border::kGreenToBlack,

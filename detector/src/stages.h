@@ -86,11 +86,21 @@ inline float RedGreenThresh(const DetectorOptions& options, float reference_red)
 bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point2f start,
                cv::Point2f direction, float reference_red, RingHits* hits);
 
+// The red/green border polygon of a red region InitialScan rejected after at
+// least one centring pass (eight points, star-shaped around its centre).
+struct RejectedRegion {
+  std::array<cv::Point2f, 8> border;
+  float min_x = 0, max_x = 0, min_y = 0, max_y = 0;
+  bool Contains(cv::Point2f p) const;
+};
+
 // 2. InitialScan: scans left, right, up and down from the seed to the
 // red/green border, re-centres until the centre converges, then scans on
-// through all three borders. Seeds the candidate's polygons.
+// through all three borders. Seeds the candidate's polygons. With `rejected`
+// (the frame's regions rejected so far), a seed inside one of them is dropped
+// at once, and a region rejected after a centring pass is added.
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
-                 Candidate* candidate);
+                 Candidate* candidate, std::vector<RejectedRegion>* rejected = nullptr);
 
 // 3. BuildPolygon: greedy scans towards the largest convexity-limited
 // potential area of the outer polygon until area / (area + potential) exceeds
