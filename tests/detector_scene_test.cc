@@ -282,6 +282,42 @@ TEST(DetectorSceneTest, FindsSmallBlurredTags) {
   EXPECT_GE(found, 46) << "of " << tags_total;
 }
 
+// Red patches on green (sweets, paint) seed InitialScan on row after row and
+// are rejected; the seeds of later rows inside a rejected patch are dropped
+// at once. Tags between and next to such patches are still found.
+TEST(DetectorSceneTest, FindsTagsAmongRejectedRedPatches) {
+  auto detector = MakeDetector({"16h5"});
+  cv::Mat background(400, 400, CV_8UC3, cv::Scalar(60, 160, 40));  // BGR green.
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      if ((i == 1 || i == 2) && (j == 1 || j == 2)) continue;  // Room for the tags.
+      cv::circle(background, {50 + 100 * i, 50 + 100 * j}, 20 + 5 * ((i + j) % 3),
+                 cv::Scalar(60, 20, 220), cv::FILLED);
+    }
+  }
+  std::vector<SceneTag> tags;
+  for (int k = 0; k < 4; ++k) {
+    SceneTag tag;
+    tag.id = 3 + 5 * k;
+    if (tag.id == 5 || tag.id == 10) tag.id = 7;
+    tag.black_square_px = 40 + 10 * k;
+    tag.centre = {150.0 + 100 * (k % 2), 150.0 + 100 * (k / 2)};
+    tag.rotation_deg = 25.0 * k;
+    tag.quiet_zone_cells = 1;
+    tags.push_back(tag);
+  }
+  SceneOptions options;
+  options.width = options.height = 400;
+  options.background = background;
+  options.blur_sigma = 0.7;
+  options.noise_sigma = 2;
+  const Scene scene = RenderScene(tags, options);
+  const DetectionResult result = detector->Detect(scene.bgr);
+  EXPECT_EQ(result.detections.size(), tags.size());
+  for (const TagTruth& truth : scene.truth) EXPECT_NE(Find(result, truth), nullptr) << truth.id;
+  EXPECT_GT(result.summary.rejected[static_cast<int>(Stage::kInitialScan)], 12);
+}
+
 // A dozen of Debian opencv-doc's photographs hold no tag: nothing is found.
 TEST(DetectorSceneTest, NoDetectionsOnTagFreePhotographs) {
   const std::string folder = "/usr/share/doc/opencv-doc/examples/data/";
