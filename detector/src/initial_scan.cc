@@ -128,8 +128,8 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     for (int i = 0; i < 8; ++i) {
       const cv::Point2f out = border[i] - middle;
       const float length = std::sqrt(out.dot(out));
-      region.border[i] = length > 1e-3f ? border[i] + out * ((0.15f * length + 2.f) / length)
-                                       : border[i];
+      region.border[i] =
+          length > 1e-3f ? border[i] + out * ((0.15f * length + 2.f) / length) : border[i];
     }
     region.min_x = region.max_x = region.border[0].x;
     region.min_y = region.max_y = region.border[0].y;
