@@ -12,20 +12,6 @@ constexpr int kMaxScans = 40;
 constexpr float kMinAngleApart = 0.02f;  // radians, about 1.1 degrees.
 constexpr double kPi = 3.14159265358979323846;
 
-// The convex hull, clockwise on screen.
-std::vector<cv::Point2f> Hull(const std::vector<cv::Point2f>& points) {
-  std::vector<cv::Point2f> hull;
-  cv::convexHull(points, hull);
-  double twice = 0.0;
-  for (size_t i = 0; i < hull.size(); ++i) {
-    const auto& p = hull[i];
-    const auto& q = hull[(i + 1) % hull.size()];
-    twice += static_cast<double>(p.x) * q.y - static_cast<double>(q.x) * p.y;
-  }
-  if (twice < 0) std::reverse(hull.begin(), hull.end());
-  return hull;
-}
-
 // Figure 7: the largest area edge i of a convex polygon could still gain
 // without breaking convexity is the triangle between the edge and the meeting
 // point of its neighbours' extensions. When they do not meet outside (the
@@ -78,7 +64,7 @@ bool AlreadyScanned(const std::vector<float>& angles, float angle) {
 bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate) {
   auto& outer = candidate->points[kBlackWhite];
   for (int scan = 0; scan < kMaxScans; ++scan) {
-    const std::vector<cv::Point2f> hull = Hull(outer);
+    const std::vector<cv::Point2f> hull = ClockwiseHull(outer);
     if (hull.size() < 3) return false;
     const double area = PolygonArea(hull);
     double perimeter = 0.0, potential = 0.0;

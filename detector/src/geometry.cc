@@ -1,4 +1,7 @@
+#include <algorithm>
 #include <cmath>
+
+#include <opencv2/imgproc.hpp>
 
 #include "stages.h"
 
@@ -22,6 +25,19 @@ bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d 
   const double s = (w.x * d2.y - w.y * d2.x) / det;
   *at = p1 + s * d1;
   return true;
+}
+
+std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points) {
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(points, hull);
+  double twice = 0.0;
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const auto& p = hull[i];
+    const auto& q = hull[(i + 1) % hull.size()];
+    twice += static_cast<double>(p.x) * q.y - static_cast<double>(q.x) * p.y;
+  }
+  if (twice < 0) std::reverse(hull.begin(), hull.end());
+  return hull;
 }
 
 bool IsConvexClockwise(const Quad& quad) {

@@ -17,20 +17,6 @@ double AngleDistance(double a, double b) {
   return std::min(d, 2 * kPi - d);
 }
 
-// Convex hull, clockwise on screen.
-std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points) {
-  std::vector<cv::Point2f> hull;
-  cv::convexHull(points, hull);
-  double twice = 0.0;
-  for (size_t i = 0; i < hull.size(); ++i) {
-    const auto& p = hull[i];
-    const auto& q = hull[(i + 1) % hull.size()];
-    twice += static_cast<double>(p.x) * q.y - static_cast<double>(q.x) * p.y;
-  }
-  if (twice < 0) std::reverse(hull.begin(), hull.end());
-  return hull;
-}
-
 struct Line {
   cv::Point2d point;
   cv::Point2d direction;

@@ -139,6 +139,8 @@ double PolygonArea(const std::vector<cv::Point2f>& polygon);  // Unsigned.
 bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
                     cv::Point2d* at);
 bool IsConvexClockwise(const Quad& quad);
+// The convex hull of `points`, clockwise on screen (y down).
+std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points);
 
 }  // namespace chromatag::internal
 
