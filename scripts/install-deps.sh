@@ -9,11 +9,11 @@ packages=(
   g++ cmake ninja-build pkg-config make
   # Libraries (brief: Cairo, OpenCV, Eigen, Ceres, OpenColorIO, CLI11,
   # libapriltag, nlohmann-json, poppler).
-  libapriltag-dev libcairo2-dev libopencv-dev libeigen3-dev libceres-dev
+  libapriltag-dev libcairo2-dev libopencv-dev libopencv-contrib-dev libeigen3-dev libceres-dev
   libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev librsvg2-dev zlib1g-dev
   # Fonts for the labels and notes on generated sheets.
   fonts-dejavu-core
-  # Tests and benchmarks.
+  # Tests and benchmarks (libopencv-contrib-dev above: ArUco, for the comparison).
   libgtest-dev libgmock-dev libbenchmark-dev
   # Natural photographs for the no-false-detection tests and the benchmark.
   opencv-doc
