@@ -334,7 +334,10 @@ void DrawCalibPage(cairo_t* cr, const CalibSheetLayout& layout) {
   DrawText(cr, x, bottom + 4.5, 2.4, note);
 }
 
-cv::Mat RasterizeCalibPage(const CalibSheetLayout& layout, double px_per_mm) {
+namespace {
+
+// The page drawn on an RGB24 image surface; the caller destroys it.
+cairo_surface_t* DrawCalibPageImage(const CalibSheetLayout& layout, double px_per_mm) {
   const int width = static_cast<int>(std::lround(layout.page.width_mm * px_per_mm));
   const int height = static_cast<int>(std::lround(layout.page.height_mm * px_per_mm));
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
@@ -343,6 +346,15 @@ cv::Mat RasterizeCalibPage(const CalibSheetLayout& layout, double px_per_mm) {
   DrawCalibPage(cr, layout);
   cairo_destroy(cr);
   cairo_surface_flush(surface);
+  return surface;
+}
+
+}  // namespace
+
+cv::Mat RasterizeCalibPage(const CalibSheetLayout& layout, double px_per_mm) {
+  cairo_surface_t* surface = DrawCalibPageImage(layout, px_per_mm);
+  const int width = cairo_image_surface_get_width(surface);
+  const int height = cairo_image_surface_get_height(surface);
   // RGB24 is a native-endian 32-bit word per pixel: B, G, R, unused in memory
   // on the little-endian machines this project builds for.
   const cv::Mat bgra(height, width, CV_8UC4, cairo_image_surface_get_data(surface),
@@ -374,14 +386,7 @@ std::vector<OutputFile> RenderCalibSheet(const CalibSheetLayout& layout, CalibSh
     cairo_surface_finish(surface);
     cairo_surface_destroy(surface);
   } else {
-    const double px_per_mm = dpi / 25.4;
-    const int width = static_cast<int>(std::lround(layout.page.width_mm * px_per_mm));
-    const int height = static_cast<int>(std::lround(layout.page.height_mm * px_per_mm));
-    cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
-    cairo_t* cr = cairo_create(surface);
-    cairo_scale(cr, px_per_mm, px_per_mm);
-    DrawCalibPage(cr, layout);
-    cairo_destroy(cr);
+    cairo_surface_t* surface = DrawCalibPageImage(layout, dpi / 25.4);
     bytes = EncodePng(surface, dpi);
     cairo_surface_destroy(surface);
   }
