@@ -11,7 +11,7 @@
 #include <opencv2/videoio.hpp>
 #include <sstream>
 
-#include "chromatag/calib/detector_config.h"
+#include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/families/family.h"
@@ -92,7 +92,7 @@ class Runner {
     if (options_.json) {
       nlohmann::json detections = nlohmann::json::array();
       for (const Detection& d : result_.detections) {
-        nlohmann::json item = {{"family", d.family},
+        nlohmann::json item = {{"family", d.family->name()},
                                {"id", d.id},
                                {"hamming", d.hamming},
                                {"margin", d.decision_margin},
@@ -118,7 +118,7 @@ class Runner {
       for (const Detection& d : result_.detections) {
         char line[256];
         std::snprintf(line, sizeof line, "%-30s %6d  %-6s %4d  %d  %6.1f  (%.1f, %.1f)",
-                      file.c_str(), frame_index, d.family.c_str(), d.id, d.hamming,
+                      file.c_str(), frame_index, d.family->name().c_str(), d.id, d.hamming,
                       d.decision_margin, d.corners[0].x, d.corners[0].y);
         std::cout << line;
         if (d.has_pose)
@@ -205,8 +205,7 @@ int RunDetect(const DetectOptions& options) {
   detector_options.families =
       options.family == "all" ? TagFamily::Names() : std::vector<std::string>{options.family};
   std::string error;
-  if (!options.config.empty() &&
-      !calib::LoadDetectorConfig(options.config, &detector_options, &error)) {
+  if (!options.config.empty() && !LoadDetectorConfig(options.config, &detector_options, &error)) {
     std::cerr << "chromatag detect: " << error << "\n";
     return kExitUsage;
   }

@@ -79,7 +79,7 @@ bool ToSheetOptions(const GenerateOptions& in, SheetOptions* out, std::string* e
     if (!format) return false;
     out->format = *format;
   } else {
-    out->format = in.format == "pdf" ? SheetFormat::kPdf
+    out->format = in.format == "pdf"   ? SheetFormat::kPdf
                   : in.format == "svg" ? SheetFormat::kSvg
                                        : SheetFormat::kPng;
   }

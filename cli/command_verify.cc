@@ -82,8 +82,9 @@ void PrintSheet(const SheetVerdict& verdict) {
                 t.passed ? "ok" : t.problem.c_str());
   }
   for (const auto& u : verdict.unexpected) {
-    std::printf("  unexpected: %s ID %d on page %d at %.1f, %.1f mm, where the sidecar has no tag\n",
-                u.family.c_str(), u.id, u.page + 1, u.center_mm[0], u.center_mm[1]);
+    std::printf(
+        "  unexpected: %s ID %d on page %d at %.1f, %.1f mm, where the sidecar has no tag\n",
+        u.family.c_str(), u.id, u.page + 1, u.center_mm[0], u.center_mm[1]);
   }
   for (const auto& problem : verdict.file_problems) std::printf("  file: %s\n", problem.c_str());
   std::printf("%d of %zu tags pass%s. %s\n", verdict.tags_passed, verdict.tags.size(),
@@ -106,9 +107,12 @@ Json AuditJson(const FamilyAudit& audit) {
                      {"wrong_id", f.wrong_id},
                      {"rejected", f.rejected}});
   }
-  return {{"codes", audit.num_codes},      {"min_distance", audit.min_distance},
-          {"radius", audit.radius},        {"distance_histogram", audit.histogram},
-          {"closest_pairs", pairs},        {"bit_flips", flips},
+  return {{"codes", audit.num_codes},
+          {"min_distance", audit.min_distance},
+          {"radius", audit.radius},
+          {"distance_histogram", audit.histogram},
+          {"closest_pairs", pairs},
+          {"bit_flips", flips},
           {"decoding_safe", audit.DecodingIsSafe()}};
 }
 
@@ -117,7 +121,8 @@ void PrintAudit(const std::string& family, const FamilyAudit& audit) {
               family.c_str(), audit.num_codes, audit.min_distance, audit.radius);
   std::printf("  pairs by distance:");
   for (size_t d = 0; d < audit.histogram.size(); ++d) {
-    if (audit.histogram[d] > 0) std::printf(" %zu:%lld", d, static_cast<long long>(audit.histogram[d]));
+    if (audit.histogram[d] > 0)
+      std::printf(" %zu:%lld", d, static_cast<long long>(audit.histogram[d]));
   }
   std::printf("\n  closest pairs (ID a, ID b turned k quarter turns, distance):");
   for (size_t i = 0; i < std::min<size_t>(audit.closest_pairs.size(), 10); ++i) {
@@ -168,7 +173,8 @@ void PrintStress(const std::vector<TagStress>& stresses) {
            std::make_tuple(-fails(b), -b.smallest_size_px, b.largest_tilt_deg);
   });
   std::printf("  weakest IDs:");
-  for (size_t i = 0; i < std::min<size_t>(5, weakest.size()); ++i) std::printf(" %d", weakest[i].id);
+  for (size_t i = 0; i < std::min<size_t>(5, weakest.size()); ++i)
+    std::printf(" %d", weakest[i].id);
   std::printf("\n");
 }
 
@@ -273,7 +279,8 @@ void RegisterVerify(CLI::App& app, Action* action) {
       ->capture_default_str();
   c->add_option("--tolerance", o->tolerance, "Largest accepted corner position error")
       ->capture_default_str();
-  auto* palette = c->add_option("--palette", o->palette, "Palette for --all")->capture_default_str();
+  auto* palette =
+      c->add_option("--palette", o->palette, "Palette for --all")->capture_default_str();
   c->add_option("--palette-file", o->palette_file, "Palette file for --all")->excludes(palette);
   c->add_flag("--json", o->json, "Print one JSON object");
   c->callback([o, action] { *action = [o] { return RunVerify(*o); }; });

@@ -10,7 +10,7 @@
 
 #include "calib_sim.h"
 #include "chromatag/calib/calibrate.h"
-#include "chromatag/calib/detector_config.h"
+#include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/generator/color_lut.h"
 

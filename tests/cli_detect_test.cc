@@ -22,9 +22,8 @@ std::string MakeSheet(const std::string& name) {
   const std::string dir = ::testing::TempDir() + "/cli_detect_" + name;
   std::system(("rm -rf '" + dir + "'").c_str());
   mkdir(dir.c_str(), 0755);
-  const auto result =
-      Chromatag({"generate", "--ids", "0,3", "--size", "25.4mm", "--dpi", "150", "-o",
-                 dir + "/sheet.png"});
+  const auto result = Chromatag(
+      {"generate", "--ids", "0,3", "--size", "25.4mm", "--dpi", "150", "-o", dir + "/sheet.png"});
   EXPECT_EQ(result.exit_code, 0) << result.err;
   return dir;
 }
@@ -74,8 +73,8 @@ TEST(CliDetectTest, FoldersOverlaysAndATable) {
 TEST(CliDetectTest, UnreadableInputsAreReportedSkippedAndFailTheRun) {
   const std::string dir = MakeSheet("bad");
   std::system(("echo 'not an image' > '" + dir + "/broken.png'").c_str());
-  const auto result = Chromatag({"detect", "--json", dir + "/broken.png", dir + "/sheet.png",
-                                 dir + "/missing.png"});
+  const auto result = Chromatag(
+      {"detect", "--json", dir + "/broken.png", dir + "/sheet.png", dir + "/missing.png"});
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_EQ(CountLines(result.out), 1) << result.out;  // The readable sheet still ran.
   EXPECT_NE(result.err.find("broken.png"), std::string::npos) << result.err;

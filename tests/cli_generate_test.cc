@@ -40,9 +40,9 @@ std::vector<std::string> ListDir(const std::string& dir) {
 
 TEST(CliGenerateTest, WritesPdfAndSidecarByteIdenticallyTwice) {
   const std::string dir = MakeDir("ok");
-  const std::vector<std::string> args = {"generate", "--family", "16h5", "--ids", "0-4",
-                                         "--size",   "40mm",     "--page", "a4", "-o",
-                                         dir + "/tags.pdf"};
+  const std::vector<std::string> args = {"generate", "--family", "16h5",           "--ids",
+                                         "0-4",      "--size",   "40mm",           "--page",
+                                         "a4",       "-o",       dir + "/tags.pdf"};
   const auto first = Chromatag(args);
   ASSERT_EQ(first.exit_code, 0) << first.err;
   EXPECT_NE(first.out.find("Wrote 5 16h5 tags of 40 mm on 1 a4 page"), std::string::npos)
@@ -62,12 +62,12 @@ TEST(CliGenerateTest, WritesPdfAndSidecarByteIdenticallyTwice) {
 
 TEST(CliGenerateTest, PngAndSvgFollowTheExtension) {
   const std::string dir = MakeDir("formats");
-  auto png = Chromatag({"generate", "--ids", "0", "--size", "1in", "--dpi", "100", "-o",
-                        dir + "/tag.png"});
+  auto png = Chromatag(
+      {"generate", "--ids", "0", "--size", "1in", "--dpi", "100", "-o", dir + "/tag.png"});
   ASSERT_EQ(png.exit_code, 0) << png.err;
   EXPECT_EQ(ReadFile(dir + "/tag.png").substr(1, 3), "PNG");
-  auto svg = Chromatag({"generate", "--all", "--size", "60mm", "--one-per-page", "-o",
-                        dir + "/tag.svg"});
+  auto svg =
+      Chromatag({"generate", "--all", "--size", "60mm", "--one-per-page", "-o", dir + "/tag.svg"});
   ASSERT_EQ(svg.exit_code, 0) << svg.err;
   EXPECT_NE(ReadFile(dir + "/tag-28.svg").find("<svg"), std::string::npos);
   EXPECT_EQ(nlohmann::json::parse(ReadFile(dir + "/tag.json"))["files"].size(), 28u);
@@ -122,7 +122,8 @@ TEST(CliGenerateTest, UnwritableOutputLeavesNothingAndExistingFilesIntact) {
   const std::string dir = MakeDir("keep");
   std::ofstream(dir + "/tags.pdf") << "an older sheet";
   std::ofstream(dir + "/tags.json") << "its sidecar";
-  const auto too_big = Chromatag({"generate", "--ids", "0", "--size", "1m", "-o", dir + "/tags.pdf"});
+  const auto too_big =
+      Chromatag({"generate", "--ids", "0", "--size", "1m", "-o", dir + "/tags.pdf"});
   EXPECT_EQ(too_big.exit_code, 2);
   EXPECT_EQ(ReadFile(dir + "/tags.pdf"), "an older sheet");
   EXPECT_EQ(ReadFile(dir + "/tags.json"), "its sidecar");

@@ -61,7 +61,7 @@ void ExpectAllDecoded(const Detector& detector, const Scene& scene, double max_c
   for (const TagTruth& truth : scene.truth) {
     int found = 0;
     for (const Detection& d : result.detections) {
-      if (d.family != truth.family || d.id != truth.id) continue;
+      if (d.family->name() != truth.family || d.id != truth.id) continue;
       ++found;
       EXPECT_LT(MaxCornerError(d.corners, truth.corners), max_corner_px)
           << what << ": ID " << truth.id;
@@ -161,8 +161,8 @@ TEST(DetectorConditionsTest, SwappedShadesNeverDecodeUnderBlurNoiseCastsAndJpeg)
       const DetectionResult result = detector->Detect(RenderScene(tags, options).bgr);
       for (const Detection& d : result.detections) {
         ADD_FAILURE() << palette << " size " << c.size << " blur " << c.blur << " noise " << c.noise
-                      << ": a swapped tag decoded as " << d.family << " " << d.id << " (hamming "
-                      << d.hamming << ", margin " << d.decision_margin << ")";
+                      << ": a swapped tag decoded as " << d.family->name() << " " << d.id
+                      << " (hamming " << d.hamming << ", margin " << d.decision_margin << ")";
         ++decoded;
       }
       tags_seen += result.summary.rejected[static_cast<int>(Stage::kDecode)];

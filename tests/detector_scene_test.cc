@@ -39,7 +39,7 @@ std::unique_ptr<Detector> MakeDetector(std::vector<std::string> families = {"16h
 // same order), or nullptr.
 const Detection* Find(const DetectionResult& result, const TagTruth& truth) {
   for (const Detection& d : result.detections) {
-    if (d.family == truth.family && d.id == truth.id &&
+    if (d.family->name() == truth.family && d.id == truth.id &&
         MaxCornerError(d.corners, truth.corners) < 3)
       return &d;
   }
@@ -233,7 +233,8 @@ TEST(DetectorSceneTest, SwappedShadesNeverDecode) {
         options.height = 380;
         const DetectionResult result = detector->Detect(RenderScene(tags, options).bgr);
         for (const Detection& d : result.detections)
-          ADD_FAILURE() << "swapped " << name << " tag decoded as " << d.family << " " << d.id;
+          ADD_FAILURE() << "swapped " << name << " tag decoded as " << d.family->name() << " "
+                        << d.id;
         // The tags themselves are still seen; they fail at Decode.
         EXPECT_GE(result.summary.rejected[static_cast<int>(Stage::kDecode)],
                   static_cast<int>(tags.size()));

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "chromatag/calib/cube_lut.h"
-#include "chromatag/calib/detector_config.h"
 #include "chromatag/calib/report.h"
+#include "chromatag/detector/config.h"
 #include "chromatag/families/version.h"
 
 namespace chromatag::calib {

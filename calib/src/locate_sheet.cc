@@ -26,7 +26,7 @@ std::array<int, 4> MatchCorners(const CalibSheetLayout& layout,
   for (int k = 0; k < 4; ++k) {
     for (size_t i = 0; i < detections.size(); ++i) {
       const Detection& d = detections[i];
-      if (d.family != layout.family || d.id != layout.tags[k].id) continue;
+      if (d.family->name() != layout.family || d.id != layout.tags[k].id) continue;
       if (match[k] < 0 || d.decision_margin > detections[match[k]].decision_margin)
         match[k] = static_cast<int>(i);
     }
@@ -47,7 +47,7 @@ std::string DescribeFailure(const CalibSheetLayout& layout,
   for (const CornerTag& tag : layout.tags) expected.push_back(tag.id);
   for (const Detection& d : detections) {
     bool ours = false;
-    for (int id : expected) ours |= d.family == layout.family && d.id == id;
+    for (int id : expected) ours |= d.family->name() == layout.family && d.id == id;
     if (!ours) others.push_back(d.id);
   }
   const std::string sheet = "sheet " + std::to_string(layout.sheet_id);

@@ -11,9 +11,6 @@ namespace {
 constexpr std::array<Shade, 4> kChromatic = {Shade::kRed1, Shade::kRed0, Shade::kGreen1,
                                              Shade::kGreen0};
 
-// The detector refuses reds paler than this in a* (detector/src/initial_scan.cc).
-constexpr double kDetectorMinRedA = 12.0;
-
 std::string Format(const char* format, double a, double b = 0, double c = 0) {
   char text[400];
   std::snprintf(text, sizeof(text), format, a, b, c);
@@ -156,12 +153,12 @@ DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
     a_pair.verdict = Verdict::kFail;
     a_pair.why =
         Format("a* gap %.1f: too small to seed on with a safety factor of %.1f", w.a_gap, s);
-  } else if (w.min_red_a < kDetectorMinRedA + 2) {
+  } else if (w.min_red_a < kMinTagRedA + 2) {
     a_pair.verdict = Verdict::kFail;
     a_pair.why = Format(
         "the reds print at a* %.1f, at the detector's floor of %.0f for a red: "
         "tags in dimmer or cooler light will not be found",
-        w.min_red_a, kDetectorMinRedA);
+        w.min_red_a, kMinTagRedA);
   } else if (w.a_gap / s < o.thin_adiff) {
     a_pair.verdict = Verdict::kThin;
     a_pair.why = Format(

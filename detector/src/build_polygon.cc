@@ -10,7 +10,6 @@ namespace {
 constexpr int kMaxScans = 40;
 // Two scans closer than this in angle would find the same border points.
 constexpr float kMinAngleApart = 0.02f;  // radians, about 1.1 degrees.
-constexpr double kPi = 3.14159265358979323846;
 
 // Figure 7: the largest area edge i of a convex polygon could still gain
 // without breaking convexity is the triangle between the edge and the meeting
@@ -53,7 +52,7 @@ double DepthInside(const std::vector<cv::Point2f>& hull, cv::Point2f point) {
 bool AlreadyScanned(const std::vector<float>& angles, float angle) {
   for (float a : angles) {
     float diff = std::abs(a - angle);
-    diff = std::min(diff, static_cast<float>(2 * kPi) - diff);
+    diff = std::min(diff, static_cast<float>(2 * CV_PI) - diff);
     if (diff < kMinAngleApart) return true;
   }
   return false;

@@ -49,8 +49,7 @@ cv::Matx33d UnitSquareToQuad(const Quad& quad) {
 double RingMisfit(const TagFamily& family, const cv::Matx33d& image_from_tag,
                   const Candidate& candidate) {
   const int cells = family.black_square_cells();
-  const double side = std::sqrt(PolygonArea(std::vector<cv::Point2f>(
-      candidate.quads[kBlackWhite].begin(), candidate.quads[kBlackWhite].end())));
+  const double side = std::sqrt(QuadArea(candidate.quads[kBlackWhite]));
   const double cell_px = side / cells;
   double sum = 0;
   for (int ring = kRedGreen; ring <= kGreenBlack; ++ring) {
@@ -148,10 +147,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   const int d = family.payload_width();
   const int cells = family.black_square_cells();
   // Grid pixels one apart across the sampled middle of the cell.
-  const double cell_px =
-      std::sqrt(PolygonArea(std::vector<cv::Point2f>(candidate.quads[kBlackWhite].begin(),
-                                                     candidate.quads[kBlackWhite].end()))) /
-      cells;
+  const double cell_px = std::sqrt(QuadArea(candidate.quads[kBlackWhite])) / cells;
   const int samples = std::clamp(static_cast<int>(2 * kCellSampleReach * cell_px) + 1,
                                  kMinCellSamples, kMaxCellSamples);
   std::vector<float> red_b, green_b;
@@ -206,7 +202,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   // The observation is the tag turned `rotation` quarter turns clockwise, so
   // the upright tag's top-left corner is the observed corner `rotation`.
   const int k = match.rotation;
-  detection->family = family.name();
+  detection->family = &family;
   detection->id = match.id;
   detection->hamming = match.hamming;
   detection->decision_margin = margin;

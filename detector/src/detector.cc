@@ -152,8 +152,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
             EstimateTagPose(detection, *options.camera, options.tag_size, &detection.pose);
         summary.pose_time_us += MicrosecondsSince(start);
       }
-      const int cells = detection.family == "36h11" ? 8 : 6;
-      scratch.areas.push_back(AreaOf(detection, cells));
+      scratch.areas.push_back(AreaOf(detection, detection.family->black_square_cells()));
       result->detections.push_back(std::move(detection));
     }
   }

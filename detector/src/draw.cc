@@ -24,7 +24,7 @@ void DrawDetections(const std::vector<Detection>& detections, const CameraIntrin
                cv::Scalar(0, 0, 255), cv::FILLED, cv::LINE_AA, kShift);
     cv::Point2d centre(0, 0);
     for (const auto& c : detection.corners) centre += 0.25 * c;
-    const std::string label = detection.family + ":" + std::to_string(detection.id);
+    const std::string label = detection.family->name() + ":" + std::to_string(detection.id);
     cv::putText(*canvas, label, cv::Point(cvRound(centre.x), cvRound(centre.y)),
                 cv::FONT_HERSHEY_SIMPLEX, 0.4 * thickness, cv::Scalar(255, 0, 255), thickness,
                 cv::LINE_AA);

@@ -1,3 +1,4 @@
+// Small geometry on polygons and quads, on top of OpenCV's (stages.h).
 #include <algorithm>
 #include <cmath>
 
@@ -8,13 +9,19 @@
 namespace chromatag::internal {
 
 double PolygonArea(const std::vector<cv::Point2f>& polygon) {
-  double twice = 0.0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const cv::Point2f& p = polygon[i];
-    const cv::Point2f& q = polygon[(i + 1) % polygon.size()];
-    twice += static_cast<double>(p.x) * q.y - static_cast<double>(q.x) * p.y;
-  }
-  return 0.5 * std::abs(twice);
+  return polygon.size() < 3 ? 0.0 : cv::contourArea(polygon);
+}
+
+double QuadArea(const Quad& quad) {
+  const std::array<cv::Point2f, 4> points = {cv::Point2f(quad[0]), cv::Point2f(quad[1]),
+                                             cv::Point2f(quad[2]), cv::Point2f(quad[3])};
+  return cv::contourArea(points);
+}
+
+cv::Point2f PolygonCentroid(cv::InputArray polygon) {
+  const cv::Moments m = cv::moments(polygon);
+  if (std::abs(m.m00) < 1e-9) return {NAN, NAN};
+  return {static_cast<float>(m.m10 / m.m00), static_cast<float>(m.m01 / m.m00)};
 }
 
 bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
@@ -28,15 +35,10 @@ bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d 
 }
 
 std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points) {
+  // OpenCV's orientation flag assumes y up; on screen (y down) its
+  // counter-clockwise hull runs clockwise.
   std::vector<cv::Point2f> hull;
-  cv::convexHull(points, hull);
-  double twice = 0.0;
-  for (size_t i = 0; i < hull.size(); ++i) {
-    const auto& p = hull[i];
-    const auto& q = hull[(i + 1) % hull.size()];
-    twice += static_cast<double>(p.x) * q.y - static_cast<double>(q.x) * p.y;
-  }
-  if (twice < 0) std::reverse(hull.begin(), hull.end());
+  if (!points.empty()) cv::convexHull(points, hull, /*clockwise=*/false);
   return hull;
 }
 

@@ -82,10 +82,6 @@ class ImageView {
     return n ? sum / n : 0.f;
   }
 
-  float Channel(int x, int y, const ChannelWeights& w) const {
-    const uint8_t* p = Pixel(x, y);
-    return w.r * p[r_] + w.g * p[1] + w.b * p[b_];
-  }
   // Bilinear sample of a channel at sub-pixel (x, y) (pixel centres at
   // integers). False outside the frame. Single precision: exact to a
   // thousandth of a pixel on frames up to 8k wide.

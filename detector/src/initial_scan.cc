@@ -10,9 +10,6 @@ namespace {
 
 constexpr int kMaxCentreIterations = 8;
 constexpr float kConvergedPx = 0.75f;
-// Smallest a* accepted as a tag's red: the palettes' reds have 40 or more, and
-// a colour cast or a washed-out print lowers it.
-constexpr float kMinRedA = 12.f;
 
 // Right, down, left, up (the paper's four scans), then the diagonals; in
 // clockwise order on screen.
@@ -23,21 +20,6 @@ const cv::Point2f kDirections[8] = {{1, 0},  {kD, kD},   {0, 1},  {-kD, kD},
                                     {-1, 0}, {-kD, -kD}, {0, -1}, {kD, -kD}};
 // Pixels past a red/green run searched for the green's full a* drop.
 constexpr int kGreenLookAhead = 6;
-
-// Area centroid of a polygon (NaN if degenerate).
-cv::Point2f PolygonCentroid(const std::array<cv::Point2f, 8>& polygon) {
-  double twice_area = 0, cx = 0, cy = 0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const cv::Point2f& p = polygon[i];
-    const cv::Point2f& q = polygon[(i + 1) % polygon.size()];
-    const double cross = static_cast<double>(p.x) * q.y - static_cast<double>(q.x) * p.y;
-    twice_area += cross;
-    cx += (p.x + q.x) * cross;
-    cy += (p.y + q.y) * cross;
-  }
-  if (std::abs(twice_area) < 1e-9) return {NAN, NAN};
-  return {static_cast<float>(cx / (3 * twice_area)), static_cast<float>(cy / (3 * twice_area))};
-}
 
 }  // namespace
 
@@ -75,9 +57,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // A tag's red half-width is under half the frame unless the tag is larger
   // than the frame.
   const int reach = std::max(image.width(), image.height()) / 2;
-  // Every palette's red has a* of 40 or more (spec section 6); a rise that
-  // ends far below that is green meeting black or white, not a tag's centre.
-  if (reference_red < kMinRedA) return reject();
+  if (reference_red < static_cast<float>(kMinTagRedA)) return reject();
 
   // Re-centre on the centroid of the polygon of red/green border points
   // found in eight directions. The paper averages the four axis scans, but

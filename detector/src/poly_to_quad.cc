@@ -10,11 +10,10 @@ namespace {
 
 constexpr int kSides = 4;
 constexpr int kMaxIterations = 10;
-constexpr double kPi = 3.14159265358979323846;
 
 double AngleDistance(double a, double b) {
-  const double d = std::fmod(std::abs(a - b), 2 * kPi);
-  return std::min(d, 2 * kPi - d);
+  const double d = std::fmod(std::abs(a - b), 2 * CV_PI);
+  return std::min(d, 2 * CV_PI - d);
 }
 
 struct Line {
@@ -55,7 +54,7 @@ Line FitSide(const std::vector<cv::Point2f>& hull, const std::vector<int>& label
   });
   double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
   // Keep the clockwise sense of the cluster.
-  if (AngleDistance(angle, mean_angle) > kPi / 2) angle += kPi;
+  if (AngleDistance(angle, mean_angle) > CV_PI / 2) angle += CV_PI;
   return {centroid, {std::cos(angle), std::sin(angle)}};
 }
 
@@ -73,7 +72,7 @@ bool ClusterEdges(const std::vector<cv::Point2f>& hull, std::vector<int>* label,
     weight[i] = std::hypot(e.x, e.y);
     if (weight[i] > weight[longest]) longest = i;
   }
-  for (int k = 0; k < kSides; ++k) (*centre)[k] = angle[longest] + k * kPi / 2;
+  for (int k = 0; k < kSides; ++k) (*centre)[k] = angle[longest] + k * CV_PI / 2;
   label->assign(n, 0);
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     bool changed = false;
@@ -111,7 +110,7 @@ bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
   std::array<int, kSides> order = {0, 1, 2, 3};
   auto unwrapped = [&](int k) {
     double a = centre[k] - centre[0];
-    while (a < 0) a += 2 * kPi;
+    while (a < 0) a += 2 * CV_PI;
     return a;
   };
   std::sort(order.begin(), order.end(), [&](int a, int b) { return unwrapped(a) < unwrapped(b); });
@@ -124,11 +123,6 @@ bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
       return false;
   }
   return IsConvexClockwise(*quad);
-}
-
-double QuadArea(const Quad& quad) {
-  std::vector<cv::Point2f> p(quad.begin(), quad.end());
-  return PolygonArea(p);
 }
 
 }  // namespace

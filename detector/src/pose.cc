@@ -30,9 +30,11 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
     if (error) *error = "tag size must be a positive length";
     return false;
   }
-  auto family = TagFamily::Load(detection.family, error);
-  if (!family) return false;
-  const double cells = family->black_square_cells();
+  if (detection.family == nullptr) {
+    if (error) *error = "the detection has no family";
+    return false;
+  }
+  const double cells = detection.family->black_square_cells();
   const cv::Matx33d k(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   const cv::Mat distortion(camera.distortion, /*copyData=*/true);
 

@@ -158,16 +158,12 @@ bool RefineQuad(const ImageView& image, const ChannelWeights& channel, float min
   return true;
 }
 
-double Area(const Quad& quad) {
-  return PolygonArea(std::vector<cv::Point2f>(quad.begin(), quad.end()));
-}
-
 }  // namespace
 
 bool RefineQuads(const ImageView& image, Candidate* candidate) {
   // One cell: the width of the black ring, between the outer and green quads.
-  const double cell = 0.5 * (std::sqrt(Area(candidate->quads[kBlackWhite])) -
-                             std::sqrt(Area(candidate->quads[kGreenBlack])));
+  const double cell = 0.5 * (std::sqrt(QuadArea(candidate->quads[kBlackWhite])) -
+                             std::sqrt(QuadArea(candidate->quads[kGreenBlack])));
   if (!(cell > 1.0)) return false;
   // Contrast floors in encoded 8-bit units (gray is the sum of three).
   constexpr float kMinGrayContrast = 30.f;

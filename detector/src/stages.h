@@ -130,12 +130,11 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
             const std::vector<FamilyDecoder>& families, const Candidate& candidate,
             Detection* detection);
 
-// Pose from a decoded detection (pose.cc).
-bool EstimatePose(const Detection& detection, const TagFamily& family,
-                  const CameraIntrinsics& camera, double tag_size, TagPose* pose);
-
-// Geometry helpers (geometry.cc).
-double PolygonArea(const std::vector<cv::Point2f>& polygon);  // Unsigned.
+// Geometry helpers (geometry.cc), unsigned areas in square pixels.
+double PolygonArea(const std::vector<cv::Point2f>& polygon);
+double QuadArea(const Quad& quad);
+// Area centroid of a simple polygon (Point2f points); NaN if degenerate.
+cv::Point2f PolygonCentroid(cv::InputArray polygon);
 bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
                     cv::Point2d* at);
 bool IsConvexClockwise(const Quad& quad);

@@ -31,7 +31,8 @@ std::optional<FamilyVerdict> VerifyFamily(const std::string& family_name, const 
   std::remove(folder);
   if (!sheet_verdict) return std::nullopt;
 
-  auto decoder = CodeDecoder::Create(sheet.family, CodeDecoder::DefaultRadius(*sheet.family), error);
+  auto decoder =
+      CodeDecoder::Create(sheet.family, CodeDecoder::DefaultRadius(*sheet.family), error);
   if (!decoder) return std::nullopt;
   FamilyVerdict verdict;
   verdict.sheet = *sheet_verdict;

@@ -32,8 +32,8 @@ bool RasterizePdf(const std::string& path, double dpi, std::vector<cv::Mat>* pag
   renderer.set_render_hint(poppler::page_renderer::antialiasing, true);
   for (int i = 0; i < document->pages(); ++i) {
     std::unique_ptr<poppler::page> page(document->create_page(i));
-    const poppler::image image = page ? renderer.render_page(page.get(), dpi, dpi)
-                                      : poppler::image();
+    const poppler::image image =
+        page ? renderer.render_page(page.get(), dpi, dpi) : poppler::image();
     if (!image.is_valid()) {
       *error = "cannot render page " + std::to_string(i + 1) + " of '" + path + "'";
       return false;

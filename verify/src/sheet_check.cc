@@ -91,13 +91,14 @@ SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
       for (TagVerdict& v : verdict.tags) {
         if (v.expected.page == static_cast<int>(page) &&
             Distance(v.expected.center_mm, center) < reach_mm &&
-            (owner == nullptr ||
-             Distance(v.expected.center_mm, center) < Distance(owner->expected.center_mm, center))) {
+            (owner == nullptr || Distance(v.expected.center_mm, center) <
+                                     Distance(owner->expected.center_mm, center))) {
           owner = &v;
         }
       }
-      if (owner == nullptr || detection.family != record.family->name()) {
-        verdict.unexpected.push_back({static_cast<int>(page), detection.family, detection.id, center});
+      if (owner == nullptr || detection.family != record.family.get()) {
+        verdict.unexpected.push_back(
+            {static_cast<int>(page), detection.family->name(), detection.id, center});
         continue;
       }
       if (++owner->times_found > 1) continue;
@@ -114,8 +115,8 @@ SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
     Judge(record, options, &v);
     verdict.tags_passed += v.passed ? 1 : 0;
   }
-  verdict.passed = verdict.tags_passed == static_cast<int>(verdict.tags.size()) &&
-                   verdict.unexpected.empty();
+  verdict.passed =
+      verdict.tags_passed == static_cast<int>(verdict.tags.size()) && verdict.unexpected.empty();
   return verdict;
 }
 

@@ -55,9 +55,10 @@ std::string Problems(const SheetVerdict& verdict) {
 }
 
 TEST(SheetCheckTest, UntouchedSheetsOfEveryKeptIdOfBothFamiliesPass) {
-  for (const auto& [family, size] : {std::pair<std::string, double>{"16h5", 30.0}, {"36h11", 20.0}}) {
-    const auto verdict = MustVerify(Generate("all_" + family + ".pdf", family, {}, size,
-                                             SheetFormat::kPdf));
+  for (const auto& [family, size] :
+       {std::pair<std::string, double>{"16h5", 30.0}, {"36h11", 20.0}}) {
+    const auto verdict =
+        MustVerify(Generate("all_" + family + ".pdf", family, {}, size, SheetFormat::kPdf));
     EXPECT_TRUE(verdict.passed) << family << "\n" << Problems(verdict);
     EXPECT_EQ(verdict.tags_passed, static_cast<int>(TagFamily::Load(family)->kept_ids().size()));
     EXPECT_TRUE(verdict.unexpected.empty());
@@ -111,8 +112,7 @@ TEST(SheetCheckTest, RecolouredCellFailsNamingTheTag) {
               problem.find("1 bit(s) corrected") != std::string::npos)
       << problem;
   ASSERT_EQ(verdict.file_problems.size(), 1u);
-  EXPECT_NE(verdict.file_problems[0].find("was changed after it was generated"),
-            std::string::npos);
+  EXPECT_NE(verdict.file_problems[0].find("was changed after it was generated"), std::string::npos);
 }
 
 TEST(SheetCheckTest, RemovedTagFailsNamingTheTag) {

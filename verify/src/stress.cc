@@ -27,7 +27,7 @@ cv::Point2f Project(double x, double y, const ViewParams& p, double distance, cv
 bool DecodedAs(const Detector& detector, const cv::Mat& frame, const TagFamily& family, int id) {
   const DetectionResult result = detector.Detect(frame, PixelOrder::kBgr);
   return result.detections.size() == 1 && result.detections[0].id == id &&
-         result.detections[0].family == family.name();
+         result.detections[0].family == &family;
 }
 
 }  // namespace
@@ -54,10 +54,9 @@ cv::Mat RenderView(const TagFamily& family, int id, const TagColors& colors,
                                  {static_cast<float>(tag.cols), 0},
                                  {static_cast<float>(tag.cols), static_cast<float>(tag.rows)},
                                  {0, static_cast<float>(tag.rows)}};
-  const cv::Point2f target[4] = {Project(-h, -h, params, distance, frame_size),
-                                 Project(h, -h, params, distance, frame_size),
-                                 Project(h, h, params, distance, frame_size),
-                                 Project(-h, h, params, distance, frame_size)};
+  const cv::Point2f target[4] = {
+      Project(-h, -h, params, distance, frame_size), Project(h, -h, params, distance, frame_size),
+      Project(h, h, params, distance, frame_size), Project(-h, h, params, distance, frame_size)};
   // Pixel-edge coordinates to pixel-centre ones on both sides.
   cv::Matx33d to_centres(1, 0, -0.5, 0, 1, -0.5, 0, 0, 1), to_edges(1, 0, 0.5, 0, 1, 0.5, 0, 0, 1);
   const cv::Matx33d warp =

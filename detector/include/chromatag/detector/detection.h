@@ -10,6 +10,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/families/family.h"
+
 namespace chromatag {
 
 // The tag's pose: camera_from_tag maps tag coordinates (origin at the tag
@@ -23,7 +25,10 @@ struct TagPose {
 };
 
 struct Detection {
-  std::string family;  // "16h5" or "36h11".
+  // The decoded tag's family (16h5 or 36h11): its name, cell layout and
+  // codes. Families are loaded once per process and never freed
+  // (TagFamily::Load), so the pointer stays valid.
+  const TagFamily* family = nullptr;
   int id = -1;
   int hamming = 0;  // Bits corrected.
   // How clearly the shades split: over both colours, the smaller gap between

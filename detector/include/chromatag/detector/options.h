@@ -21,6 +21,13 @@ struct CameraIntrinsics {
   bool IsValid(std::string* error) const;
 };
 
+// The smallest a* the detector accepts as a tag's red, in CIELAB a* units:
+// the palettes' reds have 40 or more, and a colour cast, dim light or a
+// washed-out print lower it. A rise that ends below this is green meeting
+// black or white, not a tag's centre. The calibration tool fails prints whose
+// reds come close.
+inline constexpr double kMinTagRedA = 12.0;
+
 struct DetectorOptions {
   // Families to look for: "16h5", "36h11" or both.
   std::vector<std::string> families = {"16h5"};

@@ -14,7 +14,7 @@ namespace chromatag {
 // of the two planar solutions), then Levenberg-Marquardt over all twelve
 // ring corners (outer, green/black, red/green). `tag_size` is the side of the
 // black square in metres. False (and *error) for invalid intrinsics, a
-// non-positive size or an unknown family.
+// non-positive size or a detection without a family.
 bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera, double tag_size,
                      TagPose* pose, std::string* error = nullptr);
 

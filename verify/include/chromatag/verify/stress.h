@@ -15,14 +15,14 @@ namespace chromatag {
 
 // A simulated view of one tag on a light grey background.
 struct ViewParams {
-  double size_px = 100.0;   // Side of the black square when seen face on, pixels.
-  double tilt_deg = 0.0;    // Rotation of the tag about its horizontal axis.
-  double roll_deg = 0.0;    // In-plane rotation.
-  double blur_sigma = 0.0;  // Gaussian blur, pixels.
-  double noise_sigma = 0.0; // Gaussian noise, 8-bit levels.
-  int jpeg_quality = 0;     // 1..100; 0 for none.
+  double size_px = 100.0;          // Side of the black square when seen face on, pixels.
+  double tilt_deg = 0.0;           // Rotation of the tag about its horizontal axis.
+  double roll_deg = 0.0;           // In-plane rotation.
+  double blur_sigma = 0.0;         // Gaussian blur, pixels.
+  double noise_sigma = 0.0;        // Gaussian noise, 8-bit levels.
+  int jpeg_quality = 0;            // 1..100; 0 for none.
   cv::Vec3d gains{1.0, 1.0, 1.0};  // White-balance cast: R, G, B multipliers.
-  bool bayer = false;       // RGGB mosaic then OpenCV's demosaic.
+  bool bayer = false;              // RGGB mosaic then OpenCV's demosaic.
   uint64_t seed = 1;
 };
 
@@ -36,7 +36,7 @@ struct StressOptions {
   double tilt_size_px = 120.0;  // Size the tilt sweep is seen at.
   double largest_size_px = 160.0;
   double smallest_size_px = 6.0;
-  double size_step = 0.85;       // Each size is this times the last.
+  double size_step = 0.85;          // Each size is this times the last.
   double condition_size_px = 60.0;  // Size the other conditions are seen at.
 };
 
@@ -47,8 +47,8 @@ struct ConditionOutcome {
 
 struct TagStress {
   int id = 0;
-  double smallest_size_px = 0.0;  // Smallest face-on size that still decodes; 0 if none.
-  double largest_tilt_deg = -1.0; // Largest tilt that still decodes; -1 if none.
+  double smallest_size_px = 0.0;   // Smallest face-on size that still decodes; 0 if none.
+  double largest_tilt_deg = -1.0;  // Largest tilt that still decodes; -1 if none.
   std::vector<ConditionOutcome> conditions;
   bool all_conditions_decoded = false;
 };

@@ -1,8 +1,8 @@
-#include "chromatag/calib/detector_config.h"
+#include "chromatag/detector/config.h"
 
 #include <gtest/gtest.h>
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 TEST(DetectorConfigTest, RoundTripsEveryField) {
@@ -81,4 +81,4 @@ TEST(DetectorConfigTest, RefusesBadFilesAndLeavesOptionsAlone) {
 }
 
 }  // namespace
-}  // namespace chromatag::calib
+}  // namespace chromatag

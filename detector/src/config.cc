@@ -1,12 +1,12 @@
-// Detector config files (detector_config.h).
-#include "chromatag/calib/detector_config.h"
+// Detector config files (config.h).
+#include "chromatag/detector/config.h"
 
 #include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -129,4 +129,4 @@ bool LoadDetectorConfig(const std::string& path, DetectorOptions* options, std::
   return true;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -11,8 +11,8 @@
 // "options" may name any subset of the DetectorOptions fields below; the rest
 // keep their defaults (or the caller's values). Unknown members are refused,
 // so a typo does not pass silently.
-#ifndef CHROMATAG_CALIB_DETECTOR_CONFIG_H_
-#define CHROMATAG_CALIB_DETECTOR_CONFIG_H_
+#ifndef CHROMATAG_DETECTOR_CONFIG_H_
+#define CHROMATAG_DETECTOR_CONFIG_H_
 
 #include <optional>
 #include <string>
@@ -20,7 +20,7 @@
 
 #include "chromatag/detector/options.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 inline constexpr const char* kDetectorConfigSchema = "chromatag-detector-config";
 
@@ -44,6 +44,6 @@ bool ParseDetectorConfig(const std::string& text, DetectorOptions* options,
 bool LoadDetectorConfig(const std::string& path, DetectorOptions* options,
                         std::string* error = nullptr);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
-#endif  // CHROMATAG_CALIB_DETECTOR_CONFIG_H_
+#endif  // CHROMATAG_DETECTOR_CONFIG_H_
