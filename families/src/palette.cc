@@ -274,10 +274,10 @@ std::string PaletteToJson(const Palette& palette) {
     lab[ShadeName(shade)] = {round2(v.L), round2(v.a), round2(v.b)};
   }
   nlohmann::ordered_json root = {{"format", kFormatName},
-               {"version", kFormatVersion},
-               {"name", palette.name},
-               {"description", palette.description},
-               {"lab", lab}};
+                                 {"version", kFormatVersion},
+                                 {"name", palette.name},
+                                 {"description", palette.description},
+                                 {"lab", lab}};
   return root.dump(2) + "\n";
 }
 

@@ -130,8 +130,8 @@ std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string*
   // pixel edge so every cell edge is one.
   const double px_per_mm = options.dpi / 25.4;
   const double cell_px = options.tag_size_mm / options.family->black_square_cells() * px_per_mm;
-  const bool snap = options.format == SheetFormat::kPng &&
-                    std::fabs(cell_px - std::round(cell_px)) < 1e-6;
+  const bool snap =
+      options.format == SheetFormat::kPng && std::fabs(cell_px - std::round(cell_px)) < 1e-6;
   const double inset = marks + (outer - options.tag_size_mm) / 2.0;
   for (int i = 0; i < n; ++i) {
     const int slot = i % per_page;

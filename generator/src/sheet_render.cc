@@ -45,7 +45,8 @@ void DrawScaleBar(cairo_t* cr, const SheetOptions& options, const SheetLayout& l
   const double length = layout.scale_bar_mm;
   const double block = length >= 50.0 ? 10.0 : length / 5.0;
   cairo_set_source_rgb(cr, 0, 0, 0);
-  for (int i = 0; i * block < length - 1e-9; i += 2) cairo_rectangle(cr, x + i * block, y, block, 2.5);
+  for (int i = 0; i * block < length - 1e-9; i += 2)
+    cairo_rectangle(cr, x + i * block, y, block, 2.5);
   cairo_fill(cr);
   cairo_set_line_width(cr, 0.2);
   cairo_rectangle(cr, x, y, length, 2.5);
@@ -75,9 +76,9 @@ void DrawPage(cairo_t* cr, const SheetOptions& options, const SheetLayout& layou
     if (options.label) {
       const double font = internal::LabelFontMm(options);
       cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
-      DrawText(cr, x - pad, y - pad + outer + internal::MarksMm(options) + font * 1.1,
-           font, options.family->name() + "  ID " + std::to_string(tag.id) + "  " +
-                     Mm(options.tag_size_mm) + " mm");
+      DrawText(cr, x - pad, y - pad + outer + internal::MarksMm(options) + font * 1.1, font,
+               options.family->name() + "  ID " + std::to_string(tag.id) + "  " +
+                   Mm(options.tag_size_mm) + " mm");
     }
   }
   DrawScaleBar(cr, options, layout, page);

@@ -39,7 +39,8 @@ std::string ReadFile(const std::string& path) {
   return buffer.str();
 }
 
-std::vector<Raster> RasterizePdf(const std::string& path, double dpi, std::vector<double>* sizes_pt) {
+std::vector<Raster> RasterizePdf(const std::string& path, double dpi,
+                                 std::vector<double>* sizes_pt) {
   std::unique_ptr<poppler::document> document(poppler::document::load_from_file(path));
   EXPECT_TRUE(document) << path;
   std::vector<Raster> pages;
@@ -142,7 +143,8 @@ MeasuredSquare MeasureBlackSquare(const Raster& r, const nlohmann::json& tag, do
 }
 
 Rgb8 PixelAtMm(const Raster& r, double x_mm, double y_mm) {
-  const uint8_t* p = r.At(static_cast<int>(x_mm * r.px_per_mm), static_cast<int>(y_mm * r.px_per_mm));
+  const uint8_t* p =
+      r.At(static_cast<int>(x_mm * r.px_per_mm), static_cast<int>(y_mm * r.px_per_mm));
   return {p[0], p[1], p[2]};
 }
 
@@ -151,8 +153,8 @@ Rgb8 PixelAtMm(const Raster& r, double x_mm, double y_mm) {
 int64_t ReadPayload(const Raster& r, const nlohmann::json& tag, const TagFamily& family,
                     const Palette& palette, std::string* problem) {
   const double left = tag["corners_mm"][0][0], top = tag["corners_mm"][0][1];
-  const double cell = (static_cast<double>(tag["corners_mm"][1][0]) - left) /
-                      family.black_square_cells();
+  const double cell =
+      (static_cast<double>(tag["corners_mm"][1][0]) - left) / family.black_square_cells();
   const int d = family.payload_width();
   Code code = 0;
   for (int row = 0; row < d; ++row) {
@@ -250,8 +252,8 @@ TEST(SheetTest, PngBlackSquareIsTheRequestedSizeWithinOnePixel) {
       if (size_mm == 25.4) {
         // Whole-pixel cells: the pixels either side of the black square's
         // left edge are pure white and pure black.
-        const int x = static_cast<int>(std::lround(tag["corners_mm"][0][0].get<double>() *
-                                                   page.px_per_mm));
+        const int x =
+            static_cast<int>(std::lround(tag["corners_mm"][0][0].get<double>() * page.px_per_mm));
         const int y = static_cast<int>(tag["center_mm"][1].get<double>() * page.px_per_mm);
         EXPECT_EQ(page.Luma(x - 1, y), 255.0);
         EXPECT_EQ(page.Luma(x, y), 0.0);

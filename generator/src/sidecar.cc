@@ -40,7 +40,8 @@ std::string SidecarJson(const SheetOptions& options, const SheetLayout& layout,
   Json tags = Json::array();
   for (const PlacedTag& tag : layout.tags) {
     Json corners = Json::array();
-    for (const auto& corner : tag.corners_mm) corners.push_back({Round3(corner[0]), Round3(corner[1])});
+    for (const auto& corner : tag.corners_mm)
+      corners.push_back({Round3(corner[0]), Round3(corner[1])});
     tags.push_back({{"id", tag.id},
                     {"page", tag.page + 1},
                     {"center_mm", {Round3(tag.center_mm[0]), Round3(tag.center_mm[1])}},

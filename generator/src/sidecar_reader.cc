@@ -80,7 +80,8 @@ SheetRecord Parse(const json& root, const std::string& folder) {
     if (!record.family->IsValidId(placed.id, &error)) throw SidecarError{error};
     placed.page = static_cast<int>(Number(tag, "page")) - 1;
     if (placed.page < 0 || placed.page >= record.num_pages) {
-      throw SidecarError{"tag ID " + std::to_string(placed.id) + " is on a page that does not exist"};
+      throw SidecarError{"tag ID " + std::to_string(placed.id) +
+                         " is on a page that does not exist"};
     }
     placed.center_mm = Point(Member(tag, "center_mm"));
     const json& corners = Member(tag, "corners_mm");

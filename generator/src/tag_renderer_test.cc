@@ -13,7 +13,7 @@ TEST(TagRendererTest, RasterizedCellsCarryTheCodeInThePalettesShades) {
   for (int id : family->kept_ids()) {
     const RgbImage image = RasterizeTag(*family, id, colors, ppc);
     ASSERT_EQ(image.width, 10 * ppc);  // 6-cell black square + 2 x 2 quiet cells.
-    const int origin = 2 * ppc;         // Black square's top-left pixel edge.
+    const int origin = 2 * ppc;        // Black square's top-left pixel edge.
     auto expect_pixel = [&](int px, int py, Shade shade) {
       const uint8_t* p = image.At(px, py);
       const Rgb8 expected = palette.Srgb8(shade);
@@ -27,8 +27,8 @@ TEST(TagRendererTest, RasterizedCellsCarryTheCodeInThePalettesShades) {
       for (int col = 0; col < 4; ++col) {
         const bool bit = family->Bit(family->CodeOf(id), row, col);
         const bool red = family->CellColorAt(row, col) == CellColor::kRed;
-        const Shade shade = red ? (bit ? Shade::kRed1 : Shade::kRed0)
-                                : (bit ? Shade::kGreen1 : Shade::kGreen0);
+        const Shade shade =
+            red ? (bit ? Shade::kRed1 : Shade::kRed0) : (bit ? Shade::kGreen1 : Shade::kGreen0);
         // Every pixel of the cell, edges included: no seam, no blending.
         for (int y = 0; y < ppc; ++y) {
           for (int x = 0; x < ppc; ++x) {

@@ -56,7 +56,9 @@ struct RgbImage {
   int width = 0;
   int height = 0;
   std::vector<uint8_t> pixels;
-  const uint8_t* At(int x, int y) const { return &pixels[(static_cast<size_t>(y) * width + x) * 3]; }
+  const uint8_t* At(int x, int y) const {
+    return &pixels[(static_cast<size_t>(y) * width + x) * 3];
+  }
 };
 
 // Renders one tag with its quiet zone (and cut ring) to pixels, `pixels_per_cell`
