@@ -29,7 +29,8 @@ struct DetectOptions {
   std::string overlay_dir;
   std::string camera_file;
   std::string tag_size;
-  std::string config;  // Detector config file, e.g. from chromatag calibrate.
+  std::string config;     // Detector config file, e.g. from chromatag calibrate.
+  bool rejected = false;  // Report (JSON) and draw (overlay) rejected candidates.
   std::vector<std::string> inputs;
 };
 
@@ -106,14 +107,14 @@ class Runner {
         }
         detections.push_back(item);
       }
-      std::cout << nlohmann::json{{"file", file},
-                                  {"frame", frame_index},
-                                  {"width", frame.cols},
-                                  {"height", frame.rows},
-                                  {"time_us", result_.summary.total_time_us},
-                                  {"detections", detections}}
-                       .dump()
-                << "\n";
+      nlohmann::json line = {{"file", file},
+                             {"frame", frame_index},
+                             {"width", frame.cols},
+                             {"height", frame.rows},
+                             {"time_us", result_.summary.total_time_us},
+                             {"detections", detections}};
+      if (options_.rejected) line["rejected"] = Rejected(result_.rejected);
+      std::cout << line.dump() << "\n";
     } else {
       for (const Detection& d : result_.detections) {
         char line[256];
@@ -150,8 +151,23 @@ class Runner {
     return out;
   }
 
+  static nlohmann::json Rejected(const std::vector<RejectedCandidate>& rejected) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const RejectedCandidate& r : rejected) {
+      nlohmann::json outline = nlohmann::json::array();
+      for (const auto& p : r.outline) outline.push_back({p.x, p.y});
+      out.push_back({{"stage", StageName(r.stage)},
+                     {"reason", RejectReasonName(r.reason)},
+                     {"seed", {r.seed.x, r.seed.y}},
+                     {"centre", {r.centre.x, r.centre.y}},
+                     {"outline", outline}});
+    }
+    return out;
+  }
+
   void WriteOverlay(const std::string& file, int frame_index, const cv::Mat& frame) {
     cv::Mat canvas = frame.clone();
+    if (options_.rejected) DrawRejected(result_.rejected, &canvas);
     DrawDetections(result_.detections,
                    detector_.options().camera ? &*detector_.options().camera : nullptr,
                    detector_.options().tag_size, &canvas);
@@ -204,6 +220,7 @@ int RunDetect(const DetectOptions& options) {
   DetectorOptions detector_options;
   detector_options.families =
       options.family == "all" ? TagFamily::Names() : std::vector<std::string>{options.family};
+  detector_options.report_rejected = options.rejected;
   std::string error;
   if (!options.config.empty() && !LoadDetectorConfig(options.config, &detector_options, &error)) {
     std::cerr << "chromatag detect: " << error << "\n";
@@ -290,6 +307,9 @@ void RegisterDetect(CLI::App& app, Action* action) {
                       "Side of the black square, e.g. 40mm, for pose");
   command->add_option("--config", options->config,
                       "Detector config JSON (thresholds from 'chromatag calibrate')");
+  command->add_flag("--rejected", options->rejected,
+                    "Also report the rejected candidates (JSON: \"rejected\") and draw them on "
+                    "the overlays, coloured by the stage that rejected them");
   command->add_option("INPUT", options->inputs, "Image files, folders or video files")->required();
   command->callback([options, action] { *action = [options] { return RunDetect(*options); }; });
 }

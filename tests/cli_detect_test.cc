@@ -81,6 +81,32 @@ TEST(CliDetectTest, UnreadableInputsAreReportedSkippedAndFailTheRun) {
   EXPECT_NE(result.err.find("missing.png"), std::string::npos) << result.err;
 }
 
+// --rejected lists the candidates the detector abandoned (JSON) and draws them
+// on the overlay; without it neither appears. Smarties are red next to green.
+TEST(CliDetectTest, RejectedCandidatesInJsonAndOverlays) {
+  const std::string photo = "/usr/share/doc/opencv-doc/examples/data/smarties.png";
+  const std::string dir = ::testing::TempDir() + "/cli_detect_rejected";
+  std::system(("rm -rf '" + dir + "'").c_str());
+  const auto plain = Chromatag({"detect", "--json", "--overlay", dir + "/plain", photo});
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_FALSE(nlohmann::json::parse(plain.out).contains("rejected"));
+  const auto with =
+      Chromatag({"detect", "--json", "--rejected", "--overlay", dir + "/with", photo});
+  ASSERT_EQ(with.exit_code, 0) << with.err;
+  const auto frame = nlohmann::json::parse(with.out);
+  EXPECT_TRUE(frame["detections"].empty());
+  ASSERT_GT(frame["rejected"].size(), 5u);
+  const std::set<std::string> stages = {"InitialScan", "BuildPolygon", "PolyToQuad", "Decode"};
+  for (const auto& r : frame["rejected"]) {
+    EXPECT_EQ(stages.count(r["stage"].get<std::string>()), 1u) << r.dump();
+    EXPECT_FALSE(r["reason"].get<std::string>().empty());
+    EXPECT_GE(r["seed"][0].get<int>(), 0);
+    EXPECT_LT(r["seed"][0].get<int>(), frame["width"].get<int>());
+  }
+  EXPECT_NE(ReadFile(dir + "/plain/smarties_000000.png"),
+            ReadFile(dir + "/with/smarties_000000.png"));
+}
+
 TEST(CliDetectTest, BadUsageIsExitTwo) {
   const std::string dir = MakeSheet("usage");
   EXPECT_EQ(Chromatag({"detect", "--family", "25h9", dir + "/sheet.png"}).exit_code, 2);

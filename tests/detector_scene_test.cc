@@ -244,6 +244,62 @@ TEST(DetectorSceneTest, SwappedShadesNeverDecode) {
   }
 }
 
+// With report_rejected, a tag that fails (here: printed with swapped shades,
+// so it is refused at Decode) comes back as a rejected candidate lying on the
+// tag, with its stage, reason and outer quad; a red disc on a grey card is
+// rejected by InitialScan where it lies. Without the option nothing is kept.
+TEST(DetectorSceneTest, RejectedCandidatesSayWhereAndWhy) {
+  SceneTag tag;
+  tag.id = 3;
+  tag.swap_shades = true;
+  tag.black_square_px = 90;
+  tag.centre = {100, 120};
+  tag.rotation_deg = 20;
+  SceneOptions scene_options;
+  const Scene scene = RenderScene({tag}, scene_options);
+  cv::Mat bgr = scene.bgr.clone();
+  cv::circle(bgr, {250, 120}, 25, cv::Scalar(40, 40, 200), cv::FILLED);
+
+  DetectorOptions options;
+  options.report_rejected = true;
+  auto detector = Detector::Create(options);
+  const DetectionResult result = detector->Detect(bgr);
+  EXPECT_TRUE(result.detections.empty());
+  const TagTruth& truth = scene.truth[0];
+  const std::vector<cv::Point2f> square(truth.corners.begin(), truth.corners.end());
+  bool decode_on_tag = false, initial_on_disc = false;
+  for (const RejectedCandidate& r : result.rejected) {
+    EXPECT_EQ(r.stage, StageOf(r.reason));
+    if (r.stage == Stage::kDecode && cv::pointPolygonTest(square, r.centre, false) > 0) {
+      decode_on_tag = true;
+      ASSERT_EQ(r.outline.size(), 4u);
+      std::array<cv::Point2d, 4> outline;
+      for (int i = 0; i < 4; ++i) outline[i] = r.outline[i];
+      // The outer quad in the image's orientation: some rotation of the truth.
+      double best = 1e9;
+      for (int k = 0; k < 4; ++k) {
+        std::array<cv::Point2d, 4> turned;
+        for (int i = 0; i < 4; ++i) turned[i] = outline[(i + k) % 4];
+        best = std::min(best, MaxCornerError(turned, truth.corners));
+      }
+      EXPECT_LT(best, 1.0);
+    }
+    if (r.stage == Stage::kInitialScan && cv::norm(cv::Point2f(250, 120) - r.centre) < 25)
+      initial_on_disc = true;
+  }
+  EXPECT_TRUE(decode_on_tag);
+  EXPECT_TRUE(initial_on_disc);
+  int counted = 0;
+  for (int s = 1; s < kNumStages; ++s) counted += result.summary.rejected[s];
+  EXPECT_EQ(counted, static_cast<int>(result.rejected.size()));
+
+  options.report_rejected = false;
+  detector = Detector::Create(options);
+  const DetectionResult quiet = detector->Detect(bgr);
+  EXPECT_TRUE(quiet.rejected.empty());
+  EXPECT_EQ(quiet.summary.rejected, result.summary.rejected);
+}
+
 // Small tags (black squares of 22-30 px, cells of 3.7-5 px), blurred in linear
 // light and JPEG-compressed as a camera delivers them: the green and black
 // rings are too thin for M = 3 pixels past their borders, and need M - 1.

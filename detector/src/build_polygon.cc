@@ -60,11 +60,15 @@ bool AlreadyScanned(const std::vector<float>& angles, float angle) {
 
 }  // namespace
 
-bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate) {
+bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+                  RejectReason* why) {
   auto& outer = candidate->points[kBlackWhite];
   for (int scan = 0; scan < kMaxScans; ++scan) {
     const std::vector<cv::Point2f> hull = ClockwiseHull(outer);
-    if (hull.size() < 3) return false;
+    if (hull.size() < 3) {
+      *why = RejectReason::kPolygonScan;
+      return false;
+    }
     const double area = PolygonArea(hull);
     double perimeter = 0.0, potential = 0.0;
     double best_area = -1.0;
@@ -92,14 +96,19 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
     RingHits hits;
     candidate->scan_angles.push_back(best_angle);
     if (!ScanRings(image, options, candidate->centre, direction, candidate->reference_red, &hits)) {
+      *why = RejectReason::kPolygonScan;
       return false;
     }
     // A tag's border is convex: a new point well inside the polygon is not
     // on one.
-    if (DepthInside(hull, hits.border[kBlackWhite]) > 1.5 + 0.05 * std::sqrt(area)) return false;
+    if (DepthInside(hull, hits.border[kBlackWhite]) > 1.5 + 0.05 * std::sqrt(area)) {
+      *why = RejectReason::kNotConvex;
+      return false;
+    }
     for (int ring = 0; ring < kNumRings; ++ring)
       candidate->points[ring].push_back(hits.border[ring]);
   }
+  *why = RejectReason::kPolygonUnfinished;
   return false;
 }
 

@@ -142,7 +142,12 @@ Split SplitShades(const std::vector<float>& values) {
 }
 
 bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
-              const Candidate& candidate, const cv::Matx33d& image_from_tag, Detection* detection) {
+              const Candidate& candidate, const cv::Matx33d& image_from_tag, Detection* detection,
+              RejectReason* why) {
+  auto reject = [why](RejectReason reason) {
+    *why = reason;
+    return false;
+  };
   const TagFamily& family = *entry.family;
   const int d = family.payload_width();
   const int cells = family.black_square_cells();
@@ -167,10 +172,11 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
     }
   }
   // Every red cell must be clearly redder than every green one.
-  if (min_red_a - max_green_a < 0.5f * static_cast<float>(options.adiff_thresh)) return false;
+  if (min_red_a - max_green_a < 0.5f * static_cast<float>(options.adiff_thresh))
+    return reject(RejectReason::kWeakChroma);
   const Split red = SplitShades(red_b), green = SplitShades(green_b);
   const double margin = std::min(red.margin, green.margin);
-  if (margin < options.min_decision_margin) return false;
+  if (margin < options.min_decision_margin) return reject(RejectReason::kLowMargin);
 
   Code observed = 0;
   for (int row = 0; row < d; ++row) {
@@ -183,7 +189,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
     }
   }
   CodeMatch match;
-  if (!entry.decoder->Decode(observed, &match)) return false;
+  if (!entry.decoder->Decode(observed, &match)) return reject(RejectReason::kUnknownCode);
   // Correct only cells whose shade is in doubt. A cell read clearly as the
   // wrong shade is not noise: a tag printed with its shades swapped shows the
   // complement of its code, and for 16h5 that complement lies within two bits
@@ -192,11 +198,12 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   for (int cell = 0; cell < d * d; ++cell) {
     if (!((wrong >> (d * d - 1 - cell)) & 1u)) continue;
     const bool is_red = family.CellColorAt(cell / d, cell % d) == CellColor::kRed;
-    if (static_cast<int>((is_red ? red_b : green_b).size()) <= kMaxUncorrectableCells) return false;
+    if (static_cast<int>((is_red ? red_b : green_b).size()) <= kMaxUncorrectableCells)
+      return reject(RejectReason::kDoubtfulCorrection);
     const Split& split = is_red ? red : green;
     const double doubt =
         std::abs(colors[cell].b - split.threshold) / std::max(1e-6, split.half_gap);
-    if (doubt > kMaxCorrectedCellCertainty) return false;
+    if (doubt > kMaxCorrectedCellCertainty) return reject(RejectReason::kDoubtfulCorrection);
   }
 
   // The observation is the tag turned `rotation` quarter turns clockwise, so
@@ -233,7 +240,8 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
 
 bool Decode(const ImageView& image, const DetectorOptions& options,
             const std::vector<FamilyDecoder>& families, const Candidate& candidate,
-            Detection* detection) {
+            Detection* detection, RejectReason* why) {
+  *why = RejectReason::kNoFamilyFits;
   const cv::Matx33d image_from_tag = UnitSquareToQuad(candidate.quads[kBlackWhite]);
   // The ring proportions tell the families apart (red centre 2 of 6 cells for
   // 16h5, 4 of 8 for 36h11); try those that fit, best first.
@@ -248,8 +256,11 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
       std::swap(fits[j], fits[j - 1]);
   }
   for (size_t i = 0; i < n; ++i) {
-    if (DecodeAs(image, options, *fits[i].second, candidate, image_from_tag, detection))
+    // The first family's reason is kept: it fits the rings best.
+    RejectReason reason;
+    if (DecodeAs(image, options, *fits[i].second, candidate, image_from_tag, detection, &reason))
       return true;
+    if (i == 0) *why = reason;
   }
   return false;
 }

@@ -24,6 +24,57 @@ const char* StageName(Stage stage) {
   return "?";
 }
 
+const char* RejectReasonName(RejectReason reason) {
+  switch (reason) {
+    case RejectReason::kInRejectedRegion:
+      return "in rejected region";
+    case RejectReason::kPaleRed:
+      return "pale red";
+    case RejectReason::kNoRedGreenBorder:
+      return "no red/green border";
+    case RejectReason::kNotGreen:
+      return "not green past the red";
+    case RejectReason::kCentreNotRed:
+      return "centre not red";
+    case RejectReason::kNoConvergence:
+      return "centre did not converge";
+    case RejectReason::kRingScan:
+      return "ring scan failed";
+    case RejectReason::kRingProportions:
+      return "ring proportions";
+    case RejectReason::kPolygonScan:
+      return "polygon scan failed";
+    case RejectReason::kNotConvex:
+      return "not convex";
+    case RejectReason::kPolygonUnfinished:
+      return "polygon did not converge";
+    case RejectReason::kNoQuad:
+      return "no quad";
+    case RejectReason::kNotNested:
+      return "quads not nested";
+    case RejectReason::kRefineFailed:
+      return "sub-pixel sides failed";
+    case RejectReason::kNoFamilyFits:
+      return "no family fits";
+    case RejectReason::kWeakChroma:
+      return "weak red/green";
+    case RejectReason::kLowMargin:
+      return "low decision margin";
+    case RejectReason::kUnknownCode:
+      return "unknown code";
+    case RejectReason::kDoubtfulCorrection:
+      return "doubtful correction";
+  }
+  return "?";
+}
+
+Stage StageOf(RejectReason reason) {
+  if (reason <= RejectReason::kRingProportions) return Stage::kInitialScan;
+  if (reason <= RejectReason::kPolygonUnfinished) return Stage::kBuildPolygon;
+  if (reason <= RejectReason::kRefineFailed) return Stage::kPolyToQuad;
+  return Stage::kDecode;
+}
+
 struct Detector::Impl {
   DetectorOptions options;
   std::vector<internal::FamilyDecoder> families;
@@ -49,6 +100,33 @@ struct Scratch {
 Scratch& ThreadScratch() {
   thread_local Scratch scratch;
   return scratch;
+}
+
+// What a rejected candidate looked like when `stage` abandoned it (see
+// RejectedCandidate::outline).
+RejectedCandidate Rejection(const internal::Candidate& candidate, cv::Point seed,
+                            RejectReason reason) {
+  RejectedCandidate out;
+  out.stage = StageOf(reason);
+  out.reason = reason;
+  out.seed = seed;
+  out.centre = candidate.centre;
+  switch (out.stage) {
+    case Stage::kInitialScan:
+      out.outline = candidate.points[internal::kRedGreen];
+      break;
+    case Stage::kBuildPolygon:
+      out.outline = internal::ClockwiseHull(candidate.points[internal::kBlackWhite]);
+      break;
+    default:
+      if (reason == RejectReason::kNoQuad || reason == RejectReason::kNotNested) {
+        out.outline = internal::ClockwiseHull(candidate.points[internal::kBlackWhite]);
+      } else {
+        const internal::Quad& quad = candidate.quads[internal::kBlackWhite];
+        out.outline.assign(quad.begin(), quad.end());
+      }
+  }
+  return out;
 }
 
 // The accepted tag grown by one cell, so that FindADiff skips its quiet zone.
@@ -105,6 +183,7 @@ DetectionResult Detector::Detect(const cv::Mat& image, PixelOrder order) const {
 void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* result) const {
   const Clock::time_point frame_start = Clock::now();
   result->detections.clear();
+  result->rejected.clear();
   result->summary = DetectorSummary{};
   if (image.empty() || image.type() != CV_8UC3) return;
   const DetectorOptions& options = impl_->options;
@@ -115,6 +194,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   DetectorSummary& summary = result->summary;
 
   // Runs one stage, adding its time and counting a rejection.
+  RejectReason why = RejectReason::kPaleRed;
   auto run_stage = [&summary](Stage stage, auto&& body) {
     const Clock::time_point start = Clock::now();
     const bool passed = body();
@@ -135,15 +215,16 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       if (!run_stage(Stage::kInitialScan,
                      [&] {
                        return internal::InitialScan(view, options, seed, &candidate,
-                                                    &scratch.rejected);
+                                                    &scratch.rejected, &why);
                      }) ||
           !run_stage(Stage::kBuildPolygon,
-                     [&] { return internal::BuildPolygon(view, options, &candidate); }) ||
+                     [&] { return internal::BuildPolygon(view, options, &candidate, &why); }) ||
           !run_stage(Stage::kPolyToQuad,
-                     [&] { return internal::PolyToQuad(view, options, &candidate); }) ||
+                     [&] { return internal::PolyToQuad(view, options, &candidate, &why); }) ||
           !run_stage(Stage::kDecode, [&] {
-            return internal::Decode(view, options, impl_->families, candidate, &detection);
+            return internal::Decode(view, options, impl_->families, candidate, &detection, &why);
           })) {
+        if (options.report_rejected) result->rejected.push_back(Rejection(candidate, seed, why));
         continue;
       }
       if (options.camera && options.tag_size > 0) {

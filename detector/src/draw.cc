@@ -7,14 +7,25 @@
 
 namespace chromatag {
 
+namespace {
+
+// Drawn at 16x sub-pixel precision so that the lines sit on the corners.
+constexpr int kShift = 4;
+
+cv::Point Fixed(const cv::Point2d& p) {
+  return cv::Point(cvRound(p.x * (1 << kShift)), cvRound(p.y * (1 << kShift)));
+}
+
+int Thickness(const cv::Mat& canvas) {
+  return std::max(1, std::min(canvas.cols, canvas.rows) / 400);
+}
+
+}  // namespace
+
 void DrawDetections(const std::vector<Detection>& detections, const CameraIntrinsics* camera,
                     double tag_size, cv::Mat* canvas) {
-  // Drawn at 16x sub-pixel precision so that the lines sit on the corners.
-  constexpr int kShift = 4;
-  auto fixed = [](const cv::Point2d& p) {
-    return cv::Point(cvRound(p.x * (1 << kShift)), cvRound(p.y * (1 << kShift)));
-  };
-  const int thickness = std::max(1, std::min(canvas->cols, canvas->rows) / 400);
+  const auto fixed = Fixed;
+  const int thickness = Thickness(*canvas);
   for (const Detection& detection : detections) {
     for (int i = 0; i < 4; ++i) {
       cv::line(*canvas, fixed(detection.corners[i]), fixed(detection.corners[(i + 1) % 4]),
@@ -41,6 +52,27 @@ void DrawDetections(const std::vector<Detection>& detections, const CameraIntrin
                  cv::LINE_AA, kShift);
       }
     }
+  }
+}
+
+void DrawRejected(const std::vector<RejectedCandidate>& rejected, cv::Mat* canvas) {
+  const int thickness = Thickness(*canvas);
+  const cv::Scalar kStageColors[kNumStages] = {
+      {128, 128, 128}, {0, 140, 255}, {0, 230, 230}, {255, 0, 255}, {0, 0, 255}};
+  for (const RejectedCandidate& r : rejected) {
+    const cv::Scalar color = r.reason == RejectReason::kInRejectedRegion
+                                 ? kStageColors[0]
+                                 : kStageColors[static_cast<int>(r.stage)];
+    cv::circle(*canvas, Fixed(r.seed), (thickness + 1) << kShift, color, cv::FILLED, cv::LINE_AA,
+               kShift);
+    if (r.reason == RejectReason::kInRejectedRegion) continue;
+    for (size_t i = 0; i < r.outline.size(); ++i) {
+      cv::line(*canvas, Fixed(r.outline[i]), Fixed(r.outline[(i + 1) % r.outline.size()]), color,
+               thickness, cv::LINE_AA, kShift);
+    }
+    cv::putText(*canvas, RejectReasonName(r.reason),
+                cv::Point(cvRound(r.centre.x) + 4, cvRound(r.centre.y) - 4),
+                cv::FONT_HERSHEY_SIMPLEX, 0.35 * thickness, color, thickness, cv::LINE_AA);
   }
 }
 

@@ -36,19 +36,31 @@ bool RejectedRegion::Contains(cv::Point2f p) const {
 }
 
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
-                 Candidate* candidate, std::vector<RejectedRegion>* rejected) {
+                 Candidate* candidate, std::vector<RejectedRegion>* rejected, RejectReason* why) {
   cv::Point2f centre(static_cast<float>(seed.x), static_cast<float>(seed.y));
+  candidate->centre = centre;
+  for (auto& ring : candidate->points) ring.clear();
   // Red things that are not tags span many of FindADiff's rows, and each row
   // seeds them again: a seed inside a region already rejected in this frame
   // would be rejected again.
   if (rejected) {
-    for (const RejectedRegion& region : *rejected)
-      if (region.Contains(centre)) return false;
+    for (const RejectedRegion& region : *rejected) {
+      if (region.Contains(centre)) {
+        *why = RejectReason::kInRejectedRegion;
+        return false;
+      }
+    }
   }
   RejectedRegion region;
   bool have_region = false;
-  auto reject = [&]() {
+  std::array<cv::Point2f, 8> border;
+  // Leaves the last centre and red/green border in the candidate, for
+  // DetectionResult::rejected.
+  auto reject = [&](RejectReason reason) {
     if (rejected && have_region) rejected->push_back(region);
+    candidate->centre = centre;
+    if (have_region) candidate->points[kRedGreen].assign(border.begin(), border.end());
+    *why = reason;
     return false;
   };
   // The seed may sit on the blurred edge of the red; the reddest of it and
@@ -57,7 +69,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // A tag's red half-width is under half the frame unless the tag is larger
   // than the frame.
   const int reach = std::max(image.width(), image.height()) / 2;
-  if (reference_red < static_cast<float>(kMinTagRedA)) return reject();
+  if (reference_red < static_cast<float>(kMinTagRedA)) return reject(RejectReason::kPaleRed);
 
   // Re-centre on the centroid of the polygon of red/green border points
   // found in eight directions. The paper averages the four axis scans, but
@@ -69,7 +81,6 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     // The a* drop into a tag's green: at least ADiffThresh (the palettes'
     // reds and greens are 58 or more apart), less a fifth for blur and casts.
     const float min_drop = 0.8f * static_cast<float>(options.adiff_thresh);
-    std::array<cv::Point2f, 8> border;
     for (int i = 0; i < 8; ++i) {
       // Red -> green only: the a* drop of the full scan, without the rings.
       const cv::Point2f direction = kDirections[i];
@@ -78,7 +89,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       for (; k <= reach; ++k) {
         const cv::Point2f p = centre + static_cast<float>(k) * direction;
         const int x = RoundToInt(p.x), y = RoundToInt(p.y);
-        if (!image.Contains(x, y)) return reject();
+        if (!image.Contains(x, y)) return reject(RejectReason::kNoRedGreenBorder);
         const float a = image.A(x, y);
         if (reference_red - a > red_thresh) {
           deepest_a = std::min(deepest_a, a);
@@ -88,7 +99,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
           deepest_a = reference_red;
         }
       }
-      if (k > reach) return reject();
+      if (k > reach) return reject(RejectReason::kNoRedGreenBorder);
       // Past the border lies a tag's green, far less red than its red; on a
       // blurred edge the run may end on the slope, so look a few pixels on.
       // Most red things that are not tags (bricks, skin, wood) fade into
@@ -99,7 +110,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
         if (!image.Contains(x, y)) break;
         deepest_a = std::min(deepest_a, image.A(x, y));
       }
-      if (reference_red - deepest_a < min_drop) return reject();
+      if (reference_red - deepest_a < min_drop) return reject(RejectReason::kNotGreen);
       border[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
     }
     // Grown a little about its centre: the seeds of later rows lie on the
@@ -121,16 +132,17 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     }
     have_region = true;
     const cv::Point2f next = PolygonCentroid(border);
-    if (!(std::isfinite(next.x) && std::isfinite(next.y))) return reject();
+    if (!(std::isfinite(next.x) && std::isfinite(next.y)))
+      return reject(RejectReason::kNoRedGreenBorder);
     converged =
         std::abs(next.x - centre.x) < kConvergedPx && std::abs(next.y - centre.y) < kConvergedPx;
     centre = next;
     const int cx = RoundToInt(centre.x);
     const int cy = RoundToInt(centre.y);
-    if (!image.Contains(cx, cy)) return reject();
+    if (!image.Contains(cx, cy)) return reject(RejectReason::kCentreNotRed);
     const float centre_red = image.MeanA3x3(cx, cy);
     // The centre of a tag is red: if re-centring left the red, this is not one.
-    if (centre_red < reference_red - red_thresh) return reject();
+    if (centre_red < reference_red - red_thresh) return reject(RejectReason::kCentreNotRed);
     reference_red = centre_red;
     // After the first pass the centre lies well inside the red region, and a
     // tag shows all three rings from there in each axis direction (the final
@@ -141,20 +153,20 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       for (int i = 0; i < 8; i += 2) {
         RingHits hits;
         if (!ScanRings(image, options, centre, kDirections[i], reference_red, &hits))
-          return reject();
+          return reject(RejectReason::kRingScan);
       }
     }
   }
-  if (!converged) return reject();
+  if (!converged) return reject(RejectReason::kNoConvergence);
 
   candidate->centre = centre;
   candidate->reference_red = reference_red;
   candidate->scan_angles.clear();
-  for (auto& ring : candidate->points) ring.clear();
   for (int i = 0; i < 8; i += 2) {
     const cv::Point2f direction = kDirections[i];
     RingHits hits;
-    if (!ScanRings(image, options, centre, direction, reference_red, &hits)) return reject();
+    if (!ScanRings(image, options, centre, direction, reference_red, &hits))
+      return reject(RejectReason::kRingScan);
     for (int ring = 0; ring < kNumRings; ++ring)
       candidate->points[ring].push_back(hits.border[ring]);
     candidate->scan_angles.push_back(std::atan2(direction.y, direction.x));
@@ -168,9 +180,10 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
         cv::norm(candidate->points[kGreenBlack][i] - candidate->points[kRedGreen][i]);
     const float black =
         cv::norm(candidate->points[kBlackWhite][i] - candidate->points[kGreenBlack][i]);
-    if (green < 0.2f * red || green > 2.5f * red + 2.f) return reject();
-    if (black < 0.2f * red || black > 2.5f * red + 2.f) return reject();
-    if (black < 0.4f * green - 1.f || black > 2.5f * green + 1.f) return reject();
+    if (green < 0.2f * red || green > 2.5f * red + 2.f || black < 0.2f * red ||
+        black > 2.5f * red + 2.f || black < 0.4f * green - 1.f || black > 2.5f * green + 1.f) {
+      return reject(RejectReason::kRingProportions);
+    }
   }
   return true;
 }

@@ -127,16 +127,26 @@ bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
 
 }  // namespace
 
-bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate) {
+bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+                RejectReason* why) {
   for (int ring = 0; ring < kNumRings; ++ring) {
-    if (!FitQuad(candidate->points[ring], &candidate->quads[ring])) return false;
+    if (!FitQuad(candidate->points[ring], &candidate->quads[ring])) {
+      *why = RejectReason::kNoQuad;
+      return false;
+    }
   }
   // Nested, each ring smaller than the one outside it.
   const double outer = QuadArea(candidate->quads[kBlackWhite]);
   const double green = QuadArea(candidate->quads[kGreenBlack]);
   const double red = QuadArea(candidate->quads[kRedGreen]);
-  if (!(red < green && green < outer) || outer < 16.0) return false;
-  if (options.refine_corners && !RefineQuads(image, candidate)) return false;
+  if (!(red < green && green < outer) || outer < 16.0) {
+    *why = RejectReason::kNotNested;
+    return false;
+  }
+  if (options.refine_corners && !RefineQuads(image, candidate)) {
+    *why = RejectReason::kRefineFailed;
+    return false;
+  }
   return true;
 }
 

@@ -59,6 +59,8 @@ struct RowCursor {
   int next = 0;  // Next entry of `rises` to look at.
 };
 
+// Stages 2-5 return false and set *why when they abandon a candidate.
+
 // 1. FindADiff: advances along the cursor's row, sampling every N-th pixel,
 // to the next sample whose a* rises by more than ADiffThresh over the previous
 // sample of the row, skipping accepted areas. False at the row's end.
@@ -100,17 +102,19 @@ struct RejectedRegion {
 // (the frame's regions rejected so far), a seed inside one of them is dropped
 // at once, and a region rejected after a centring pass is added.
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
-                 Candidate* candidate, std::vector<RejectedRegion>* rejected = nullptr);
+                 Candidate* candidate, std::vector<RejectedRegion>* rejected, RejectReason* why);
 
 // 3. BuildPolygon: greedy scans towards the largest convexity-limited
 // potential area of the outer polygon until area / (area + potential) exceeds
 // ConvThresh. Every scan adds a point to each of the three polygons.
-bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate);
+bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+                  RejectReason* why);
 
 // 4. PolyToQuad: length-weighted k-means (K = 4) of each polygon's edge
 // directions, four lines, their intersections; then (if enabled)
 // RefineQuads for sub-pixel corners.
-bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate);
+bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+                RejectReason* why);
 
 // Sub-pixel corners: least-squares lines through edge points found along
 // each side of each ring (refine_corners.cc). False if a side has too few
@@ -128,7 +132,7 @@ struct FamilyDecoder {
 // up over all rotations and fills the detection in the decoded orientation.
 bool Decode(const ImageView& image, const DetectorOptions& options,
             const std::vector<FamilyDecoder>& families, const Candidate& candidate,
-            Detection* detection);
+            Detection* detection, RejectReason* why);
 
 // Geometry helpers (geometry.cc), unsigned areas in square pixels.
 double PolygonArea(const std::vector<cv::Point2f>& polygon);

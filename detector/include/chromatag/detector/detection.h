@@ -67,9 +67,55 @@ struct DetectorSummary {
   double pose_time_us = 0.0;  // Included in Decode's time.
 };
 
+// Why a stage abandoned a candidate.
+enum class RejectReason {
+  // InitialScan.
+  kInRejectedRegion = 0,  // The seed lies in a red region already rejected in this frame.
+  kPaleRed,               // The seed's a* is below kMinTagRedA.
+  kNoRedGreenBorder,      // A centring scan met no red/green border (or left the frame).
+  kNotGreen,              // Past the red/green border a* does not fall into a green.
+  kCentreNotRed,          // Re-centring left the red.
+  kNoConvergence,         // The centre did not settle.
+  kRingScan,              // A scan from the centre did not cross the three rings.
+  kRingProportions,       // The rings' widths are not a tag's.
+  // BuildPolygon.
+  kPolygonScan,        // A scan towards the largest potential area failed.
+  kNotConvex,          // A new border point lies well inside the polygon.
+  kPolygonUnfinished,  // Too many scans without converging.
+  // PolyToQuad.
+  kNoQuad,        // The polygons do not cluster into four sides.
+  kNotNested,     // The three quads are not nested, or the outer one is tiny.
+  kRefineFailed,  // A side found too few sub-pixel edge points, or a corner jumped.
+  // Decode.
+  kNoFamilyFits,       // The ring proportions fit no family looked for.
+  kWeakChroma,         // Some red cell is not clearly redder than every green one.
+  kLowMargin,          // The shades do not split clearly (decision margin).
+  kUnknownCode,        // The bits are no code of the family within the radius.
+  kDoubtfulCorrection  // A corrected bit's cell was clearly the other shade.
+};
+inline constexpr int kNumRejectReasons = 19;
+const char* RejectReasonName(RejectReason reason);  // "in rejected region", ...
+Stage StageOf(RejectReason reason);
+
+// A candidate some stage abandoned, for failure analysis and overlays (as
+// OpenCV's ArUco returns its rejected candidates). Reported only when
+// DetectorOptions::report_rejected is set.
+struct RejectedCandidate {
+  Stage stage = Stage::kInitialScan;
+  RejectReason reason = RejectReason::kPaleRed;
+  cv::Point seed;      // FindADiff's sample that started it.
+  cv::Point2f centre;  // InitialScan's last centre (the seed if it never moved).
+  // The outline known when it was abandoned, clockwise on screen: the outer
+  // quad from PolyToQuad on (Decode's rejections included), the hull of the
+  // outer border points in BuildPolygon, the red/green border points in
+  // InitialScan once a centring pass completed; empty before.
+  std::vector<cv::Point2f> outline;
+};
+
 struct DetectionResult {
   std::vector<Detection> detections;
   DetectorSummary summary;
+  std::vector<RejectedCandidate> rejected;  // Empty unless report_rejected.
 };
 
 }  // namespace chromatag

@@ -18,6 +18,13 @@ namespace chromatag {
 void DrawDetections(const std::vector<Detection>& detections, const CameraIntrinsics* camera,
                     double tag_size, cv::Mat* canvas);
 
+// Draws rejected candidates into `canvas` (8-bit BGR), coloured by the stage
+// that rejected them (InitialScan orange, BuildPolygon yellow, PolyToQuad
+// magenta, Decode red): the outline known at rejection, the seed as a dot, and
+// the reason beside it. Seeds dropped inside an already rejected region are
+// grey dots only.
+void DrawRejected(const std::vector<RejectedCandidate>& rejected, cv::Mat* canvas);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_DETECTOR_DRAW_H_

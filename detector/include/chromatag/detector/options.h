@@ -66,6 +66,10 @@ struct DetectorOptions {
   // the clustered polygon, about a pixel off; useful only to measure the gain.
   bool refine_corners = true;
 
+  // Report every rejected candidate (DetectionResult::rejected): where it
+  // was, which stage abandoned it and why. Off costs nothing.
+  bool report_rejected = false;
+
   // Pose (spec section 7): when both are set, every detection carries the
   // tag's pose in the camera frame. tag_size is the side of the black square
   // in metres (> 0); 0 means no pose.
