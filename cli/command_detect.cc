@@ -156,11 +156,14 @@ class Runner {
     for (const RejectedCandidate& r : rejected) {
       nlohmann::json outline = nlohmann::json::array();
       for (const auto& p : r.outline) outline.push_back({p.x, p.y});
-      out.push_back({{"stage", StageName(r.stage)},
-                     {"reason", RejectReasonName(r.reason)},
-                     {"seed", {r.seed.x, r.seed.y}},
-                     {"centre", {r.centre.x, r.centre.y}},
-                     {"outline", outline}});
+      nlohmann::json record = {{"stage", StageName(r.stage)},
+                               {"reason", RejectReasonName(r.reason)},
+                               {"seed", {r.seed.x, r.seed.y}},
+                               {"centre", {r.centre.x, r.centre.y}},
+                               {"outline", outline}};
+      // The second path's own reason, when it tried the candidate too.
+      if (r.grown) record["grow_reason"] = RejectReasonName(r.grow_reason);
+      out.push_back(std::move(record));
     }
     return out;
   }

@@ -289,9 +289,15 @@ TEST(DetectorSceneTest, RejectedCandidatesSayWhereAndWhy) {
   }
   EXPECT_TRUE(decode_on_tag);
   EXPECT_TRUE(initial_on_disc);
-  int counted = 0;
-  for (int s = 1; s < kNumStages; ++s) counted += result.summary.rejected[s];
+  // Every record was abandoned by one of Algorithm 1's stages; those the
+  // second path tried also count as GrowRegion rejections.
+  int counted = 0, grown = 0;
+  for (int s = 1; s < static_cast<int>(Stage::kGrowRegion); ++s) {
+    counted += result.summary.rejected[s];
+  }
+  for (const RejectedCandidate& r : result.rejected) grown += r.grown;
   EXPECT_EQ(counted, static_cast<int>(result.rejected.size()));
+  EXPECT_EQ(grown, result.summary.rejected[static_cast<int>(Stage::kGrowRegion)]);
 
   options.report_rejected = false;
   detector = Detector::Create(options);

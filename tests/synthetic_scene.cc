@@ -58,6 +58,72 @@ cv::Mat Background(const SceneOptions& options) {
   return bgr;
 }
 
+float SrgbToLinear(float v) {
+  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+float LinearToSrgb(float v) {
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
+}
+
+// SceneOptions::linear_camera: light, optics and sensor in linear values,
+// then the camera's tone curve.
+cv::Mat LinearCamera(const cv::Mat& bgr, const SceneOptions& options) {
+  cv::Mat f;
+  bgr.convertTo(f, CV_32FC3, 1.0 / 255);
+  const cv::Vec3f gain(static_cast<float>(options.exposure * options.gain[2]),
+                       static_cast<float>(options.exposure * options.gain[1]),
+                       static_cast<float>(options.exposure * options.gain[0]));
+  f.forEach<cv::Vec3f>([&](cv::Vec3f& p, const int*) {
+    for (int c = 0; c < 3; ++c) p[c] = SrgbToLinear(p[c]) * gain[c];
+  });
+  if (options.blur_sigma > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), options.blur_sigma);
+  cv::RNG rng(options.seed);
+  const float read = static_cast<float>(options.noise_sigma / 255.0);
+  const float shot = static_cast<float>(options.shot_noise);
+  auto noisy = [&](float v) {
+    const float sigma = std::sqrt(read * read + shot * shot * std::max(v, 0.f));
+    return std::clamp(v + static_cast<float>(rng.gaussian(sigma)), 0.f, 1.f);
+  };
+  if (options.demosaic == Demosaic::kNone) {
+    for (int y = 0; y < f.rows; ++y) {
+      for (int x = 0; x < f.cols; ++x) {
+        cv::Vec3f& p = f.at<cv::Vec3f>(y, x);
+        for (int c = 0; c < 3; ++c) p[c] = noisy(p[c]);
+      }
+    }
+  } else {
+    // RGGB: R at even rows and columns, B at odd ones (BGR channel indices).
+    cv::Mat raw(f.size(), CV_16UC1);
+    for (int y = 0; y < f.rows; ++y) {
+      for (int x = 0; x < f.cols; ++x) {
+        const int channel = (y % 2 == 0 && x % 2 == 0) ? 2 : (y % 2 == 1 && x % 2 == 1) ? 0 : 1;
+        raw.at<uint16_t>(y, x) =
+            static_cast<uint16_t>(std::lround(noisy(f.at<cv::Vec3f>(y, x)[channel]) * 65535.f));
+      }
+    }
+    // OpenCV names Bayer patterns by the second row's first two pixels: an
+    // RGGB sensor is its "BayerBG". Demosaiced on the linear raw values, as
+    // a camera's processor does.
+    cv::Mat demosaiced;
+    cv::cvtColor(
+        raw, demosaiced,
+        options.demosaic == Demosaic::kBilinear ? cv::COLOR_BayerBG2BGR : cv::COLOR_BayerBG2BGR_EA);
+    demosaiced.convertTo(f, CV_32FC3, 1.0 / 65535);
+  }
+  cv::Mat out(f.size(), CV_8UC3);
+  for (int y = 0; y < f.rows; ++y) {
+    for (int x = 0; x < f.cols; ++x) {
+      const cv::Vec3f& p = f.at<cv::Vec3f>(y, x);
+      for (int c = 0; c < 3; ++c)
+        out.at<cv::Vec3b>(y, x)[c] =
+            cv::saturate_cast<uint8_t>(255.f * std::pow(LinearToSrgb(std::clamp(p[c], 0.f, 1.f)),
+                                                        static_cast<float>(options.tone_gamma)));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options) {
@@ -77,7 +143,12 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
     if (!family) throw std::runtime_error(error);
     auto palette = BuiltinPalette(tag.palette, &error);
     if (!palette) throw std::runtime_error(error);
-    TagColors colors = TagColors::FromPalette(*palette);
+    Palette printed = *palette;
+    for (Shade shade : {Shade::kRed1, Shade::kRed0, Shade::kGreen1, Shade::kGreen0}) {
+      printed[shade].a *= tag.print_chroma;
+      printed[shade].b *= tag.print_chroma;
+    }
+    TagColors colors = TagColors::FromPalette(printed);
     if (tag.swap_shades) {
       std::swap(colors[Shade::kRed1], colors[Shade::kRed0]);
       std::swap(colors[Shade::kGreen1], colors[Shade::kGreen0]);
@@ -129,7 +200,9 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
     scene.truth.push_back(truth);
   }
   cv::resize(hi, scene.bgr, cv::Size(options.width, options.height), 0, 0, cv::INTER_AREA);
-  if (options.blur_sigma > 0 && options.blur_in_linear_light) {
+  if (options.linear_camera) {
+    scene.bgr = LinearCamera(scene.bgr, options);
+  } else if (options.blur_sigma > 0 && options.blur_in_linear_light) {
     // As a lens does: decode the sRGB curve, blur, encode again.
     cv::Mat f;
     scene.bgr.convertTo(f, CV_32FC3, 1.0 / 255);
@@ -147,7 +220,7 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
   } else if (options.blur_sigma > 0) {
     cv::GaussianBlur(scene.bgr, scene.bgr, cv::Size(0, 0), options.blur_sigma);
   }
-  if (options.gain != cv::Vec3d(1, 1, 1) || options.noise_sigma > 0) {
+  if (!options.linear_camera && (options.gain != cv::Vec3d(1, 1, 1) || options.noise_sigma > 0)) {
     cv::Mat f;
     scene.bgr.convertTo(f, CV_32FC3);
     cv::multiply(f, cv::Scalar(options.gain[2], options.gain[1], options.gain[0]), f);

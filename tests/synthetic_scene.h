@@ -29,6 +29,16 @@ struct SceneTag {
   std::string palette = "default";
   bool swap_shades = false;  // Print red-1 as red-0 and green-1 as green-0, and back.
   int quiet_zone_cells = 2;
+  // As printed: the four chromatic shades' a* and b* scaled by this (printers
+  // desaturate), in (0, 1].
+  double print_chroma = 1.0;
+};
+
+// How a colour camera's sensor is read out.
+enum class Demosaic {
+  kNone,       // Three values per pixel.
+  kBilinear,   // An RGGB Bayer mosaic, demosaiced bilinearly (OpenCV).
+  kEdgeAware,  // The same, demosaiced with OpenCV's edge-aware method.
 };
 
 struct SceneOptions {
@@ -44,6 +54,17 @@ struct SceneOptions {
   cv::Vec3d gain{1, 1, 1};  // Per-channel R, G, B multipliers: a colour cast.
   int jpeg_quality = 0;     // Encoded and decoded as JPEG last, 1-100 (0: not).
   unsigned seed = 1;
+  // A camera in linear light: when set, exposure, `gain`, blur and noise act
+  // on linear values (as light, optics and sensor do), an optional Bayer
+  // mosaic is demosaiced, and the sRGB curve is followed by the extra tone
+  // curve v^tone_gamma. noise_sigma is then in 8-bit units of the linear
+  // value at full scale (read noise), plus shot noise of `shot_noise` full
+  // scale at full scale (variance proportional to the signal).
+  bool linear_camera = false;
+  double exposure = 1.0;
+  double tone_gamma = 1.0;
+  double shot_noise = 0.0;
+  Demosaic demosaic = Demosaic::kNone;
 };
 
 struct TagTruth {

@@ -30,6 +30,14 @@ constexpr double kMaxCorrectedCellCertainty = 0.5;
 // red cell away from their complement, with margins and doubts no different
 // from true corrected reads.
 constexpr int kMaxUncorrectableCells = 4;
+// A code read with no bit wrong, in a family whose kept codes are at least
+// this many bits apart (36h11: 11), needs only this fraction of the decision
+// margin: to be a misread, that many cells would all have to fall on the
+// wrong side together. JPEG's 4:2:0 chroma and demosaicing pull cells next
+// to the other shade towards the split, which lowers the margin of
+// otherwise clean reads.
+constexpr int kExactReadMinHamming = 9;
+constexpr double kExactReadMarginFactor = 0.5;
 
 cv::Point2d Apply(const cv::Matx33d& h, double x, double y) {
   const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
@@ -176,7 +184,9 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
     return reject(RejectReason::kWeakChroma);
   const Split red = SplitShades(red_b), green = SplitShades(green_b);
   const double margin = std::min(red.margin, green.margin);
-  if (margin < options.min_decision_margin) return reject(RejectReason::kLowMargin);
+  const bool distant_codes = family.min_hamming() >= kExactReadMinHamming;
+  if (margin < options.min_decision_margin * (distant_codes ? kExactReadMarginFactor : 1.0))
+    return reject(RejectReason::kLowMargin);
 
   Code observed = 0;
   for (int row = 0; row < d; ++row) {
@@ -190,6 +200,8 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   }
   CodeMatch match;
   if (!entry.decoder->Decode(observed, &match)) return reject(RejectReason::kUnknownCode);
+  if (margin < options.min_decision_margin && match.hamming > 0)
+    return reject(RejectReason::kLowMargin);
   // Correct only cells whose shade is in doubt. A cell read clearly as the
   // wrong shade is not noise: a tag printed with its shades swapped shows the
   // complement of its code, and for 16h5 that complement lies within two bits

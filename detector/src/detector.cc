@@ -20,6 +20,8 @@ const char* StageName(Stage stage) {
       return "PolyToQuad";
     case Stage::kDecode:
       return "Decode";
+    case Stage::kGrowRegion:
+      return "GrowRegion";
   }
   return "?";
 }
@@ -64,6 +66,12 @@ const char* RejectReasonName(RejectReason reason) {
       return "unknown code";
     case RejectReason::kDoubtfulCorrection:
       return "doubtful correction";
+    case RejectReason::kRegionOpen:
+      return "red region open";
+    case RejectReason::kRegionNotQuad:
+      return "red region not a quad";
+    case RejectReason::kRegionNoRings:
+      return "no rings around the red";
   }
   return "?";
 }
@@ -72,7 +80,8 @@ Stage StageOf(RejectReason reason) {
   if (reason <= RejectReason::kRingProportions) return Stage::kInitialScan;
   if (reason <= RejectReason::kPolygonUnfinished) return Stage::kBuildPolygon;
   if (reason <= RejectReason::kRefineFailed) return Stage::kPolyToQuad;
-  return Stage::kDecode;
+  if (reason <= RejectReason::kDoubtfulCorrection) return Stage::kDecode;
+  return Stage::kGrowRegion;
 }
 
 struct Detector::Impl {
@@ -224,8 +233,26 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
           !run_stage(Stage::kDecode, [&] {
             return internal::Decode(view, options, impl_->families, candidate, &detection, &why);
           })) {
-        if (options.report_rejected) result->rejected.push_back(Rejection(candidate, seed, why));
-        continue;
+        RejectedCandidate rejection;
+        if (options.report_rejected) rejection = Rejection(candidate, seed, why);
+        const bool after_scan = StageOf(why) != Stage::kInitialScan;
+        bool grown = false;
+        if (candidate.enclosed && options.grow_regions) {
+          grown = run_stage(Stage::kGrowRegion, [&] {
+            return internal::GrowRegion(view, options, impl_->families, &candidate, &detection,
+                                        &why);
+          });
+          rejection.grown = true;
+          rejection.grow_reason = why;
+        }
+        if (!grown) {
+          // InitialScan remembers the regions it rejects; so are those the
+          // later stages reject, so that the seeds of later rows skip them.
+          if (candidate.enclosed && after_scan)
+            scratch.rejected.push_back(internal::RejectedRegion::Around(candidate.red_border));
+          if (options.report_rejected) result->rejected.push_back(std::move(rejection));
+          continue;
+        }
       }
       if (options.camera && options.tag_size > 0) {
         const Clock::time_point start = Clock::now();

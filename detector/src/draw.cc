@@ -57,8 +57,8 @@ void DrawDetections(const std::vector<Detection>& detections, const CameraIntrin
 
 void DrawRejected(const std::vector<RejectedCandidate>& rejected, cv::Mat* canvas) {
   const int thickness = Thickness(*canvas);
-  const cv::Scalar kStageColors[kNumStages] = {
-      {128, 128, 128}, {0, 140, 255}, {0, 230, 230}, {255, 0, 255}, {0, 0, 255}};
+  const cv::Scalar kStageColors[kNumStages] = {{128, 128, 128}, {0, 140, 255}, {0, 230, 230},
+                                               {255, 0, 255},   {0, 0, 255},   {255, 128, 0}};
   for (const RejectedCandidate& r : rejected) {
     const cv::Scalar color = r.reason == RejectReason::kInRejectedRegion
                                  ? kStageColors[0]

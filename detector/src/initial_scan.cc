@@ -23,6 +23,27 @@ constexpr int kGreenLookAhead = 6;
 
 }  // namespace
 
+RejectedRegion RejectedRegion::Around(const std::array<cv::Point2f, 8>& red_border) {
+  RejectedRegion region;
+  const cv::Point2f middle = PolygonCentroid(red_border);
+  for (int i = 0; i < 8; ++i) {
+    const cv::Point2f out = red_border[i] - middle;
+    const float length = std::sqrt(out.dot(out));
+    region.border[i] = length > 1e-3f && std::isfinite(length)
+                           ? red_border[i] + out * ((0.15f * length + 2.f) / length)
+                           : red_border[i];
+  }
+  region.min_x = region.max_x = region.border[0].x;
+  region.min_y = region.max_y = region.border[0].y;
+  for (const cv::Point2f& p : region.border) {
+    region.min_x = std::min(region.min_x, p.x);
+    region.max_x = std::max(region.max_x, p.x);
+    region.min_y = std::min(region.min_y, p.y);
+    region.max_y = std::max(region.max_y, p.y);
+  }
+  return region;
+}
+
 bool RejectedRegion::Contains(cv::Point2f p) const {
   if (p.x < min_x || p.x > max_x || p.y < min_y || p.y > max_y) return false;
   bool inside = false;  // Even-odd rule.
@@ -39,6 +60,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
                  Candidate* candidate, std::vector<RejectedRegion>* rejected, RejectReason* why) {
   cv::Point2f centre(static_cast<float>(seed.x), static_cast<float>(seed.y));
   candidate->centre = centre;
+  candidate->enclosed = false;
   for (auto& ring : candidate->points) ring.clear();
   // Red things that are not tags span many of FindADiff's rows, and each row
   // seeds them again: a seed inside a region already rejected in this frame
@@ -51,6 +73,9 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       }
     }
   }
+  // The seed may sit on the blurred edge of the red; the reddest of it and
+  // its neighbourhood is the better ReferenceRed.
+  float reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
   RejectedRegion region;
   bool have_region = false;
   std::array<cv::Point2f, 8> border;
@@ -59,13 +84,15 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   auto reject = [&](RejectReason reason) {
     if (rejected && have_region) rejected->push_back(region);
     candidate->centre = centre;
-    if (have_region) candidate->points[kRedGreen].assign(border.begin(), border.end());
+    candidate->reference_red = reference_red;
+    if (have_region) {
+      candidate->points[kRedGreen].assign(border.begin(), border.end());
+      candidate->enclosed = true;
+      candidate->red_border = border;
+    }
     *why = reason;
     return false;
   };
-  // The seed may sit on the blurred edge of the red; the reddest of it and
-  // its neighbourhood is the better ReferenceRed.
-  float reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
   // A tag's red half-width is under half the frame unless the tag is larger
   // than the frame.
   const int reach = std::max(image.width(), image.height()) / 2;
@@ -113,23 +140,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       if (reference_red - deepest_a < min_drop) return reject(RejectReason::kNotGreen);
       border[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
     }
-    // Grown a little about its centre: the seeds of later rows lie on the
-    // region's left edge, where the polygon's sides cut inside.
-    const cv::Point2f middle = PolygonCentroid(border);
-    for (int i = 0; i < 8; ++i) {
-      const cv::Point2f out = border[i] - middle;
-      const float length = std::sqrt(out.dot(out));
-      region.border[i] =
-          length > 1e-3f ? border[i] + out * ((0.15f * length + 2.f) / length) : border[i];
-    }
-    region.min_x = region.max_x = region.border[0].x;
-    region.min_y = region.max_y = region.border[0].y;
-    for (const cv::Point2f& p : region.border) {
-      region.min_x = std::min(region.min_x, p.x);
-      region.max_x = std::max(region.max_x, p.x);
-      region.min_y = std::min(region.min_y, p.y);
-      region.max_y = std::max(region.max_y, p.y);
-    }
+    region = RejectedRegion::Around(border);
     have_region = true;
     const cv::Point2f next = PolygonCentroid(border);
     if (!(std::isfinite(next.x) && std::isfinite(next.y)))
@@ -161,6 +172,8 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
 
   candidate->centre = centre;
   candidate->reference_red = reference_red;
+  candidate->enclosed = true;
+  candidate->red_border = border;
   candidate->scan_angles.clear();
   for (int i = 0; i < 8; i += 2) {
     const cv::Point2f direction = kDirections[i];

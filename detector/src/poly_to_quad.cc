@@ -9,7 +9,6 @@ namespace chromatag::internal {
 namespace {
 
 constexpr int kSides = 4;
-constexpr int kMaxIterations = 10;
 
 double AngleDistance(double a, double b) {
   const double d = std::fmod(std::abs(a - b), 2 * CV_PI);
@@ -58,64 +57,58 @@ Line FitSide(const std::vector<cv::Point2f>& hull, const std::vector<int>& label
   return {centroid, {std::cos(angle), std::sin(angle)}};
 }
 
-// Length-weighted k-means (K = 4) of the hull's edge directions, started
-// from the longest edge's direction and its three quarter turns. Angles wrap,
-// so the means are of unit vectors.
-bool ClusterEdges(const std::vector<cv::Point2f>& hull, std::vector<int>* label,
-                  std::array<double, kSides>* centre) {
-  const size_t n = hull.size();
-  std::vector<double> angle(n), weight(n);
-  size_t longest = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const cv::Point2f e = hull[(i + 1) % n] - hull[i];
-    angle[i] = std::atan2(e.y, e.x);
-    weight[i] = std::hypot(e.x, e.y);
-    if (weight[i] > weight[longest]) longest = i;
-  }
-  for (int k = 0; k < kSides; ++k) (*centre)[k] = angle[longest] + k * CV_PI / 2;
-  label->assign(n, 0);
-  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    bool changed = false;
-    for (size_t i = 0; i < n; ++i) {
-      int best = 0;
-      for (int k = 1; k < kSides; ++k) {
-        if (AngleDistance(angle[i], (*centre)[k]) < AngleDistance(angle[i], (*centre)[best]))
-          best = k;
+// The four corners of a convex hull (clockwise), as indices into it: vertices
+// are dropped one at a time, each time the one whose triangle with its two
+// neighbours is smallest (the least area lost), until four remain
+// (Visvalingam's simplification). The paper clusters edge directions with
+// k-means instead; started from four quarter turns, that fails on views
+// whose sides meet at 30 degrees or less (steep tilt with perspective).
+bool HullCorners(const std::vector<cv::Point2f>& hull, std::array<int, kSides>* corners) {
+  const int n = static_cast<int>(hull.size());
+  if (n < kSides) return false;
+  std::vector<int> kept(n);
+  for (int i = 0; i < n; ++i) kept[i] = i;
+  auto triangle = [&](int a, int b, int c) {
+    const cv::Point2f u = hull[b] - hull[a], v = hull[c] - hull[b];
+    return std::abs(static_cast<double>(u.x) * v.y - static_cast<double>(u.y) * v.x);
+  };
+  while (static_cast<int>(kept.size()) > kSides) {
+    const int m = static_cast<int>(kept.size());
+    int drop = 0;
+    double smallest = 1e300;
+    for (int i = 0; i < m; ++i) {
+      const double area = triangle(kept[(i + m - 1) % m], kept[i], kept[(i + 1) % m]);
+      if (area < smallest) {
+        smallest = area;
+        drop = i;
       }
-      changed |= (*label)[i] != best;
-      (*label)[i] = best;
     }
-    std::array<double, kSides> sx{}, sy{};
-    for (size_t i = 0; i < n; ++i) {
-      sx[(*label)[i]] += weight[i] * std::cos(angle[i]);
-      sy[(*label)[i]] += weight[i] * std::sin(angle[i]);
-    }
-    for (int k = 0; k < kSides; ++k) {
-      if (sx[k] == 0 && sy[k] == 0) return false;  // An empty side: not a quad.
-      (*centre)[k] = std::atan2(sy[k], sx[k]);
-    }
-    if (!changed && iteration > 0) break;
+    kept.erase(kept.begin() + drop);
   }
+  for (int k = 0; k < kSides; ++k) (*corners)[k] = kept[k];
   return true;
 }
+
+}  // namespace
 
 bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
   if (points.size() < 4) return false;
   const std::vector<cv::Point2f> hull = ClockwiseHull(points);
   if (hull.size() < 4) return false;
-  std::vector<int> label;
-  std::array<double, kSides> centre;
-  if (!ClusterEdges(hull, &label, &centre)) return false;
-  // Sides in clockwise order: increasing angle (y points down).
-  std::array<int, kSides> order = {0, 1, 2, 3};
-  auto unwrapped = [&](int k) {
-    double a = centre[k] - centre[0];
-    while (a < 0) a += 2 * CV_PI;
-    return a;
-  };
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return unwrapped(a) < unwrapped(b); });
+  std::array<int, kSides> corners;
+  if (!HullCorners(hull, &corners)) return false;
+  // Hull edge i (from vertex i to i + 1) lies on side k when it lies between
+  // corners k and k + 1; sides run clockwise like the hull.
+  const int n = static_cast<int>(hull.size());
+  std::vector<int> label(n);
   std::array<Line, kSides> sides;
-  for (int s = 0; s < kSides; ++s) sides[s] = FitSide(hull, label, order[s], centre[order[s]]);
+  for (int k = 0; k < kSides; ++k) {
+    for (int i = corners[k]; i != corners[(k + 1) % kSides]; i = (i + 1) % n) label[i] = k;
+  }
+  for (int k = 0; k < kSides; ++k) {
+    const cv::Point2f along = hull[corners[(k + 1) % kSides]] - hull[corners[k]];
+    sides[k] = FitSide(hull, label, k, std::atan2(along.y, along.x));
+  }
   for (int s = 0; s < kSides; ++s) {
     const Line& a = sides[s];
     const Line& b = sides[(s + 1) % kSides];
@@ -124,8 +117,6 @@ bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
   }
   return IsConvexClockwise(*quad);
 }
-
-}  // namespace
 
 bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
                 RejectReason* why) {

@@ -64,9 +64,9 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
 // levels around the edge found, not around the current line, keeps them on
 // the plateaus when the line is still a pixel or two off (on small cells),
 // so one pass already lands on the edge.
-bool EdgePoint(const ImageView& image, const ChannelWeights& channel, cv::Point2d middle,
-               cv::Point2d outward, double half, double level_offset, float min_contrast,
-               cv::Point2d* edge) {
+bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
+               cv::Point2d middle, cv::Point2d outward, double half, double level_offset,
+               float min_contrast, cv::Point2d* edge) {
   const int steps = std::min(kMaxProfileSteps, static_cast<int>(std::ceil(half / kProfileStep)));
   const int n = 2 * steps + 1;
   const float mx = static_cast<float>(middle.x), my = static_cast<float>(middle.y);
@@ -81,12 +81,16 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, cv::Point2
   int steepest = 1;
   float steepest_change = -1.f;
   for (int i = 1; i + 1 < n; ++i) {
-    const float change = std::abs(profile[i + 1] - profile[i - 1]);
+    // Only steps the right way round count: the next ring's edge, a cell
+    // away, is often steeper (black/white beside green/black).
+    const float step = profile[i + 1] - profile[i - 1];
+    const float change = polarity == 0 ? std::abs(step) : polarity * step;
     if (change > steepest_change) {
       steepest_change = change;
       steepest = i;
     }
   }
+  if (!(steepest_change > 0.f)) return false;
   const double centre = (steepest - steps) * kProfileStep;
   float inside = 0, outside = 0;
   const cv::Point2d in = middle + (centre - level_offset) * outward;
@@ -111,9 +115,14 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, cv::Point2
   return true;
 }
 
-// `max_half` bounds the search either side of the current line, in pixels.
-bool RefineQuad(const ImageView& image, const ChannelWeights& channel, float min_contrast,
-                double cell, int max_samples, double max_half, Quad* quad) {
+}  // namespace
+
+bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
+  const ChannelWeights& channel = search.channel;
+  const float min_contrast = search.min_contrast;
+  const double cell = search.cell;
+  const int max_samples = search.max_samples;
+  const double max_half = search.max_half;
   double mean_length = 0;
   for (int i = 0; i < 4; ++i) mean_length += 0.25 * cv::norm((*quad)[(i + 1) % 4] - (*quad)[i]);
   std::array<Line, 4> sides;
@@ -136,8 +145,8 @@ bool RefineQuad(const ImageView& image, const ChannelWeights& channel, float min
       // Keep clear of the corners, where the neighbouring side interferes.
       const double t = 0.12 + 0.76 * j / (samples - 1);
       cv::Point2d edge;
-      if (EdgePoint(image, channel, p + t * (q - p), outward, half, level_offset, min_contrast,
-                    &edge)) {
+      if (EdgePoint(image, channel, search.polarity, p + t * (q - p), outward, half, level_offset,
+                    min_contrast, &edge)) {
         points.push_back(edge);
       }
     }
@@ -151,23 +160,20 @@ bool RefineQuad(const ImageView& image, const ChannelWeights& channel, float min
     if (!IntersectLines(a.point, a.direction, b.point, b.direction, &refined[i])) return false;
     // The refinement moves corners by the scans' error, about a pixel; a large
     // move means a side locked onto another edge.
-    if (cv::norm(refined[i] - (*quad)[i]) > std::max(2.0, 0.75 * cell)) return false;
+    if (cv::norm(refined[i] - (*quad)[i]) > std::max(2.0, search.max_move_cells * cell)) {
+      return false;
+    }
   }
   if (!IsConvexClockwise(refined)) return false;
   *quad = refined;
   return true;
 }
 
-}  // namespace
-
 bool RefineQuads(const ImageView& image, Candidate* candidate) {
   // One cell: the width of the black ring, between the outer and green quads.
   const double cell = 0.5 * (std::sqrt(QuadArea(candidate->quads[kBlackWhite])) -
                              std::sqrt(QuadArea(candidate->quads[kGreenBlack])));
   if (!(cell > 1.0)) return false;
-  // Contrast floors in encoded 8-bit units (gray is the sum of three).
-  constexpr float kMinGrayContrast = 30.f;
-  constexpr float kMinRedGreenContrast = 20.f;
   // The outer border gives the reported corners and the homography. Edge
   // points do not depend on the line they were searched from (EdgePoint), so
   // one pass usually lands; another, in a narrower window, only when the
@@ -181,7 +187,7 @@ bool RefineQuads(const ImageView& image, Candidate* candidate) {
     // The first pass searches up to 4 px either side (the polygon's corners
     // can be that far off); later ones only around the last lines.
     const double max_half = pass == 0 ? 4.0 : 1.5;
-    if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 20, max_half,
+    if (!RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, max_half},
                     &candidate->quads[kBlackWhite]))
       return false;
     double moved = 0;
@@ -189,9 +195,10 @@ bool RefineQuads(const ImageView& image, Candidate* candidate) {
       moved = std::max(moved, cv::norm(candidate->quads[kBlackWhite][i] - before[i]));
     if (moved < kSettledPx) break;
   }
-  if (!RefineQuad(image, kGray, kMinGrayContrast, cell, 10, 2.5, &candidate->quads[kGreenBlack]))
+  if (!RefineQuad(image, {kGray, kFallsOutwards, kMinGrayContrast, cell, 10, 2.5},
+                  &candidate->quads[kGreenBlack]))
     return false;
-  if (!RefineQuad(image, kRedMinusGreen, kMinRedGreenContrast, cell, 10, 2.5,
+  if (!RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, 2.5},
                   &candidate->quads[kRedGreen]))
     return false;
   return true;

@@ -38,6 +38,11 @@ struct Candidate {
   std::array<std::vector<cv::Point2f>, kNumRings> points;
   std::vector<float> scan_angles;  // Directions already scanned, radians.
   std::array<Quad, kNumRings> quads;
+  // The red/green border points of InitialScan's last completed centring
+  // pass, in eight directions from `centre`: a red region enclosed by
+  // far less red. `enclosed` is false until a pass completed.
+  bool enclosed = false;
+  std::array<cv::Point2f, 8> red_border;
 };
 
 // An accepted detection's area, which FindADiff skips.
@@ -57,6 +62,12 @@ struct RowCursor {
   const int* rises = nullptr;  // Sample indices i with a coarse rise from i - 1.
   int num_rises = 0;
   int next = 0;  // Next entry of `rises` to look at.
+};
+
+// A family the detector looks for, with its decoder.
+struct FamilyDecoder {
+  std::shared_ptr<const TagFamily> family;
+  std::unique_ptr<CodeDecoder> decoder;
 };
 
 // Stages 2-5 return false and set *why when they abandon a candidate.
@@ -94,6 +105,10 @@ struct RejectedRegion {
   std::array<cv::Point2f, 8> border;
   float min_x = 0, max_x = 0, min_y = 0, max_y = 0;
   bool Contains(cv::Point2f p) const;
+  // The region of a centring pass's red/green border points, grown a little
+  // about its centre: the seeds of later rows lie on the region's left edge,
+  // where the polygon's sides cut inside.
+  static RejectedRegion Around(const std::array<cv::Point2f, 8>& red_border);
 };
 
 // 2. InitialScan: scans left, right, up and down from the seed to the
@@ -116,16 +131,52 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
 bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
                 RejectReason* why);
 
+// The second path (grow_region.cc), for a candidate InitialScan found
+// enclosed but the stages above lost: grows the red region on a* from the
+// centre (threshold halfway to the green around it), fits its four sides,
+// places each family's green and black rings from the red and fits them on
+// their edges, then Decode. Overwrites the candidate's quads and red/green
+// points.
+bool GrowRegion(const ImageView& image, const DetectorOptions& options,
+                const std::vector<FamilyDecoder>& families, Candidate* candidate,
+                Detection* detection, RejectReason* why);
+
 // Sub-pixel corners: least-squares lines through edge points found along
 // each side of each ring (refine_corners.cc). False if a side has too few
 // edge points to fit.
 bool RefineQuads(const ImageView& image, Candidate* candidate);
 
-// A family the detector looks for, with its decoder.
-struct FamilyDecoder {
-  std::shared_ptr<const TagFamily> family;
-  std::unique_ptr<CodeDecoder> decoder;
+// Four sides from the convex hull of `points` (length-weighted k-means of
+// the hull's edge directions, a line fitted per side) and their corners,
+// clockwise. False if they do not make a convex quad.
+bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad);
+
+// Contrast floors for side searches in encoded 8-bit units (gray is the sum
+// of three channels).
+inline constexpr float kMinGrayContrast = 30.f;
+inline constexpr float kMinRedGreenContrast = 20.f;
+// Across each ring's border, outwards: black to white rises in gray, green
+// to black falls, red to green falls in R - G.
+inline constexpr int kRisesOutwards = 1;
+inline constexpr int kFallsOutwards = -1;
+
+// How RefineQuad looks for one ring's sides.
+struct SideSearch {
+  ChannelWeights channel;  // kGray for the black ring's borders, kRedMinusGreen for red/green.
+  // Whether the channel rises (+1) or falls (-1) outwards across the edge.
+  int polarity = 0;
+  float min_contrast = kMinGrayContrast;  // Smallest step between the two levels.
+  double cell = 0;        // Cell size in pixels: the levels are read half a cell either side.
+  int max_samples = 10;   // Profiles per side (at most; about one per 2 px).
+  double max_half = 2.5;  // Search either side of the current line, pixels.
+  double max_move_cells = 0.75;  // A corner moving farther (and over 2 px) fails the fit.
 };
+
+// Moves the sides of `quad` onto the edge of `search.channel` nearest to
+// them: sub-pixel edge points on short profiles across each side, a robust
+// line per side, corners where they meet. False (quad untouched) if a side
+// has too few edge points, a corner jumps or the result is not convex.
+bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad);
 
 // 5. Decode: picks the family whose ring proportions match, reads every
 // payload cell in b*, splits each colour at its own midpoint, looks the code

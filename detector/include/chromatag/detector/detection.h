@@ -50,10 +50,13 @@ struct Detection {
   TagPose pose;
 };
 
-// Algorithm 1's stages, in order.
-enum class Stage { kFindADiff = 0, kInitialScan, kBuildPolygon, kPolyToQuad, kDecode };
-inline constexpr int kNumStages = 5;
-const char* StageName(Stage stage);  // "FindADiff", ...
+// Algorithm 1's stages, in order, then the second path: a candidate whose red
+// is enclosed by green but which the sparse scans lost has its red region
+// grown pixel by pixel, its rings placed from the red and fitted on their
+// edges, and is decoded again (DetectorOptions::grow_regions).
+enum class Stage { kFindADiff = 0, kInitialScan, kBuildPolygon, kPolyToQuad, kDecode, kGrowRegion };
+inline constexpr int kNumStages = 6;
+const char* StageName(Stage stage);  // "FindADiff", ..., "GrowRegion"
 
 struct DetectorSummary {
   // Wall time spent in each stage, microseconds. FindADiff is the frame's
@@ -87,22 +90,32 @@ enum class RejectReason {
   kNotNested,     // The three quads are not nested, or the outer one is tiny.
   kRefineFailed,  // A side found too few sub-pixel edge points, or a corner jumped.
   // Decode.
-  kNoFamilyFits,       // The ring proportions fit no family looked for.
-  kWeakChroma,         // Some red cell is not clearly redder than every green one.
-  kLowMargin,          // The shades do not split clearly (decision margin).
-  kUnknownCode,        // The bits are no code of the family within the radius.
-  kDoubtfulCorrection  // A corrected bit's cell was clearly the other shade.
+  kNoFamilyFits,        // The ring proportions fit no family looked for.
+  kWeakChroma,          // Some red cell is not clearly redder than every green one.
+  kLowMargin,           // The shades do not split clearly (decision margin).
+  kUnknownCode,         // The bits are no code of the family within the radius.
+  kDoubtfulCorrection,  // A corrected bit's cell was clearly the other shade.
+  // GrowRegion (then Decode's reasons).
+  kRegionOpen,     // The red region is not enclosed: it grew out of its window.
+  kRegionNotQuad,  // The red region's outline is not a quadrilateral.
+  kRegionNoRings,  // No family's green and black rings were found around it.
 };
-inline constexpr int kNumRejectReasons = 19;
+inline constexpr int kNumRejectReasons = 22;
 const char* RejectReasonName(RejectReason reason);  // "in rejected region", ...
+// The stage of Algorithm 1 a reason belongs to (GrowRegion's own three map to
+// kGrowRegion; it also fails with Decode's).
 Stage StageOf(RejectReason reason);
 
 // A candidate some stage abandoned, for failure analysis and overlays (as
 // OpenCV's ArUco returns its rejected candidates). Reported only when
 // DetectorOptions::report_rejected is set.
 struct RejectedCandidate {
+  // Where Algorithm 1's stages abandoned it.
   Stage stage = Stage::kInitialScan;
   RejectReason reason = RejectReason::kPaleRed;
+  // Whether GrowRegion tried it too, and why that failed.
+  bool grown = false;
+  RejectReason grow_reason = RejectReason::kRegionOpen;
   cv::Point seed;      // FindADiff's sample that started it.
   cv::Point2f centre;  // InitialScan's last centre (the seed if it never moved).
   // The outline known when it was abandoned, clockwise on screen: the outer

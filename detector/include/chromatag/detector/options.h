@@ -58,13 +58,21 @@ struct DetectorOptions {
   int max_hamming = -1;
 
   // Smallest accepted decision margin: the gap between the two b* clusters of
-  // a colour relative to their spread, dimensionless. [0, inf).
+  // a colour relative to their spread, dimensionless. [0, inf). A code read
+  // with no bit wrong in a family whose codes are at least 9 bits apart
+  // (36h11) needs half of it.
   double min_decision_margin = 2.0;
 
   // Sub-pixel corners (PolyToQuad's second half): least-squares lines through
   // edge points found along each side, intersected. Off gives the corners of
   // the clustered polygon, about a pixel off; useful only to measure the gain.
   bool refine_corners = true;
+
+  // The second path (Stage::kGrowRegion): a candidate whose red is enclosed
+  // by green but which the sparse scans lose is grown pixel by pixel and
+  // fitted on its edges. Costs time only where such candidates exist; off
+  // gives the paper's Algorithm 1 alone.
+  bool grow_regions = true;
 
   // Report every rejected candidate (DetectionResult::rejected): where it
   // was, which stage abandoned it and why. Off costs nothing.

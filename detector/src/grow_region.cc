@@ -1,0 +1,239 @@
+// The second path: for a candidate whose red InitialScan found enclosed by
+// far less red, but which the sparse scans then lost (thin or blurred rings,
+// steep views, chroma smeared by JPEG or demosaicing), the red region is grown
+// on a* pixel by pixel, its outline fitted with four sides, and the outer
+// borders placed from the tag's own proportions and fitted on their edges.
+// Then the same Decode. It runs only where such candidates exist.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "stages.h"
+
+namespace chromatag::internal {
+namespace {
+
+// The region is grown on a grid of about this many steps across the red's
+// half-width: enough for an outline that the side fits then refine at full
+// resolution, and a bounded cost on large tags.
+constexpr float kGridStepsPerRedHalfWidth = 8.f;
+// The window the black square may grow in: the scans' red/green border
+// points pushed out from the centre by this factor (16h5's black square is 3
+// times its red, 36h11's twice; then the quiet zone), plus a margin. A region
+// that reaches the window's edge is not a tag's (it leaked).
+constexpr float kWindowReach = 4.5f;
+constexpr int kWindowMarginPx = 4;
+// Where the green is read past the scans' red/green border, as a fraction of
+// the distance from the centre (inside the green ring for both families).
+constexpr float kGreenProbe = 0.25f;
+// The region darker than the quiet zone: below this fraction of the way from
+// the lighter of the red and green to the quiet zone's white.
+constexpr float kDarkFraction = 0.45f;
+// The quiet zone must be at least this much lighter than the red and green,
+// L* units.
+constexpr float kMinWhiteGap = 8.f;
+constexpr int kMinOutlinePoints = 8;
+
+struct Grid {
+  int x0 = 0, y0 = 0;  // Image position of cell (0, 0).
+  int step = 1;
+  int width = 0, height = 0;
+  cv::Point Pixel(int i, int j) const { return {x0 + i * step, y0 + j * step}; }
+};
+
+float Median(float* values, int n) {
+  std::nth_element(values, values + n / 2, values + n);
+  return values[n / 2];
+}
+
+// The lightness of the red and green (the lighter of the two) and of the
+// quiet zone, from profiles outwards from the scans' red/green border
+// points: past the border the profile darkens into the black ring, then
+// lightens into the quiet zone.
+bool RingLevels(const ImageView& image, const Candidate& candidate, float* chroma_l,
+                float* white_l) {
+  std::array<float, 8> green, white;
+  int num_green = 0, num_white = 0;
+  const cv::Point2f c = candidate.centre;
+  const float red_l = image.L(RoundToInt(c.x), RoundToInt(c.y));
+  for (const cv::Point2f& b : candidate.red_border) {
+    const cv::Point2f probe = b + kGreenProbe * (b - c);
+    if (!image.Contains(RoundToInt(probe.x), RoundToInt(probe.y))) continue;
+    green[num_green++] = image.L(RoundToInt(probe.x), RoundToInt(probe.y));
+  }
+  if (num_green < 4) return false;
+  *chroma_l = std::max(red_l, Median(green.data(), num_green));
+  const float dark = *chroma_l - std::max(6.f, 0.25f * *chroma_l);
+  for (const cv::Point2f& b : candidate.red_border) {
+    const cv::Point2f out = b - c;
+    const float r = std::sqrt(out.dot(out));
+    if (!(r > 0.5f)) continue;
+    const cv::Point2f u = out / r;
+    const int steps = static_cast<int>(kWindowReach * r) + kWindowMarginPx;
+    bool in_black = false;
+    float lightest = -1.f;
+    int light_until = 0;
+    for (int k = 0; k <= steps; ++k) {
+      const cv::Point2f p = b + static_cast<float>(k) * u;
+      const int x = RoundToInt(p.x), y = RoundToInt(p.y);
+      if (!image.Contains(x, y)) break;
+      const float l = image.L(x, y);
+      if (!in_black) {
+        in_black = l < dark;
+      } else if (lightest < 0.f && l > *chroma_l + kMinWhiteGap) {
+        lightest = l;  // Entered the quiet zone: its lightest within half a red.
+        light_until = k + static_cast<int>(0.5f * r) + 2;
+      } else if (lightest >= 0.f) {
+        if (k > light_until) break;
+        lightest = std::max(lightest, l);
+      }
+    }
+    if (lightest >= 0.f) white[num_white++] = lightest;
+  }
+  if (num_white < 4) return false;
+  *white_l = Median(white.data(), num_white);
+  return *white_l - *chroma_l >= kMinWhiteGap;
+}
+
+// Grows the region of grid cells for which `inside` holds, 4-connected, from
+// `start`. Returns its outline (cells with a neighbour outside) in image
+// pixels, or false if it reaches the window's edge or is too small.
+template <typename Inside>
+bool Grow(const Grid& grid, cv::Point start, Inside&& inside, std::vector<cv::Point2f>* outline) {
+  thread_local std::vector<uint8_t> state;  // 0 unseen, 1 in, 2 out, 3 queued.
+  thread_local std::vector<int> queue;
+  state.assign(static_cast<size_t>(grid.width) * grid.height, 0);
+  queue.clear();
+  auto test = [&](int i, int j) {
+    uint8_t& s = state[static_cast<size_t>(j) * grid.width + i];
+    if (s == 0) s = inside(grid.Pixel(i, j)) ? 1 : 2;
+    return s != 2;
+  };
+  if (start.x < 0 || start.y < 0 || start.x >= grid.width || start.y >= grid.height ||
+      !test(start.x, start.y))
+    return false;
+  queue.push_back(start.y * grid.width + start.x);
+  state[queue.back()] = 3;
+  outline->clear();
+  for (size_t head = 0; head < queue.size(); ++head) {
+    const int i = queue[head] % grid.width, j = queue[head] / grid.width;
+    if (i == 0 || j == 0 || i == grid.width - 1 || j == grid.height - 1) return false;
+    bool edge = false;
+    const int neighbours[4][2] = {{i + 1, j}, {i - 1, j}, {i, j + 1}, {i, j - 1}};
+    for (const auto& n : neighbours) {
+      const size_t index = static_cast<size_t>(n[1]) * grid.width + n[0];
+      if (state[index] == 3) continue;
+      if (test(n[0], n[1])) {
+        state[index] = 3;
+        queue.push_back(static_cast<int>(index));
+      } else {
+        edge = true;
+      }
+    }
+    if (edge) outline->push_back(cv::Point2f(grid.Pixel(i, j)));
+  }
+  return static_cast<int>(outline->size()) >= kMinOutlinePoints;
+}
+
+cv::Matx33d UnitSquareTo(const Quad& quad) {
+  const cv::Point2f src[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  cv::Point2f dst[4];
+  for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(quad[i]);
+  return cv::Matx33d(cv::getPerspectiveTransform(src, dst));
+}
+
+Quad SquareThrough(const cv::Matx33d& image_from_tag, double lo, double hi) {
+  const double corners[4][2] = {{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}};
+  Quad quad;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Vec3d p = image_from_tag * cv::Vec3d(corners[i][0], corners[i][1], 1.0);
+    quad[i] = cv::Point2d(p[0] / p[2], p[1] / p[2]);
+  }
+  return quad;
+}
+
+// Places the green/black and red/green borders of a tag of `family` inside
+// the outer quad, from the family's proportions, and fits each on its edge.
+bool PlaceInnerRings(const ImageView& image, const TagFamily& family, Candidate* candidate) {
+  const double cells = family.black_square_cells();
+  const cv::Matx33d from_outer = UnitSquareTo(candidate->quads[kBlackWhite]);
+  const double cell = std::sqrt(QuadArea(candidate->quads[kBlackWhite])) / cells;
+  const double half = std::max(1.5, 0.35 * cell);
+  Quad green = SquareThrough(from_outer, 1 / cells, 1 - 1 / cells);
+  Quad red = SquareThrough(from_outer, 2 / cells, 1 - 2 / cells);
+  bool g = RefineQuad(image, {kGray, kFallsOutwards, kMinGrayContrast, cell, 10, half}, &green);
+  bool r = RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, half},
+                      &red);
+  if (!g || !r) return false;
+  candidate->quads[kGreenBlack] = green;
+  candidate->quads[kRedGreen] = red;
+  return true;
+}
+
+}  // namespace
+
+bool GrowRegion(const ImageView& image, const DetectorOptions& options,
+                const std::vector<FamilyDecoder>& families, Candidate* candidate,
+                Detection* detection, RejectReason* why) {
+  *why = RejectReason::kRegionNoRings;
+  if (!candidate->enclosed) return false;
+  float chroma_l = 0.f, white_l = 0.f;
+  if (!RingLevels(image, *candidate, &chroma_l, &white_l)) return false;
+
+  // The window: the scans' red/green border points pushed outwards.
+  const cv::Point2f c = candidate->centre;
+  float min_x = 1e30f, min_y = 1e30f, max_x = -1e30f, max_y = -1e30f, half_width = 0.f;
+  for (const cv::Point2f& b : candidate->red_border) {
+    const cv::Point2f p = c + kWindowReach * (b - c);
+    min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
+    half_width += 0.125f * static_cast<float>(cv::norm(b - c));
+  }
+  Grid grid;
+  grid.step = std::max(1, static_cast<int>(half_width / kGridStepsPerRedHalfWidth));
+  grid.x0 = std::max(0, static_cast<int>(min_x) - kWindowMarginPx);
+  grid.y0 = std::max(0, static_cast<int>(min_y) - kWindowMarginPx);
+  const int x1 = std::min(image.width() - 1, static_cast<int>(max_x) + kWindowMarginPx);
+  const int y1 = std::min(image.height() - 1, static_cast<int>(max_y) + kWindowMarginPx);
+  grid.width = (x1 - grid.x0) / grid.step + 1;
+  grid.height = (y1 - grid.y0) / grid.step + 1;
+  if (grid.width < 3 || grid.height < 3) return false;
+
+  // The black square is everything darker than its quiet zone: the red, the
+  // green and the black ring alike, whatever the light.
+  *why = RejectReason::kRegionOpen;
+  const float threshold = chroma_l + kDarkFraction * (white_l - chroma_l);
+  const cv::Point start(RoundToInt((c.x - grid.x0) / grid.step),
+                        RoundToInt((c.y - grid.y0) / grid.step));
+  std::vector<cv::Point2f>& outline = candidate->points[kBlackWhite];
+  if (!Grow(
+          grid, start, [&](cv::Point p) { return image.L(p.x, p.y) < threshold; }, &outline))
+    return false;
+
+  *why = RejectReason::kRegionNotQuad;
+  Quad outer;
+  if (!FitQuad(outline, &outer)) return false;
+  const double red_area = PolygonArea({candidate->red_border.begin(), candidate->red_border.end()});
+  const double ratio = QuadArea(outer) / std::max(1.0, red_area);
+  if (ratio < 2.5 || ratio > 16.0) return false;
+  const double cell = std::sqrt(QuadArea(outer)) / 8.0;  // Either family: refined next.
+  if (!RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, grid.step + 1.5, 1.0},
+                  &outer) ||
+      !RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, 1.5}, &outer))
+    return false;
+  candidate->quads[kBlackWhite] = outer;
+
+  *why = RejectReason::kRegionNoRings;
+  for (const FamilyDecoder& entry : families) {
+    if (!PlaceInnerRings(image, *entry.family, candidate)) continue;
+    // Decode tells the families apart by the rings' proportions, which now
+    // follow this family's.
+    if (Decode(image, options, families, *candidate, detection, why)) return true;
+  }
+  return false;
+}
+
+}  // namespace chromatag::internal
