@@ -22,10 +22,17 @@ namespace {
 constexpr float kGridStepsPerRedHalfWidth = 8.f;
 // The window the black square may grow in: the scans' red/green border
 // points pushed out from the centre by this factor (16h5's black square is 3
-// times its red, 36h11's twice; then the quiet zone), plus a margin. A region
+// times its red, 36h11's twice; then the quiet zone; and on small blurred
+// tags the points fall up to halfway inside the red), plus a margin. A region
 // that reaches the window's edge is not a tag's (it leaked).
-constexpr float kWindowReach = 4.5f;
+constexpr float kWindowReach = 7.f;
 constexpr int kWindowMarginPx = 4;
+// The grown black square's area over the area inside the scans' red/green
+// border points: 9 for 16h5 and 4 for 36h11 when the points are on the
+// border, up to about 25 on small blurred tags, whose red a* peaks in the
+// middle and drops by a third well inside the true border.
+constexpr double kMinAreaRatio = 2.5;
+constexpr double kMaxAreaRatio = 40.0;
 // Where the green is read past the scans' red/green border, as a fraction of
 // the distance from the centre (inside the green ring for both families).
 constexpr float kGreenProbe = 0.25f;
@@ -218,7 +225,7 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
   if (!FitQuad(outline, &outer)) return false;
   const double red_area = PolygonArea({candidate->red_border.begin(), candidate->red_border.end()});
   const double ratio = QuadArea(outer) / std::max(1.0, red_area);
-  if (ratio < 2.5 || ratio > 16.0) return false;
+  if (ratio < kMinAreaRatio || ratio > kMaxAreaRatio) return false;
   const double cell = std::sqrt(QuadArea(outer)) / 8.0;  // Either family: refined next.
   if (!RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, grid.step + 1.5, 1.0},
                   &outer) ||
