@@ -1,7 +1,9 @@
 // tag_comparison: ChromaTag against AprilTag 3 and OpenCV ArUco on the same
-// rendered frames (issue 7). `make bench` runs it; see docs/benchmarks.md.
+// rendered frames (issues 7 and 10). `make bench` runs it on both data sets;
+// see docs/benchmarks.md.
 //
-//   tag_comparison [--frames N | --quick] [--seed S] [--threads T] [--out DIR]
+//   tag_comparison [--set classic|camera] [--detectors all|chromatag]
+//                  [--frames N | --quick] [--seed S] [--threads T] [--out DIR]
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -75,6 +77,7 @@ bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetector
       if (easy != (shown == 0)) continue;
       cv::Mat tile = frame.bgr.clone();
       for (int d = 0; d < kNumDetectors; ++d) {
+        if (!detectors[d]) continue;
         std::vector<FoundTag> found;
         detectors[d]->Detect(frame.bgr, &found);
         for (const FoundTag& tag : found) DrawQuad(tile, tag.corners, colors[d], 2);
@@ -82,9 +85,10 @@ bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetector
       DrawQuad(tile, frame.truth.chromatag.corners, cv::Scalar(255, 255, 255), 1);
       DrawQuad(tile, frame.truth.apriltag.corners, cv::Scalar(255, 255, 255), 1);
       std::ostringstream label;
-      label << ConditionName(frame.truth.condition) << "  frame " << i << "  ID "
-            << frame.truth.chromatag.id << "  size "
-            << static_cast<int>(frame.truth.chromatag.size_px) << " px  angle "
+      label << (frame.truth.kind == DatasetKind::kCamera ? frame.truth.cast
+                                                         : ConditionName(frame.truth.condition))
+            << "  " << frame.truth.family << "  frame " << i << "  ID " << frame.truth.chromatag.id
+            << "  size " << static_cast<int>(frame.truth.chromatag.size_px) << " px  angle "
             << static_cast<int>(frame.truth.chromatag.view_angle_deg) << " deg";
       cv::putText(tile, label.str(), {8, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {0, 0, 0}, 3,
                   cv::LINE_AA);
@@ -105,7 +109,19 @@ bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetector
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set (issue 7)"};
+  CLI::App app{
+      "ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set (issues 7, 10)"};
+  std::string set = "classic", which_detectors = "all";
+  app.add_option("--set", set,
+                 "data set: classic (16h5, kind conditions, issue 7) or camera (16h5 and 36h11, "
+                 "as hard as real cameras, issue 10)")
+      ->check(CLI::IsMember({"classic", "camera"}))
+      ->capture_default_str();
+  app.add_option("--detectors", which_detectors,
+                 "all three, or chromatag alone (quick detector iteration; targets relative to "
+                 "AprilTag then read n/a)")
+      ->check(CLI::IsMember({"all", "chromatag"}))
+      ->capture_default_str();
   DatasetOptions dataset_options;
   RunOptions run_options;
   run_options.render_threads = std::max(1u, std::thread::hardware_concurrency());
@@ -126,8 +142,27 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   std::string label;
   app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help.
+    std::cerr << "tag_comparison: error: " << e.what() << " (see tag_comparison --help)\n";
+    return 2;
+  }
   if (quick && app.count("--frames") == 0) dataset_options.num_frames = 400;
+  // The set's own defaults, with what was given on the command line.
+  const DatasetKind kind = *ParseDatasetKind(set);
+  {
+    DatasetOptions given = dataset_options;
+    dataset_options = DatasetOptions::ForKind(kind);
+    dataset_options.num_frames = given.num_frames;
+    dataset_options.seed = given.seed;
+    dataset_options.photo_dir = given.photo_dir;
+  }
+  const std::vector<std::string> families = kind == DatasetKind::kCamera
+                                                ? std::vector<std::string>{"16h5", "36h11"}
+                                                : std::vector<std::string>{"16h5"};
+  const bool all_detectors = which_detectors == "all";
 
   // Every detector on one thread, OpenCV's own pool included (ArUco would
   // otherwise spread over the cores); rendering threads are ours.
@@ -139,13 +174,16 @@ int main(int argc, char** argv) {
     std::cerr << "tag_comparison: " << error << "\n";
     return 2;
   }
-  auto chromatag = ChromaTagDetector::Create(&error);
+  auto chromatag = ChromaTagDetector::Create(families, &error);
   if (!chromatag) {
     std::cerr << "tag_comparison: " << error << "\n";
     return 1;
   }
-  auto apriltag = MakeAprilTagDetector();
-  auto aruco = MakeArucoDetector();
+  std::unique_ptr<TagDetector> apriltag, aruco;
+  if (all_detectors) {
+    apriltag = MakeAprilTagDetector(families, &error);
+    aruco = MakeArucoDetector(families, &error);
+  }
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) {
@@ -153,21 +191,23 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  std::cerr << "tag_comparison: " << dataset_options.num_frames << " frames, seed "
-            << dataset_options.seed << ", " << run_options.render_threads << " rendering threads\n";
+  std::cerr << "tag_comparison: " << set << " set, " << dataset_options.num_frames
+            << " frames, seed " << dataset_options.seed << ", " << run_options.render_threads
+            << " rendering threads\n";
   RunTimes times;
   const std::string load_before = LoadAverage();
   const bool terminal = isatty(STDERR_FILENO);
   int reported = 0;
-  const auto records = RunComparison(
-      *dataset, *chromatag, *apriltag, *aruco, run_options, &times, [&](int done, int total) {
-        if (terminal) {
-          std::cerr << "\r  " << done << " / " << total << " frames" << std::flush;
-        } else if (done * 10 / total > reported || done == total) {
-          reported = done * 10 / total;
-          std::cerr << "  " << done << " / " << total << " frames\n";
-        }
-      });
+  const auto records = RunComparison(*dataset, *chromatag, apriltag.get(), aruco.get(), run_options,
+                                     &times, [&](int done, int total) {
+                                       if (terminal) {
+                                         std::cerr << "\r  " << done << " / " << total << " frames"
+                                                   << std::flush;
+                                       } else if (done * 10 / total > reported || done == total) {
+                                         reported = done * 10 / total;
+                                         std::cerr << "  " << done << " / " << total << " frames\n";
+                                       }
+                                     });
   if (terminal) std::cerr << "\n";
 
   ReportInfo info;
@@ -183,6 +223,7 @@ int main(int argc, char** argv) {
   info.dataset = dataset_options;
   info.photos = dataset->photos();
   info.times = times;
+  info.active = {true, all_detectors, all_detectors};
   std::string markdown;
   if (!WriteReport(records, info, out_dir, &markdown, &error)) {
     std::cerr << "tag_comparison: " << error << "\n";
