@@ -76,7 +76,8 @@ inline constexpr std::array<int, 4> kAprilTagCornerOrder = {3, 2, 1, 0};
 // OpenCV 4.6 ArUco: clockwise from its own corner 0, but its DICT_APRILTAG_*
 // codes are stored turned by 180 degrees against libapriltag's pictures, so
 // on a printed AprilTag corner 0 is the bottom-right (a known OpenCV issue,
-// opencv/opencv-python#1195, fixed for OpenCV 5).
+// opencv/opencv-python#1195, fixed for OpenCV 5). DICT_APRILTAG_36h11 is
+// turned the same way.
 inline constexpr std::array<int, 4> kArucoCornerOrder = {2, 3, 0, 1};
 // libapriltag puts pixel centres at half-integer coordinates (its corners
 // come out +0.5 px in x and y against OpenCV's convention); this is
