@@ -4,9 +4,13 @@
 //
 //   tag_comparison [--set classic|camera] [--detectors all|chromatag]
 //                  [--frames N | --quick] [--seed S] [--threads T] [--out DIR]
+//                  [--dump-misses DIR]
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <unistd.h>
+
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -106,6 +110,79 @@ bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetector
   return cv::imwrite(path, montage, {cv::IMWRITE_JPEG_QUALITY, 88});
 }
 
+nlohmann::json CornersJson(const std::array<cv::Point2d, 4>& corners) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : corners) out.push_back({p.x, p.y});
+  return out;
+}
+
+nlohmann::json TagJson(const TagTruth& tag) {
+  return {{"id", tag.id},
+          {"size_px", tag.size_px},
+          {"view_angle_deg", tag.view_angle_deg},
+          {"corners", CornersJson(tag.corners)}};
+}
+
+// The frame's truth, how it was made, and what the detectors did with it.
+nlohmann::json MissJson(const FrameRecord& record) {
+  const FrameTruth& t = record.truth;
+  nlohmann::json detectors = nlohmann::json::object();
+  const char* keys[kNumDetectors] = {"chromatag", "apriltag", "aruco"};
+  for (int d = 0; d < kNumDetectors; ++d) {
+    const DetectorRecord& r = record.detectors[d];
+    if (!r.ran) continue;
+    detectors[keys[d]] = {{"found", r.score.found},
+                          {"detections", r.num_found},
+                          {"false_positives", r.score.false_positives},
+                          {"wrong_ids", r.score.wrong_ids},
+                          {"time_us", r.time_us}};
+  }
+  return {{"index", t.index},
+          {"set", DatasetKindName(t.kind)},
+          {"family", t.family},
+          {"quiet_zone_cells", t.quiet_zone_cells},
+          {"chromatag", TagJson(t.chromatag)},
+          {"apriltag", TagJson(t.apriltag)},
+          {"photo", t.photo},
+          {"conditions",
+           {{"cast", t.cast},
+            {"exposure", t.exposure},
+            {"gradient", t.gradient},
+            {"tone_gamma", t.tone_gamma},
+            {"print_chroma", t.print_chroma},
+            {"blur_sigma_px", t.blur_sigma_px},
+            {"motion_blur_px", t.motion_blur_px},
+            {"noise_sigma_8bit", t.noise_sigma},
+            {"shot_snr", t.shot_snr},
+            {"read_noise", t.read_noise},
+            {"bayer", BayerModeName(t.bayer)},
+            {"jpeg_quality", t.jpeg_quality}}},
+          {"table_4b",
+           {{"stage", MissStageName(record.chromatag_miss.stage)},
+            {"reason", record.chromatag_miss.reason},
+            {"candidates_on_tag", record.chromatag_miss.candidates}}},
+          {"detectors", detectors}};
+}
+
+// Writes each frame whose tag ChromaTag missed as frame_NNNNNN.png and
+// frame_NNNNNN.json (rendered again: frames are a function of the index).
+bool DumpMisses(const Dataset& dataset, const std::vector<FrameRecord>& records,
+                const std::string& dir, int* written) {
+  *written = 0;
+  for (const FrameRecord& record : records) {
+    if (!record.truth.has_tags || record.detectors[kChromaTag].score.found) continue;
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d", record.truth.index);
+    const std::string stem = dir + "/" + name;
+    if (!cv::imwrite(stem + ".png", dataset.Render(record.truth.index).bgr)) return false;
+    std::ofstream json(stem + ".json");
+    json << MissJson(record).dump(2) << "\n";
+    if (!json) return false;
+    ++*written;
+  }
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -140,8 +217,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--out", out_dir, "folder for report.md, the PNG figures and frames.csv")
       ->capture_default_str();
-  std::string label;
+  std::string label, dump_dir;
   app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
+  app.add_option("--dump-misses", dump_dir,
+                 "also write each frame whose tag ChromaTag missed to this folder, as PNG with a "
+                 "JSON of its truth and Table 4(b)'s reason");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -184,11 +264,13 @@ int main(int argc, char** argv) {
     apriltag = MakeAprilTagDetector(families, &error);
     aruco = MakeArucoDetector(families, &error);
   }
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) {
-    std::cerr << "tag_comparison: cannot create " << out_dir << ": " << ec.message() << "\n";
-    return 1;
+  for (const std::string& dir : {out_dir, dump_dir}) {
+    std::error_code ec;
+    if (!dir.empty()) std::filesystem::create_directories(dir, ec);
+    if (ec) {
+      std::cerr << "tag_comparison: cannot create " << dir << ": " << ec.message() << "\n";
+      return 1;
+    }
   }
 
   std::cerr << "tag_comparison: " << set << " set, " << dataset_options.num_frames
@@ -232,6 +314,14 @@ int main(int argc, char** argv) {
   if (!WriteExamples(*dataset, {chromatag.get(), apriltag.get(), aruco.get()},
                      out_dir + "/examples.jpg")) {
     std::cerr << "tag_comparison: could not write " << out_dir << "/examples.jpg\n";
+  }
+  if (!dump_dir.empty()) {
+    int written = 0;
+    if (!DumpMisses(*dataset, records, dump_dir, &written)) {
+      std::cerr << "tag_comparison: could not write the missed frames to " << dump_dir << "\n";
+      return 1;
+    }
+    std::cerr << "tag_comparison: " << written << " missed frames written to " << dump_dir << "\n";
   }
   std::cout << markdown << "\nWritten to " << out_dir << "/report.md\n";
   return 0;

@@ -11,6 +11,7 @@
 #include "chromatag/bench/competitors.h"
 #include "chromatag/bench/dataset.h"
 #include "chromatag/bench/metrics.h"
+#include "chromatag/bench/miss_analysis.h"
 #include "chromatag/bench/plot.h"
 #include "chromatag/families/family.h"
 
@@ -433,6 +434,59 @@ TEST(MetricsTest, ScoreFrame) {
   s = ScoreFrame({right}, nullptr, nullptr);
   EXPECT_FALSE(s.found);
   EXPECT_EQ(s.false_positives, 1);
+}
+
+TEST(MissAnalysisTest, OuterBorderGrowsByTheQuietZone) {
+  TagTruth truth;
+  truth.corners = Square(100, 100, 60);
+  const Quad outer = OuterBorder(truth, 6, 2);  // 2 cells of 10 px.
+  EXPECT_NEAR(outer[0].x, 80, 1e-6);
+  EXPECT_NEAR(outer[0].y, 80, 1e-6);
+  EXPECT_NEAR(outer[2].x, 180, 1e-6);
+  EXPECT_NEAR(outer[2].y, 180, 1e-6);
+}
+
+TEST(MissAnalysisTest, DeepestStageOnTheTagWins) {
+  TagTruth truth;
+  truth.family = "16h5";
+  truth.id = 3;
+  truth.corners = Square(100, 100, 60);
+  DetectionResult result;
+  MissCause cause = AssignMiss(result, truth, 6, 1);
+  EXPECT_TRUE(cause.analysed);
+  EXPECT_EQ(cause.stage, static_cast<int>(Stage::kFindADiff));
+  EXPECT_EQ(cause.reason, kNoCandidate);
+
+  auto rejected = [](RejectReason reason, cv::Point seed, cv::Point2f centre) {
+    RejectedCandidate r;
+    r.stage = StageOf(reason);
+    r.reason = reason;
+    r.seed = seed;
+    r.centre = centre;
+    return r;
+  };
+  // Off the tag (seed and centre beyond the 1-cell quiet zone): ignored,
+  // however deep.
+  result.rejected.push_back(rejected(RejectReason::kLowMargin, {300, 300}, {300, 300}));
+  // On the tag: by its seed, by its centre only, and in the quiet zone.
+  result.rejected.push_back(rejected(RejectReason::kRingScan, {130, 130}, {500, 500}));
+  result.rejected.push_back(rejected(RejectReason::kNotNested, {20, 20}, {128.5f, 131.0f}));
+  result.rejected.push_back(rejected(RejectReason::kNoQuad, {95, 130}, {95, 130}));
+  cause = AssignMiss(result, truth, 6, 1);
+  EXPECT_EQ(cause.stage, static_cast<int>(Stage::kPolyToQuad));
+  EXPECT_EQ(cause.reason, RejectReasonName(RejectReason::kNotNested));  // Later in the list.
+  EXPECT_EQ(cause.candidates, 3);
+  EXPECT_EQ(MissStageName(cause.stage), "PolyToQuad");
+
+  // A detection on the tag with another ID outranks every rejection.
+  Detection wrong;
+  wrong.id = 4;
+  wrong.corners = Square(101, 100, 60);
+  result.detections.push_back(wrong);
+  cause = AssignMiss(result, truth, 6, 1);
+  EXPECT_EQ(cause.stage, kNumStages);
+  EXPECT_EQ(cause.reason, kReportedWrongId);
+  EXPECT_EQ(MissStageName(cause.stage), "reported");
 }
 
 TEST(MetricsTest, PercentileAndBins) {

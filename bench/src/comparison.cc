@@ -93,6 +93,14 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       }
     }
     local.detect_s += Seconds(detect_start, Clock::now());
+    const auto analysis_start = Clock::now();
+    for (int i = 0; i < count; ++i) {
+      FrameRecord& record = records[first + i];
+      if (record.truth.has_tags && !record.detectors[kChromaTag].score.found) {
+        record.chromatag_miss = chromatag.ExplainMiss(frames[i].bgr, record.truth);
+      }
+    }
+    local.analysis_s += Seconds(analysis_start, Clock::now());
     if (progress) progress(first + count, total);
   }
   if (times) *times = local;

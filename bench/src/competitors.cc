@@ -139,7 +139,8 @@ std::unique_ptr<TagDetector> MakeArucoDetector(const std::vector<std::string>& f
 
 struct ChromaTagDetector::Impl {
   std::unique_ptr<Detector> detector;
-  DetectionResult result;
+  std::unique_ptr<Detector> reporting;  // The same, with report_rejected on.
+  DetectionResult result, analysis;
   const std::string name = "ChromaTag";
 };
 
@@ -154,6 +155,9 @@ std::unique_ptr<ChromaTagDetector> ChromaTagDetector::Create(
   options.families = families;
   impl->detector = Detector::Create(options, error);
   if (!impl->detector) return nullptr;
+  options.report_rejected = true;
+  impl->reporting = Detector::Create(options, error);
+  if (!impl->reporting) return nullptr;
   return std::unique_ptr<ChromaTagDetector>(new ChromaTagDetector(std::move(impl)));
 }
 
@@ -172,5 +176,13 @@ void ChromaTagDetector::Detect(const cv::Mat& bgr, std::vector<FoundTag>* found)
 }
 
 const DetectorSummary& ChromaTagDetector::last_summary() const { return impl_->result.summary; }
+
+MissCause ChromaTagDetector::ExplainMiss(const cv::Mat& bgr, const FrameTruth& truth) {
+  impl_->reporting->Detect(bgr, PixelOrder::kBgr, &impl_->analysis);
+  const auto family = TagFamily::Load(truth.family);
+  CV_Assert(truth.has_tags && family);
+  return AssignMiss(impl_->analysis, truth.chromatag, family->black_square_cells(),
+                    truth.quiet_zone_cells);
+}
 
 }  // namespace chromatag::bench

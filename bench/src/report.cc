@@ -11,11 +11,10 @@
 
 #include "chromatag/bench/comparison.h"
 #include "chromatag/bench/plot.h"
+#include "report_util.h"
 
 namespace chromatag::bench {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Bins of Figure 9: tag size (sqrt of the black square's area) and viewing angle.
 const Bins kSizeBins{10.0, 10.0, 20};  // 10-210 px.
 const Bins kAngleBins{0.0, 5.0, 16};   // 0-80 degrees.
@@ -26,67 +25,6 @@ constexpr int kMinTrialsPerPoint = 5;
 
 const std::array<std::array<double, 3>, kNumDetectors> kColors = {
     {{0.84, 0.15, 0.16}, {0.12, 0.47, 0.71}, {0.17, 0.63, 0.17}}};
-
-std::string Fixed(double value, int digits) {
-  if (std::isnan(value)) return "–";
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
-// Thousands separated by a thin space: 12 345.
-std::string Grouped(double value) {
-  if (std::isnan(value)) return "–";
-  std::string digits = std::to_string(static_cast<long long>(std::llround(value)));
-  const bool negative = !digits.empty() && digits[0] == '-';
-  if (negative) digits.erase(0, 1);
-  std::string out;
-  for (size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) out += "\u2009";
-    out += digits[i];
-  }
-  return negative ? "-" + out : out;
-}
-
-std::string Percent(double numerator, double denominator, int digits = 1) {
-  return denominator > 0 ? Fixed(100.0 * numerator / denominator, digits) : "–";
-}
-
-using Table = std::vector<std::vector<std::string>>;
-
-std::string Markdown(const std::vector<std::string>& header, const Table& rows) {
-  std::ostringstream out;
-  auto line = [&](const std::vector<std::string>& cells) {
-    out << "|";
-    for (const auto& cell : cells) out << " " << cell << " |";
-    out << "\n";
-  };
-  line(header);
-  out << "|";
-  for (size_t i = 0; i < header.size(); ++i) out << (i == 0 ? "---|" : "---:|");
-  out << "\n";
-  for (const auto& row : rows) line(row);
-  return out.str();
-}
-
-double Mean(const std::vector<double>& values) {
-  if (values.empty()) return kNaN;
-  double sum = 0;
-  for (double v : values) sum += v;
-  return sum / values.size();
-}
-
-const TagTruth& OwnTruth(const FrameRecord& record, int detector) {
-  return detector == kChromaTag ? record.truth.chromatag : record.truth.apriltag;
-}
-
-struct Context {
-  const std::vector<FrameRecord>& records;
-  const ReportInfo& info;
-  std::string out_dir;
-  std::string* error;
-  int tagged = 0, tag_free = 0;
-};
 
 std::string DatasetSection(const Context& c) {
   std::array<int, kNumConditions> per_condition{};
@@ -239,25 +177,11 @@ std::string FailureTable(const Context& c) {
   std::array<double, 2> seeds{};
   std::array<std::array<double, kNumStages>, 2> rejected{};
   std::array<int, 2> frames{};
-  // (b) Frames whose tag ChromaTag missed, by the deepest stage that rejected a candidate.
-  std::array<int, kNumStages> deepest{};
-  int missed = 0, wrong = 0;
   for (const auto& r : c.records) {
     const int g = r.truth.has_tags ? 0 : 1;
     ++frames[g];
     seeds[g] += r.chromatag_summary.seeds;
     for (int s = 0; s < kNumStages; ++s) rejected[g][s] += r.chromatag_summary.rejected[s];
-    if (!r.truth.has_tags || r.detectors[kChromaTag].score.found) continue;
-    ++missed;
-    if (r.detectors[kChromaTag].num_found > 0) ++wrong;
-    int stage = 0;
-    for (int s = kNumStages - 1; s >= 1; --s) {
-      if (r.chromatag_summary.rejected[s] > 0) {
-        stage = s;
-        break;
-      }
-    }
-    ++deepest[stage];
   }
   Table a;
   a.push_back({"candidates (seeds handed to InitialScan)",
@@ -270,23 +194,12 @@ std::string FailureTable(const Context& c) {
                  s == 0 ? "(prefilter rises not confirmed)"
                         : Percent(rejected[0][s] + rejected[1][s], seeds[0] + seeds[1])});
   }
-  Table b;
-  for (int s = 0; s < kNumStages; ++s) {
-    b.push_back({StageName(static_cast<Stage>(s)), Grouped(deepest[s]),
-                 Percent(deepest[s], c.tagged), Percent(deepest[s], missed)});
-  }
-  b.push_back({"all misses", Grouped(missed), Percent(missed, c.tagged), "100.0"});
   std::ostringstream out;
   out << "### Table 4: where ChromaTag candidates fail\n\n"
       << "(a) Candidates per frame and the stage that rejected them (the detector's own counters; "
          "last column: share of all candidates).\n\n"
-      << Markdown({"", "per frame with tags", "per tag-free frame", "% of candidates"}, a)
-      << "\n(b) Frames with tags in which ChromaTag missed its tag, by the deepest stage that "
-         "rejected a candidate in that frame (FindADiff: no candidate got past it). This is the "
-         "paper's Table 4 as far as the counters allow: the detector does not say which candidate "
-         "was the tag, so a deeper rejection of some other candidate would hide a shallower one. "
-      << wrong << " of the misses came with a detection at the wrong place or ID.\n\n"
-      << Markdown({"failed at", "frames", "% of frames with tags", "% of misses"}, b);
+      << Markdown({"", "per frame with tags", "per tag-free frame", "% of candidates"}, a) << "\n"
+      << MissTable(c);
   return out.str();
 }
 
@@ -538,7 +451,7 @@ bool WriteCsv(const Context& c) {
   }
   for (int s = 0; s < kNumStages; ++s) out << ",us_" << StageName(static_cast<Stage>(s));
   for (int s = 0; s < kNumStages; ++s) out << ",rejected_" << StageName(static_cast<Stage>(s));
-  out << ",seeds\n";
+  out << ",seeds,chromatag_miss_stage,chromatag_miss_reason\n";
   for (const auto& r : c.records) {
     const FrameTruth& t = r.truth;
     out << t.index << "," << ConditionName(t.condition) << "," << t.has_tags << ","
@@ -561,7 +474,13 @@ bool WriteCsv(const Context& c) {
     }
     for (double us : r.chromatag_summary.stage_time_us) out << "," << us;
     for (int n : r.chromatag_summary.rejected) out << "," << n;
-    out << "," << r.chromatag_summary.seeds << "\n";
+    out << "," << r.chromatag_summary.seeds << ",";
+    if (r.chromatag_miss.analysed) {
+      out << MissStageName(r.chromatag_miss.stage) << ",\"" << r.chromatag_miss.reason << "\"";
+    } else {
+      out << ",";
+    }
+    out << "\n";
   }
   out.close();
   if (!out) {
@@ -584,13 +503,18 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
       << info.command << "`  \n"
       << "CPU: " << info.cpu << "; " << info.load << ". Detectors on one thread; rendering took "
       << Fixed(info.times.render_s, 0) << " s, the timed detection loop "
-      << Fixed(info.times.detect_s, 0) << " s.\n\n"
-      << DatasetSection(c) << "\n"
-      << FpsTable(c) << "\n"
+      << Fixed(info.times.detect_s, 0) << " s, explaining ChromaTag's misses (untimed) "
+      << Fixed(info.times.analysis_s, 0) << " s.\n\n"
+      << DatasetSection(c) << "\n";
+  const std::string targets = TargetsSection(c);
+  if (!targets.empty()) out << targets << "\n";
+  out << FpsTable(c) << "\n"
       << StageTable(c) << "\n"
       << PrecisionRecallTable(c) << "\n"
       << FailureTable(c) << "\n"
       << figures << "\n"
+      << FamilyRecallSection(c) << "\n"
+      << ConditionRecallSection(c) << "\n"
       << CornerTable(c) << "\n"
       << FalseDetectionTable(c);
   *markdown = out.str();

@@ -32,6 +32,7 @@ struct FrameRecord {
   FrameTruth truth;
   std::array<DetectorRecord, kNumDetectors> detectors;
   DetectorSummary chromatag_summary;  // Per-stage times and rejections.
+  MissCause chromatag_miss;           // Why ChromaTag missed its tag, if it did.
 };
 
 struct RunOptions {
@@ -40,15 +41,16 @@ struct RunOptions {
 };
 
 struct RunTimes {
-  double render_s = 0.0;  // Wall time spent rendering.
-  double detect_s = 0.0;  // Wall time spent in the timed detection loop.
+  double render_s = 0.0;    // Wall time spent rendering.
+  double detect_s = 0.0;    // Wall time spent in the timed detection loop.
+  double analysis_s = 0.0;  // Wall time spent explaining ChromaTag's misses (untimed).
 };
 
-// Runs the detectors on every frame of `dataset`. Detectors take turns going
-// first on successive frames so that none is favoured by a warm cache.
-// `apriltag` and `aruco` may be null (a ChromaTag-only run; their records
-// then say ran = false). `progress(done, total)` is called after each chunk
-// (may be empty).
+// Runs the detectors on every frame of `dataset`; for each tag ChromaTag
+// misses, runs it again untimed to find out why (FrameRecord::chromatag_miss). Detectors take turns
+// going first on successive frames so that none is favoured by a warm cache. `apriltag` and `aruco`
+// may be null (a ChromaTag-only run; their records then say ran = false). `progress(done, total)`
+// is called after each chunk (may be empty).
 std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
                                        TagDetector* apriltag, TagDetector* aruco,
                                        const RunOptions& options, RunTimes* times,

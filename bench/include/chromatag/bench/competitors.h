@@ -13,6 +13,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/bench/dataset.h"
+#include "chromatag/bench/miss_analysis.h"
 #include "chromatag/detector/detection.h"
 
 namespace chromatag::bench {
@@ -58,6 +60,11 @@ class ChromaTagDetector : public TagDetector {
   const std::string& name() const override;
   void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) override;
   const DetectorSummary& last_summary() const;
+
+  // Runs the detector again on `bgr`, with rejected candidates reported,
+  // and says why the tag of `truth` (a tagged frame) was missed: Table 4(b).
+  // Reporting rejections costs time, so this is never part of a timed call.
+  MissCause ExplainMiss(const cv::Mat& bgr, const FrameTruth& truth);
 
  private:
   struct Impl;
