@@ -157,10 +157,12 @@ std::string ConditionRecallSection(const Context& c) {
   ranges("print chroma", {{"0.75–0.85", 0.7, 0.85}, {"0.85–0.95", 0.85, 0.95}, {"0.95–1", 0.95, 9}},
          &FrameTruth::print_chroma);
   return "### Recall per condition\n\n"
-         "Every tag of the frames with each condition, both families; conditions are drawn "
-         "independently of each other and of the geometry, so rows of one condition compare "
-         "fairly. The last two columns keep only tags of at least 30 px seen at 60° or less, "
-         "where the detectors are meant to work.\n\n" +
+         "Every tag of the frames with each condition, both families. Conditions are drawn "
+         "independently of each other and of the camera path, so rows of one condition compare "
+         "fairly; family and quiet zone are the exception: they change the card's size in "
+         "black-square units, and the camera backs off further to fit a larger card, so their "
+         "largest tags are a little smaller. The last two columns keep only tags of at least "
+         "30 px seen at 60° or less, where the detectors are meant to work.\n\n" +
          Markdown(
              {"condition", "tags", c.info.names[kChromaTag] + " %", c.info.names[kAprilTag] + " %",
               c.info.names[kAruco] + " %", c.info.names[kChromaTag] + " % (≥ 30 px, ≤ 60°)",
