@@ -1,10 +1,16 @@
 // tag_comparison: ChromaTag against AprilTag 3 and OpenCV ArUco on the same
-// rendered frames (issue 7). `make bench` runs it; see docs/benchmarks.md.
+// rendered frames (issues 7 and 10). `make bench` runs it on both data sets;
+// see docs/benchmarks.md.
 //
-//   tag_comparison [--frames N | --quick] [--seed S] [--threads T] [--out DIR]
+//   tag_comparison [--set classic|camera] [--detectors all|chromatag]
+//                  [--frames N | --quick] [--seed S] [--threads T] [--out DIR]
+//                  [--dump-misses DIR]
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <unistd.h>
+
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -75,6 +81,7 @@ bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetector
       if (easy != (shown == 0)) continue;
       cv::Mat tile = frame.bgr.clone();
       for (int d = 0; d < kNumDetectors; ++d) {
+        if (!detectors[d]) continue;
         std::vector<FoundTag> found;
         detectors[d]->Detect(frame.bgr, &found);
         for (const FoundTag& tag : found) DrawQuad(tile, tag.corners, colors[d], 2);
@@ -82,9 +89,10 @@ bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetector
       DrawQuad(tile, frame.truth.chromatag.corners, cv::Scalar(255, 255, 255), 1);
       DrawQuad(tile, frame.truth.apriltag.corners, cv::Scalar(255, 255, 255), 1);
       std::ostringstream label;
-      label << ConditionName(frame.truth.condition) << "  frame " << i << "  ID "
-            << frame.truth.chromatag.id << "  size "
-            << static_cast<int>(frame.truth.chromatag.size_px) << " px  angle "
+      label << (frame.truth.kind == DatasetKind::kCamera ? frame.truth.cast
+                                                         : ConditionName(frame.truth.condition))
+            << "  " << frame.truth.family << "  frame " << i << "  ID " << frame.truth.chromatag.id
+            << "  size " << static_cast<int>(frame.truth.chromatag.size_px) << " px  angle "
             << static_cast<int>(frame.truth.chromatag.view_angle_deg) << " deg";
       cv::putText(tile, label.str(), {8, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {0, 0, 0}, 3,
                   cv::LINE_AA);
@@ -102,10 +110,95 @@ bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetector
   return cv::imwrite(path, montage, {cv::IMWRITE_JPEG_QUALITY, 88});
 }
 
+nlohmann::json CornersJson(const std::array<cv::Point2d, 4>& corners) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : corners) out.push_back({p.x, p.y});
+  return out;
+}
+
+nlohmann::json TagJson(const TagTruth& tag) {
+  return {{"id", tag.id},
+          {"size_px", tag.size_px},
+          {"view_angle_deg", tag.view_angle_deg},
+          {"corners", CornersJson(tag.corners)}};
+}
+
+// The frame's truth, how it was made, and what the detectors did with it.
+nlohmann::json MissJson(const FrameRecord& record) {
+  const FrameTruth& t = record.truth;
+  nlohmann::json detectors = nlohmann::json::object();
+  const char* keys[kNumDetectors] = {"chromatag", "apriltag", "aruco"};
+  for (int d = 0; d < kNumDetectors; ++d) {
+    const DetectorRecord& r = record.detectors[d];
+    if (!r.ran) continue;
+    detectors[keys[d]] = {{"found", r.score.found},
+                          {"detections", r.num_found},
+                          {"false_positives", r.score.false_positives},
+                          {"wrong_ids", r.score.wrong_ids},
+                          {"time_us", r.time_us}};
+  }
+  return {{"index", t.index},
+          {"set", DatasetKindName(t.kind)},
+          {"family", t.family},
+          {"quiet_zone_cells", t.quiet_zone_cells},
+          {"chromatag", TagJson(t.chromatag)},
+          {"apriltag", TagJson(t.apriltag)},
+          {"photo", t.photo},
+          {"conditions",
+           {{"cast", t.cast},
+            {"exposure", t.exposure},
+            {"gradient", t.gradient},
+            {"tone_gamma", t.tone_gamma},
+            {"print_chroma", t.print_chroma},
+            {"blur_sigma_px", t.blur_sigma_px},
+            {"motion_blur_px", t.motion_blur_px},
+            {"noise_sigma_8bit", t.noise_sigma},
+            {"shot_snr", t.shot_snr},
+            {"read_noise", t.read_noise},
+            {"bayer", BayerModeName(t.bayer)},
+            {"jpeg_quality", t.jpeg_quality}}},
+          {"table_4b",
+           {{"stage", MissStageName(record.chromatag_miss.stage)},
+            {"reason", record.chromatag_miss.reason},
+            {"candidates_on_tag", record.chromatag_miss.candidates}}},
+          {"detectors", detectors}};
+}
+
+// Writes each frame whose tag ChromaTag missed as frame_NNNNNN.png and
+// frame_NNNNNN.json (rendered again: frames are a function of the index).
+bool DumpMisses(const Dataset& dataset, const std::vector<FrameRecord>& records,
+                const std::string& dir, int* written) {
+  *written = 0;
+  for (const FrameRecord& record : records) {
+    if (!record.truth.has_tags || record.detectors[kChromaTag].score.found) continue;
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d", record.truth.index);
+    const std::string stem = dir + "/" + name;
+    if (!cv::imwrite(stem + ".png", dataset.Render(record.truth.index).bgr)) return false;
+    std::ofstream json(stem + ".json");
+    json << MissJson(record).dump(2) << "\n";
+    if (!json) return false;
+    ++*written;
+  }
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set (issue 7)"};
+  CLI::App app{
+      "ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set (issues 7, 10)"};
+  std::string set = "classic", which_detectors = "all";
+  app.add_option("--set", set,
+                 "data set: classic (16h5, kind conditions, issue 7) or camera (16h5 and 36h11, "
+                 "as hard as real cameras, issue 10)")
+      ->check(CLI::IsMember({"classic", "camera"}))
+      ->capture_default_str();
+  app.add_option("--detectors", which_detectors,
+                 "all three, or chromatag alone (quick detector iteration; targets relative to "
+                 "AprilTag then read n/a)")
+      ->check(CLI::IsMember({"all", "chromatag"}))
+      ->capture_default_str();
   DatasetOptions dataset_options;
   RunOptions run_options;
   run_options.render_threads = std::max(1u, std::thread::hardware_concurrency());
@@ -124,10 +217,32 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--out", out_dir, "folder for report.md, the PNG figures and frames.csv")
       ->capture_default_str();
-  std::string label;
+  std::string label, dump_dir;
   app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--dump-misses", dump_dir,
+                 "also write each frame whose tag ChromaTag missed to this folder, as PNG with a "
+                 "JSON of its truth and Table 4(b)'s reason");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help.
+    std::cerr << "tag_comparison: error: " << e.what() << " (see tag_comparison --help)\n";
+    return 2;
+  }
   if (quick && app.count("--frames") == 0) dataset_options.num_frames = 400;
+  // The set's own defaults, with what was given on the command line.
+  const DatasetKind kind = *ParseDatasetKind(set);
+  {
+    DatasetOptions given = dataset_options;
+    dataset_options = DatasetOptions::ForKind(kind);
+    dataset_options.num_frames = given.num_frames;
+    dataset_options.seed = given.seed;
+    dataset_options.photo_dir = given.photo_dir;
+  }
+  const std::vector<std::string> families = kind == DatasetKind::kCamera
+                                                ? std::vector<std::string>{"16h5", "36h11"}
+                                                : std::vector<std::string>{"16h5"};
+  const bool all_detectors = which_detectors == "all";
 
   // Every detector on one thread, OpenCV's own pool included (ArUco would
   // otherwise spread over the cores); rendering threads are ours.
@@ -139,35 +254,42 @@ int main(int argc, char** argv) {
     std::cerr << "tag_comparison: " << error << "\n";
     return 2;
   }
-  auto chromatag = ChromaTagDetector::Create(&error);
+  auto chromatag = ChromaTagDetector::Create(families, &error);
   if (!chromatag) {
     std::cerr << "tag_comparison: " << error << "\n";
     return 1;
   }
-  auto apriltag = MakeAprilTagDetector();
-  auto aruco = MakeArucoDetector();
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) {
-    std::cerr << "tag_comparison: cannot create " << out_dir << ": " << ec.message() << "\n";
-    return 1;
+  std::unique_ptr<TagDetector> apriltag, aruco;
+  if (all_detectors) {
+    apriltag = MakeAprilTagDetector(families, &error);
+    aruco = MakeArucoDetector(families, &error);
+  }
+  for (const std::string& dir : {out_dir, dump_dir}) {
+    std::error_code ec;
+    if (!dir.empty()) std::filesystem::create_directories(dir, ec);
+    if (ec) {
+      std::cerr << "tag_comparison: cannot create " << dir << ": " << ec.message() << "\n";
+      return 1;
+    }
   }
 
-  std::cerr << "tag_comparison: " << dataset_options.num_frames << " frames, seed "
-            << dataset_options.seed << ", " << run_options.render_threads << " rendering threads\n";
+  std::cerr << "tag_comparison: " << set << " set, " << dataset_options.num_frames
+            << " frames, seed " << dataset_options.seed << ", " << run_options.render_threads
+            << " rendering threads\n";
   RunTimes times;
   const std::string load_before = LoadAverage();
   const bool terminal = isatty(STDERR_FILENO);
   int reported = 0;
-  const auto records = RunComparison(
-      *dataset, *chromatag, *apriltag, *aruco, run_options, &times, [&](int done, int total) {
-        if (terminal) {
-          std::cerr << "\r  " << done << " / " << total << " frames" << std::flush;
-        } else if (done * 10 / total > reported || done == total) {
-          reported = done * 10 / total;
-          std::cerr << "  " << done << " / " << total << " frames\n";
-        }
-      });
+  const auto records = RunComparison(*dataset, *chromatag, apriltag.get(), aruco.get(), run_options,
+                                     &times, [&](int done, int total) {
+                                       if (terminal) {
+                                         std::cerr << "\r  " << done << " / " << total << " frames"
+                                                   << std::flush;
+                                       } else if (done * 10 / total > reported || done == total) {
+                                         reported = done * 10 / total;
+                                         std::cerr << "  " << done << " / " << total << " frames\n";
+                                       }
+                                     });
   if (terminal) std::cerr << "\n";
 
   ReportInfo info;
@@ -183,6 +305,7 @@ int main(int argc, char** argv) {
   info.dataset = dataset_options;
   info.photos = dataset->photos();
   info.times = times;
+  info.active = {true, all_detectors, all_detectors};
   std::string markdown;
   if (!WriteReport(records, info, out_dir, &markdown, &error)) {
     std::cerr << "tag_comparison: " << error << "\n";
@@ -191,6 +314,14 @@ int main(int argc, char** argv) {
   if (!WriteExamples(*dataset, {chromatag.get(), apriltag.get(), aruco.get()},
                      out_dir + "/examples.jpg")) {
     std::cerr << "tag_comparison: could not write " << out_dir << "/examples.jpg\n";
+  }
+  if (!dump_dir.empty()) {
+    int written = 0;
+    if (!DumpMisses(*dataset, records, dump_dir, &written)) {
+      std::cerr << "tag_comparison: could not write the missed frames to " << dump_dir << "\n";
+      return 1;
+    }
+    std::cerr << "tag_comparison: " << written << " missed frames written to " << dump_dir << "\n";
   }
   std::cout << markdown << "\nWritten to " << out_dir << "/report.md\n";
   return 0;

@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # `make bench`: every benchmark in bench/, one thread, with the CPU named; then
-# the side-by-side comparison with AprilTag 3 and OpenCV ArUco (issue 7), whose
-# report.md, PNG figures and frames.csv go to BUILD_DIR/bench-results/.
+# the side-by-side comparison with AprilTag 3 and OpenCV ArUco on both data
+# sets: "classic" (issue 7, 10,000 frames) into BUILD_DIR/bench-results/classic/
+# and "camera" (issue 10, 4,000 frames, 16h5 and 36h11) into
+# BUILD_DIR/bench-results/camera/, each a report.md, PNG figures and frames.csv.
 #
 #   scripts/bench.sh [BUILD_DIR] [--quick] [--publish | --publish-only]
 #
-# --quick         a small comparison (400 frames, well under a minute)
-# --publish       also copy the comparison's report and figures to docs/benchmarks/
-#                 and its tables into docs/benchmarks.md (between its markers)
+# --quick         small comparisons (400 frames each, about a minute)
+# --publish       also copy each comparison's report and figures to docs/benchmarks/
+#                 (the camera set's to docs/benchmarks/camera/) and its tables into
+#                 docs/benchmarks.md, between that set's markers
 # --publish-only  publish the results already in BUILD_DIR/bench-results/, run nothing
 # BENCH_LABEL     what is measured, for the report (default: git describe --always --dirty)
 set -euo pipefail
@@ -26,6 +29,8 @@ for arg in "$@"; do
 done
 root=$(cd "$(dirname "$0")/.." && pwd)
 results=$build_dir/bench-results
+camera_frames=(--frames 4000)
+[[ ${#quick[@]} -gt 0 ]] && camera_frames=()
 
 if [[ $run == 1 ]]; then
   echo "CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //')"
@@ -34,31 +39,47 @@ if [[ $run == 1 ]]; then
     "$bench" --benchmark_min_time=0.2
   done
   label=${BENCH_LABEL:-$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)}
-  echo "== tag_comparison -> $results/report.md"
-  "$build_dir/bench/tag_comparison" "${quick[@]}" --label "$label" --out "$results"
+  echo "== tag_comparison --set classic -> $results/classic/report.md"
+  "$build_dir/bench/tag_comparison" --set classic "${quick[@]}" --label "$label" \
+    --out "$results/classic"
+  echo "== tag_comparison --set camera -> $results/camera/report.md"
+  "$build_dir/bench/tag_comparison" --set camera "${quick[@]}" "${camera_frames[@]}" \
+    --label "$label" --out "$results/camera"
 fi
 
-if [[ $publish == 1 ]]; then
-  docs=$root/docs
-  mkdir -p "$docs/benchmarks"
-  cp "$results"/report.md "$results"/*.png "$results"/examples.jpg "$docs/benchmarks"/
-  echo "Copied the comparison's report and figures to docs/benchmarks/"
-  # The report also goes into docs/benchmarks.md, between these two lines only.
-  begin='<!-- tag_comparison results: begin (scripts/bench.sh --publish replaces what follows) -->'
-  end='<!-- tag_comparison results: end -->'
-  doc=$docs/benchmarks.md
+# publish SET DOCS_SUBDIR MARKER_NAME: copies $results/SET to docs/DOCS_SUBDIR and
+# puts its report into docs/benchmarks.md between
+# "<!-- MARKER_NAME: begin ... -->" and "<!-- MARKER_NAME: end -->" only.
+publish() {
+  local set=$1 subdir=$2 marker=$3
+  local from=$results/$set to=$root/docs/$subdir doc=$root/docs/benchmarks.md
+  if [[ ! -f $from/report.md ]]; then
+    echo "bench.sh: no $from/report.md; the $set set is not published" >&2
+    return
+  fi
+  mkdir -p "$to"
+  cp "$from"/report.md "$from"/*.png "$from"/examples.jpg "$to"/
+  echo "Copied the $set comparison's report and figures to docs/$subdir/"
+  local begin="<!-- $marker: begin (scripts/bench.sh --publish replaces what follows) -->"
+  local end="<!-- $marker: end -->"
   if grep -qxF "$begin" "$doc" && grep -qxF "$end" "$doc"; then
+    local report spliced
     report=$(mktemp)
     spliced=$(mktemp)
-    sed -E 's#\]\(((fig9|examples)[^)]*)\)#](benchmarks/\1)#g' "$results/report.md" > "$report"
+    sed -E "s#\]\(((fig9|examples)[^)]*)\)#]($subdir/\1)#g" "$from/report.md" > "$report"
     awk -v begin="$begin" -v end="$end" -v report="$report" '
       $0 == begin { print; while ((getline line < report) > 0) print line; skip = 1; next }
       $0 == end { skip = 0 }
       !skip { print }' "$doc" > "$spliced"
     cat "$spliced" > "$doc"
     rm -f "$report" "$spliced"
-    echo "Replaced the results in docs/benchmarks.md"
+    echo "Replaced the $set results in docs/benchmarks.md"
   else
-    echo "docs/benchmarks.md has no results markers; left it alone" >&2
+    echo "docs/benchmarks.md has no $marker markers; left it alone" >&2
   fi
+}
+
+if [[ $publish == 1 ]]; then
+  publish classic benchmarks "tag_comparison results"
+  publish camera benchmarks/camera "tag_comparison camera results"
 fi

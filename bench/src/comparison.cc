@@ -43,11 +43,11 @@ uint64_t Touch(const cv::Mat& image) {
 }  // namespace
 
 std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
-                                       TagDetector& apriltag, TagDetector& aruco,
+                                       TagDetector* apriltag, TagDetector* aruco,
                                        const RunOptions& options, RunTimes* times,
                                        const std::function<void(int, int)>& progress) {
   const int total = dataset.options().num_frames;
-  std::array<TagDetector*, kNumDetectors> detectors = {&chromatag, &apriltag, &aruco};
+  std::array<TagDetector*, kNumDetectors> detectors = {&chromatag, apriltag, aruco};
   std::vector<FrameRecord> records(total);
   std::vector<FoundTag> found;
   RunTimes local;
@@ -62,7 +62,7 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
     local.render_s += Seconds(render_start, detect_start);
     if (!warmed_up) {  // First calls allocate; keep them out of the timings.
       for (TagDetector* detector : detectors) {
-        for (int i = 0; i < 3; ++i) detector->Detect(frames[0].bgr, &found);
+        for (int i = 0; i < 3 && detector; ++i) detector->Detect(frames[0].bgr, &found);
       }
       warmed_up = true;
     }
@@ -73,11 +73,13 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       const bool tags = frame.truth.has_tags;
       for (int turn = 0; turn < kNumDetectors; ++turn) {
         const int d = (first + i + turn) % kNumDetectors;
+        if (!detectors[d]) continue;
         touched += Touch(frame.bgr);
         const auto start = Clock::now();
         detectors[d]->Detect(frame.bgr, &found);
         const auto end = Clock::now();
         DetectorRecord& out = record.detectors[d];
+        out.ran = true;
         out.time_us = std::chrono::duration<double, std::micro>(end - start).count();
         out.num_found = static_cast<int>(found.size());
         const TagTruth* own = nullptr;
@@ -91,6 +93,14 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       }
     }
     local.detect_s += Seconds(detect_start, Clock::now());
+    const auto analysis_start = Clock::now();
+    for (int i = 0; i < count; ++i) {
+      FrameRecord& record = records[first + i];
+      if (record.truth.has_tags && !record.detectors[kChromaTag].score.found) {
+        record.chromatag_miss = chromatag.ExplainMiss(frames[i].bgr, record.truth);
+      }
+    }
+    local.analysis_s += Seconds(analysis_start, Clock::now());
     if (progress) progress(first + count, total);
   }
   if (times) *times = local;

@@ -2,6 +2,7 @@
 
 #include <apriltag/apriltag.h>
 #include <apriltag/tag16h5.h>
+#include <apriltag/tag36h11.h>
 
 #include <opencv2/aruco.hpp>
 #include <opencv2/imgproc.hpp>
@@ -11,15 +12,42 @@
 namespace chromatag::bench {
 namespace {
 
+// Checks a list of family names: not empty, each known, none twice.
+bool ValidFamilies(const std::vector<std::string>& families, std::string* error) {
+  std::string why;
+  if (families.empty()) why = "no family given (allowed: 16h5, 36h11)";
+  for (size_t i = 0; i < families.size() && why.empty(); ++i) {
+    if (families[i] != "16h5" && families[i] != "36h11") {
+      why = "unknown family '" + families[i] + "' (allowed: 16h5, 36h11)";
+    }
+    for (size_t j = 0; j < i && why.empty(); ++j) {
+      if (families[j] == families[i]) why = "family " + families[i] + " given twice";
+    }
+  }
+  if (error) *error = why;
+  return why.empty();
+}
+
 class AprilTag final : public TagDetector {
  public:
-  AprilTag() : family_(tag16h5_create()), detector_(apriltag_detector_create()) {
-    apriltag_detector_add_family(detector_, family_);
+  explicit AprilTag(const std::vector<std::string>& families)
+      : detector_(apriltag_detector_create()) {
+    for (const std::string& name : families) {
+      apriltag_family_t* family = name == "16h5" ? tag16h5_create() : tag36h11_create();
+      families_.push_back({family, name});
+      apriltag_detector_add_family(detector_, family);
+    }
     detector_->nthreads = 1;
   }
   ~AprilTag() override {
     apriltag_detector_destroy(detector_);
-    tag16h5_destroy(family_);
+    for (const auto& [family, name] : families_) {
+      if (name == "16h5") {
+        tag16h5_destroy(family);
+      } else {
+        tag36h11_destroy(family);
+      }
+    }
   }
   AprilTag(const AprilTag&) = delete;
   AprilTag& operator=(const AprilTag&) = delete;
@@ -36,6 +64,9 @@ class AprilTag final : public TagDetector {
       zarray_get(detections, i, &d);
       FoundTag tag;
       tag.id = d->id;
+      for (const auto& [family, name] : families_) {
+        if (family == d->family) tag.family = name;
+      }
       for (int c = 0; c < 4; ++c) {
         const int k = kAprilTagCornerOrder[c];
         tag.corners[c] = {d->p[k][0] - kAprilTagPixelCentre, d->p[k][1] - kAprilTagPixelCentre};
@@ -47,35 +78,46 @@ class AprilTag final : public TagDetector {
 
  private:
   const std::string name_ = "AprilTag 3";
-  apriltag_family_t* family_;
+  std::vector<std::pair<apriltag_family_t*, std::string>> families_;
   apriltag_detector_t* detector_;
   cv::Mat gray_;
 };
 
 class Aruco final : public TagDetector {
  public:
-  Aruco()
-      : dictionary_(cv::aruco::getPredefinedDictionary(cv::aruco::DICT_APRILTAG_16h5)),
-        parameters_(cv::aruco::DetectorParameters::create()) {}
+  explicit Aruco(const std::vector<std::string>& families)
+      : parameters_(cv::aruco::DetectorParameters::create()) {
+    for (const std::string& name : families) {
+      dictionaries_.push_back(
+          {cv::aruco::getPredefinedDictionary(name == "16h5" ? cv::aruco::DICT_APRILTAG_16h5
+                                                             : cv::aruco::DICT_APRILTAG_36h11),
+           name});
+    }
+  }
 
   const std::string& name() const override { return name_; }
 
+  // ArUco has no multi-dictionary call in 4.6: one detectMarkers per family,
+  // each converting the frame to grey again, as a user of it would.
   void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) override {
     found->clear();
-    corners_.clear();
-    ids_.clear();
-    cv::aruco::detectMarkers(bgr, dictionary_, corners_, ids_, parameters_);
-    for (size_t i = 0; i < ids_.size(); ++i) {
-      FoundTag tag;
-      tag.id = ids_[i];
-      for (int c = 0; c < 4; ++c) tag.corners[c] = corners_[i][kArucoCornerOrder[c]];
-      found->push_back(tag);
+    for (const auto& [dictionary, family] : dictionaries_) {
+      corners_.clear();
+      ids_.clear();
+      cv::aruco::detectMarkers(bgr, dictionary, corners_, ids_, parameters_);
+      for (size_t i = 0; i < ids_.size(); ++i) {
+        FoundTag tag;
+        tag.id = ids_[i];
+        tag.family = family;
+        for (int c = 0; c < 4; ++c) tag.corners[c] = corners_[i][kArucoCornerOrder[c]];
+        found->push_back(tag);
+      }
     }
   }
 
  private:
   const std::string name_ = "OpenCV ArUco";
-  cv::Ptr<cv::aruco::Dictionary> dictionary_;
+  std::vector<std::pair<cv::Ptr<cv::aruco::Dictionary>, std::string>> dictionaries_;
   cv::Ptr<cv::aruco::DetectorParameters> parameters_;
   std::vector<std::vector<cv::Point2f>> corners_;
   std::vector<int> ids_;
@@ -83,24 +125,39 @@ class Aruco final : public TagDetector {
 
 }  // namespace
 
-std::unique_ptr<TagDetector> MakeAprilTagDetector() { return std::make_unique<AprilTag>(); }
-std::unique_ptr<TagDetector> MakeArucoDetector() { return std::make_unique<Aruco>(); }
+std::unique_ptr<TagDetector> MakeAprilTagDetector(const std::vector<std::string>& families,
+                                                  std::string* error) {
+  if (!ValidFamilies(families, error)) return nullptr;
+  return std::make_unique<AprilTag>(families);
+}
+
+std::unique_ptr<TagDetector> MakeArucoDetector(const std::vector<std::string>& families,
+                                               std::string* error) {
+  if (!ValidFamilies(families, error)) return nullptr;
+  return std::make_unique<Aruco>(families);
+}
 
 struct ChromaTagDetector::Impl {
   std::unique_ptr<Detector> detector;
-  DetectionResult result;
+  std::unique_ptr<Detector> reporting;  // The same, with report_rejected on.
+  DetectionResult result, analysis;
   const std::string name = "ChromaTag";
 };
 
 ChromaTagDetector::ChromaTagDetector(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 ChromaTagDetector::~ChromaTagDetector() = default;
 
-std::unique_ptr<ChromaTagDetector> ChromaTagDetector::Create(std::string* error) {
+std::unique_ptr<ChromaTagDetector> ChromaTagDetector::Create(
+    const std::vector<std::string>& families, std::string* error) {
+  if (!ValidFamilies(families, error)) return nullptr;
   auto impl = std::make_unique<Impl>();
   DetectorOptions options;
-  options.families = {"16h5"};
+  options.families = families;
   impl->detector = Detector::Create(options, error);
   if (!impl->detector) return nullptr;
+  options.report_rejected = true;
+  impl->reporting = Detector::Create(options, error);
+  if (!impl->reporting) return nullptr;
   return std::unique_ptr<ChromaTagDetector>(new ChromaTagDetector(std::move(impl)));
 }
 
@@ -113,10 +170,19 @@ void ChromaTagDetector::Detect(const cv::Mat& bgr, std::vector<FoundTag>* found)
     FoundTag tag;
     tag.id = d.id;
     tag.corners = d.corners;
+    if (d.family) tag.family = d.family->name();
     found->push_back(tag);
   }
 }
 
 const DetectorSummary& ChromaTagDetector::last_summary() const { return impl_->result.summary; }
+
+MissCause ChromaTagDetector::ExplainMiss(const cv::Mat& bgr, const FrameTruth& truth) {
+  impl_->reporting->Detect(bgr, PixelOrder::kBgr, &impl_->analysis);
+  const auto family = TagFamily::Load(truth.family);
+  CV_Assert(truth.has_tags && family);
+  return AssignMiss(impl_->analysis, truth.chromatag, family->black_square_cells(),
+                    truth.quiet_zone_cells);
+}
 
 }  // namespace chromatag::bench

@@ -67,8 +67,8 @@ FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
                       const TagTruth* other, double min_iou) {
   FrameScore score;
   for (const FoundTag& tag : found) {
-    const bool matches =
-        truth && tag.id == truth->id && QuadIoU(tag.corners, truth->corners) >= min_iou;
+    const bool on_truth = truth && QuadIoU(tag.corners, truth->corners) >= min_iou;
+    const bool matches = on_truth && tag.id == truth->id && tag.family == truth->family;
     if (matches && !score.found) {
       score.found = true;
       const Quad& t = truth->corners;
@@ -86,6 +86,7 @@ FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
       continue;
     }
     ++score.false_positives;
+    if (on_truth && !matches) ++score.wrong_ids;
     if (other && QuadIoU(tag.corners, other->corners) >= min_iou) ++score.false_on_other_tag;
   }
   return score;

@@ -6,15 +6,15 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "chromatag/bench/comparison.h"
 #include "chromatag/bench/plot.h"
+#include "report_util.h"
 
 namespace chromatag::bench {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Bins of Figure 9: tag size (sqrt of the black square's area) and viewing angle.
 const Bins kSizeBins{10.0, 10.0, 20};  // 10-210 px.
 const Bins kAngleBins{0.0, 5.0, 16};   // 0-80 degrees.
@@ -26,91 +26,39 @@ constexpr int kMinTrialsPerPoint = 5;
 const std::array<std::array<double, 3>, kNumDetectors> kColors = {
     {{0.84, 0.15, 0.16}, {0.12, 0.47, 0.71}, {0.17, 0.63, 0.17}}};
 
-std::string Fixed(double value, int digits) {
-  if (std::isnan(value)) return "–";
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
-// Thousands separated by a thin space: 12 345.
-std::string Grouped(double value) {
-  if (std::isnan(value)) return "–";
-  std::string digits = std::to_string(static_cast<long long>(std::llround(value)));
-  const bool negative = !digits.empty() && digits[0] == '-';
-  if (negative) digits.erase(0, 1);
-  std::string out;
-  for (size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) out += "\u2009";
-    out += digits[i];
-  }
-  return negative ? "-" + out : out;
-}
-
-std::string Percent(double numerator, double denominator, int digits = 1) {
-  return denominator > 0 ? Fixed(100.0 * numerator / denominator, digits) : "–";
-}
-
-using Table = std::vector<std::vector<std::string>>;
-
-std::string Markdown(const std::vector<std::string>& header, const Table& rows) {
-  std::ostringstream out;
-  auto line = [&](const std::vector<std::string>& cells) {
-    out << "|";
-    for (const auto& cell : cells) out << " " << cell << " |";
-    out << "\n";
-  };
-  line(header);
-  out << "|";
-  for (size_t i = 0; i < header.size(); ++i) out << (i == 0 ? "---|" : "---:|");
-  out << "\n";
-  for (const auto& row : rows) line(row);
-  return out.str();
-}
-
-double Mean(const std::vector<double>& values) {
-  if (values.empty()) return kNaN;
-  double sum = 0;
-  for (double v : values) sum += v;
-  return sum / values.size();
-}
-
-const TagTruth& OwnTruth(const FrameRecord& record, int detector) {
-  return detector == kChromaTag ? record.truth.chromatag : record.truth.apriltag;
-}
-
-struct Context {
-  const std::vector<FrameRecord>& records;
-  const ReportInfo& info;
-  std::string out_dir;
-  std::string* error;
-  int tagged = 0, tag_free = 0;
-};
-
 std::string DatasetSection(const Context& c) {
   std::array<int, kNumConditions> per_condition{};
+  std::map<std::string, int> per_family;
   std::vector<double> sizes, angles;
   for (const auto& r : c.records) {
     if (!r.truth.has_tags) continue;
     ++per_condition[static_cast<int>(r.truth.condition)];
+    ++per_family[r.truth.family];
     for (const TagTruth* t : {&r.truth.chromatag, &r.truth.apriltag}) {
       sizes.push_back(t->size_px);
       angles.push_back(t->view_angle_deg);
     }
   }
   const DatasetOptions& o = c.info.dataset;
+  std::ostringstream families;
+  for (const auto& [name, count] : per_family) {
+    families << (families.tellp() > 0 ? ", " : "") << count << " " << name;
+  }
+  const bool camera = o.kind == DatasetKind::kCamera;
   std::ostringstream out;
-  out << "Data set: " << c.records.size() << " frames of " << o.width << "x" << o.height
-      << " (seed " << o.seed << "): " << c.tagged
-      << " with a ChromaTag and an AprilTag 16h5 side by side (" << per_condition[0] << " WB, "
-      << per_condition[1] << " NWB), " << c.tag_free
+  out << "Data set \"" << DatasetKindName(o.kind) << "\": " << c.records.size() << " frames of "
+      << o.width << "x" << o.height << " (seed " << o.seed << "): " << c.tagged
+      << " with a ChromaTag and its AprilTag twin side by side (" << families.str() << "; "
+      << per_condition[0] << (camera ? " neutral, " : " WB, ") << per_condition[1]
+      << (camera ? " with a colour cast), " : " NWB), ") << c.tag_free
       << " with no tag. Tag size (square root of the black square's area) "
       << Fixed(Percentile(sizes, 0), 0) << "–" << Fixed(Percentile(sizes, 100), 0) << " px, median "
       << Fixed(Percentile(sizes, 50), 0) << " px; viewing angle " << Fixed(Percentile(angles, 0), 0)
       << "–" << Fixed(Percentile(angles, 100), 0) << "°, median "
       << Fixed(Percentile(angles, 50), 0) << "°. Backgrounds: " << c.info.photos.size()
       << " photographs from Debian's opencv-doc. Four of the frames, with the truth in white and "
-         "the detections in red (ChromaTag), blue (AprilTag) and green (ArUco):\n\n"
+         "the detections in red (ChromaTag), blue (AprilTag) and green (ArUco)"
+      << (c.info.active[kAprilTag] ? "" : "; this run had ChromaTag only") << ":\n\n"
       << "![example frames](examples.jpg)\n";
   return out.str();
 }
@@ -130,6 +78,7 @@ std::string FpsTable(const Context& c) {
   std::array<std::array<double, 4>, kNumDetectors> fps{};
   Table rows;
   for (int d = 0; d < kNumDetectors; ++d) {
+    if (!c.info.active[d]) continue;
     std::vector<std::string> row = {c.info.names[d]};
     for (int k = 0; k < 4; ++k) {
       fps[d][k] = times[d][k].empty() ? kNaN : 1e6 / Mean(times[d][k]);
@@ -141,6 +90,7 @@ std::string FpsTable(const Context& c) {
     rows.push_back(row);
   }
   for (int d : {kAprilTag, kAruco}) {
+    if (!c.info.active[d]) continue;
     std::vector<std::string> row = {"ChromaTag ÷ " + c.info.names[d]};
     for (int k = 0; k < 4; ++k) row.push_back(Fixed(fps[kChromaTag][k] / fps[d][k], 1) + "×");
     row.insert(row.end(), {"", "", ""});
@@ -193,6 +143,7 @@ std::string StageTable(const Context& c) {
 std::string PrecisionRecallTable(const Context& c) {
   Table rows;
   for (int d = 0; d < kNumDetectors; ++d) {
+    if (!c.info.active[d]) continue;
     for (int condition = 0; condition <= kNumConditions; ++condition) {
       int frames = 0, tp = 0, fp = 0;
       for (const auto& r : c.records) {
@@ -213,7 +164,8 @@ std::string PrecisionRecallTable(const Context& c) {
   }
   return "### Table 3: precision and recall\n\n"
          "Frames with tags only (as in the paper, whose frames all held tags). A true positive has "
-         "the right ID and an intersection over union of at least 0.5 with the true black square "
+         "the right family and ID and an intersection over union of at least 0.5 with the true "
+         "black square "
          "of the detector's own tag; any other detection, including a second report of the same "
          "tag, is a false positive.\n\n" +
          Markdown({"detector", "colour", "frames", "TP", "FP", "FN", "precision %", "recall %"},
@@ -225,25 +177,11 @@ std::string FailureTable(const Context& c) {
   std::array<double, 2> seeds{};
   std::array<std::array<double, kNumStages>, 2> rejected{};
   std::array<int, 2> frames{};
-  // (b) Frames whose tag ChromaTag missed, by the deepest stage that rejected a candidate.
-  std::array<int, kNumStages> deepest{};
-  int missed = 0, wrong = 0;
   for (const auto& r : c.records) {
     const int g = r.truth.has_tags ? 0 : 1;
     ++frames[g];
     seeds[g] += r.chromatag_summary.seeds;
     for (int s = 0; s < kNumStages; ++s) rejected[g][s] += r.chromatag_summary.rejected[s];
-    if (!r.truth.has_tags || r.detectors[kChromaTag].score.found) continue;
-    ++missed;
-    if (r.detectors[kChromaTag].num_found > 0) ++wrong;
-    int stage = 0;
-    for (int s = kNumStages - 1; s >= 1; --s) {
-      if (r.chromatag_summary.rejected[s] > 0) {
-        stage = s;
-        break;
-      }
-    }
-    ++deepest[stage];
   }
   Table a;
   a.push_back({"candidates (seeds handed to InitialScan)",
@@ -256,23 +194,12 @@ std::string FailureTable(const Context& c) {
                  s == 0 ? "(prefilter rises not confirmed)"
                         : Percent(rejected[0][s] + rejected[1][s], seeds[0] + seeds[1])});
   }
-  Table b;
-  for (int s = 0; s < kNumStages; ++s) {
-    b.push_back({StageName(static_cast<Stage>(s)), Grouped(deepest[s]),
-                 Percent(deepest[s], c.tagged), Percent(deepest[s], missed)});
-  }
-  b.push_back({"all misses", Grouped(missed), Percent(missed, c.tagged), "100.0"});
   std::ostringstream out;
   out << "### Table 4: where ChromaTag candidates fail\n\n"
       << "(a) Candidates per frame and the stage that rejected them (the detector's own counters; "
          "last column: share of all candidates).\n\n"
-      << Markdown({"", "per frame with tags", "per tag-free frame", "% of candidates"}, a)
-      << "\n(b) Frames with tags in which ChromaTag missed its tag, by the deepest stage that "
-         "rejected a candidate in that frame (FindADiff: no candidate got past it). This is the "
-         "paper's Table 4 as far as the counters allow: the detector does not say which candidate "
-         "was the tag, so a deeper rejection of some other candidate would hide a shallower one. "
-      << wrong << " of the misses came with a detection at the wrong place or ID.\n\n"
-      << Markdown({"failed at", "frames", "% of frames with tags", "% of misses"}, b);
+      << Markdown({"", "per frame with tags", "per tag-free frame", "% of candidates"}, a) << "\n"
+      << MissTable(c);
   return out.str();
 }
 
@@ -308,7 +235,9 @@ std::string RecallSummary(const Context& c) {
       }
     }
     row.push_back(Grouped(tags[kChromaTag]));
-    for (int d = 0; d < kNumDetectors; ++d) row.push_back(Percent(hits[d], tags[d]));
+    for (int d = 0; d < kNumDetectors; ++d) {
+      row.push_back(c.info.active[d] ? Percent(hits[d], tags[d]) : "n/a");
+    }
     rows.push_back(row);
   }
   return Markdown({"range", "ChromaTags (AprilTags: about as many)", c.info.names[0] + " recall %",
@@ -384,6 +313,7 @@ bool FigureSection(const Context& c, std::string* section) {
   angle_plot.x_label = "viewing angle (tag normal to camera direction), degrees";
   angle_plot.x_max = 80, angle_plot.x_tick = 10;
   for (int d = 0; d < kNumDetectors; ++d) {
+    if (!c.info.active[d]) continue;
     size_plot.series.push_back(CurveSeries(curves.size[d], c.info.names[d], d));
     angle_plot.series.push_back(CurveSeries(curves.angle[d], c.info.names[d], d));
   }
@@ -391,8 +321,9 @@ bool FigureSection(const Context& c, std::string* section) {
       !WriteLinePlot(angle_plot, c.out_dir + "/fig9b_recall_vs_angle.png", c.error) ||
       !WriteMap(c, curves.map[kChromaTag], "Figure 9c: ChromaTag recall, size x angle",
                 "fig9c_chromatag_size_angle.png") ||
-      !WriteMap(c, curves.map[kAprilTag], "AprilTag 3 recall, size x angle",
-                "fig9c_apriltag_size_angle.png")) {
+      (c.info.active[kAprilTag] &&
+       !WriteMap(c, curves.map[kAprilTag], "AprilTag 3 recall, size x angle",
+                 "fig9c_apriltag_size_angle.png"))) {
     return false;
   }
   auto curve_table = [&](const std::vector<RecallCurve>& set, const std::string& unit) {
@@ -404,7 +335,9 @@ bool FigureSection(const Context& c, std::string* section) {
                                           (last ? "+" : "–" + Fixed(set[0].bins.Edge(i + 1), 0)) +
                                           " " + unit,
                                       Grouped(set[0].trials[i])};
-      for (int d = 0; d < kNumDetectors; ++d) row.push_back(Fixed(100.0 * set[d].Recall(i), 1));
+      for (int d = 0; d < kNumDetectors; ++d) {
+        row.push_back(c.info.active[d] ? Fixed(100.0 * set[d].Recall(i), 1) : "n/a");
+      }
       rows.push_back(row);
     }
     return Markdown(
@@ -420,7 +353,10 @@ bool FigureSection(const Context& c, std::string* section) {
       << "![recall against size](fig9a_recall_vs_size.png)\n"
       << "![recall against angle](fig9b_recall_vs_angle.png)\n"
       << "![ChromaTag recall over size and angle](fig9c_chromatag_size_angle.png)\n"
-      << "![AprilTag recall over size and angle](fig9c_apriltag_size_angle.png)\n\n"
+      << (c.info.active[kAprilTag]
+              ? "![AprilTag recall over size and angle](fig9c_apriltag_size_angle.png)\n"
+              : "")
+      << "\n"
       << RecallSummary(c) << "\n"
       << "<details><summary>Recall per size bin</summary>\n\n"
       << curve_table(curves.size, "px") << "\n</details>\n\n"
@@ -433,6 +369,7 @@ bool FigureSection(const Context& c, std::string* section) {
 std::string CornerTable(const Context& c) {
   Table rows;
   for (int d = 0; d < kNumDetectors; ++d) {
+    if (!c.info.active[d]) continue;
     std::vector<double> errors, large;
     cv::Point2d offset;
     double radial = 0.0;
@@ -475,6 +412,7 @@ std::string CornerTable(const Context& c) {
 std::string FalseDetectionTable(const Context& c) {
   Table rows;
   for (int d = 0; d < kNumDetectors; ++d) {
+    if (!c.info.active[d]) continue;
     int free_fp = 0, free_frames_hit = 0, tagged_fp = 0, on_other = 0;
     for (const auto& r : c.records) {
       const FrameScore& s = r.detectors[d].score;
@@ -494,7 +432,7 @@ std::string FalseDetectionTable(const Context& c) {
   return "### False detections\n\n"
          "On the tag-free frames every detection is false. On frames with tags, the last column "
          "counts false detections lying on the other kind of tag (AprilTag or ArUco reading the "
-         "ChromaTag's black square as a 16h5 code, or the reverse).\n\n" +
+         "ChromaTag's black square as a code, or the reverse).\n\n" +
          Markdown({"detector", "tag-free frames", "false detections", "per tag-free frame",
                    "% of tag-free frames with any", "false detections on frames with tags",
                    "of which on the other tag"},
@@ -504,30 +442,45 @@ std::string FalseDetectionTable(const Context& c) {
 bool WriteCsv(const Context& c) {
   std::ofstream out(c.out_dir + "/frames.csv");
   out << "index,condition,has_tags,id,photo,exposure,blur_sigma_px,motion_blur_px,noise_sigma,"
-         "jpeg_quality,chromatag_size_px,chromatag_angle_deg,apriltag_size_px,apriltag_angle_deg";
+         "jpeg_quality,chromatag_size_px,chromatag_angle_deg,apriltag_size_px,apriltag_angle_deg,"
+         "set,family,quiet_zone_cells,cast,gradient,tone_gamma,print_chroma,shot_snr,read_noise,"
+         "bayer";
   const char* keys[] = {"chromatag", "apriltag", "aruco"};
   for (const char* key : keys) {
     out << "," << key << "_us," << key << "_found," << key << "_false," << key << "_corner_px";
   }
   for (int s = 0; s < kNumStages; ++s) out << ",us_" << StageName(static_cast<Stage>(s));
   for (int s = 0; s < kNumStages; ++s) out << ",rejected_" << StageName(static_cast<Stage>(s));
-  out << ",seeds\n";
+  out << ",seeds,chromatag_miss_stage,chromatag_miss_reason\n";
   for (const auto& r : c.records) {
     const FrameTruth& t = r.truth;
     out << t.index << "," << ConditionName(t.condition) << "," << t.has_tags << ","
         << (t.has_tags ? t.chromatag.id : -1) << "," << t.photo << "," << t.exposure << ","
         << t.blur_sigma_px << "," << t.motion_blur_px << "," << t.noise_sigma << ","
         << t.jpeg_quality << "," << t.chromatag.size_px << "," << t.chromatag.view_angle_deg << ","
-        << t.apriltag.size_px << "," << t.apriltag.view_angle_deg;
+        << t.apriltag.size_px << "," << t.apriltag.view_angle_deg << "," << DatasetKindName(t.kind)
+        << "," << t.family << "," << t.quiet_zone_cells << "," << t.cast << "," << t.gradient << ","
+        << t.tone_gamma << "," << t.print_chroma << "," << t.shot_snr << "," << t.read_noise << ","
+        << BayerModeName(t.bayer);
     for (const DetectorRecord& d : r.detectors) {
       double mean = 0;
       for (double e : d.score.corner_error_px) mean += e / 4;
+      if (!d.ran) {
+        out << ",,,,";
+        continue;
+      }
       out << "," << d.time_us << "," << d.score.found << "," << d.score.false_positives << ","
           << (d.score.found ? std::to_string(mean) : "");
     }
     for (double us : r.chromatag_summary.stage_time_us) out << "," << us;
     for (int n : r.chromatag_summary.rejected) out << "," << n;
-    out << "," << r.chromatag_summary.seeds << "\n";
+    out << "," << r.chromatag_summary.seeds << ",";
+    if (r.chromatag_miss.analysed) {
+      out << MissStageName(r.chromatag_miss.stage) << ",\"" << r.chromatag_miss.reason << "\"";
+    } else {
+      out << ",";
+    }
+    out << "\n";
   }
   out.close();
   if (!out) {
@@ -550,13 +503,18 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
       << info.command << "`  \n"
       << "CPU: " << info.cpu << "; " << info.load << ". Detectors on one thread; rendering took "
       << Fixed(info.times.render_s, 0) << " s, the timed detection loop "
-      << Fixed(info.times.detect_s, 0) << " s.\n\n"
-      << DatasetSection(c) << "\n"
-      << FpsTable(c) << "\n"
+      << Fixed(info.times.detect_s, 0) << " s, explaining ChromaTag's misses (untimed) "
+      << Fixed(info.times.analysis_s, 0) << " s.\n\n"
+      << DatasetSection(c) << "\n";
+  const std::string targets = TargetsSection(c);
+  if (!targets.empty()) out << targets << "\n";
+  out << FpsTable(c) << "\n"
       << StageTable(c) << "\n"
       << PrecisionRecallTable(c) << "\n"
       << FailureTable(c) << "\n"
       << figures << "\n"
+      << FamilyRecallSection(c) << "\n"
+      << ConditionRecallSection(c) << "\n"
       << CornerTable(c) << "\n"
       << FalseDetectionTable(c);
   *markdown = out.str();

@@ -22,6 +22,7 @@ enum DetectorIndex { kChromaTag = 0, kAprilTag = 1, kAruco = 2 };
 inline constexpr int kNumDetectors = 3;
 
 struct DetectorRecord {
+  bool ran = false;      // False for a detector left out of the run.
   double time_us = 0.0;  // Wall time of the Detect call, one thread.
   int num_found = 0;     // Detections reported.
   FrameScore score;
@@ -31,6 +32,7 @@ struct FrameRecord {
   FrameTruth truth;
   std::array<DetectorRecord, kNumDetectors> detectors;
   DetectorSummary chromatag_summary;  // Per-stage times and rejections.
+  MissCause chromatag_miss;           // Why ChromaTag missed its tag, if it did.
 };
 
 struct RunOptions {
@@ -39,15 +41,18 @@ struct RunOptions {
 };
 
 struct RunTimes {
-  double render_s = 0.0;  // Wall time spent rendering.
-  double detect_s = 0.0;  // Wall time spent in the timed detection loop.
+  double render_s = 0.0;    // Wall time spent rendering.
+  double detect_s = 0.0;    // Wall time spent in the timed detection loop.
+  double analysis_s = 0.0;  // Wall time spent explaining ChromaTag's misses (untimed).
 };
 
-// Runs all three detectors on every frame of `dataset`. Detectors take turns
-// going first on successive frames so that none is favoured by a warm cache.
-// `progress(done, total)` is called after each chunk (may be empty).
+// Runs the detectors on every frame of `dataset`; for each tag ChromaTag
+// misses, runs it again untimed to find out why (FrameRecord::chromatag_miss). Detectors take turns
+// going first on successive frames so that none is favoured by a warm cache. `apriltag` and `aruco`
+// may be null (a ChromaTag-only run; their records then say ran = false). `progress(done, total)`
+// is called after each chunk (may be empty).
 std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
-                                       TagDetector& apriltag, TagDetector& aruco,
+                                       TagDetector* apriltag, TagDetector* aruco,
                                        const RunOptions& options, RunTimes* times,
                                        const std::function<void(int, int)>& progress = {});
 
@@ -60,6 +65,7 @@ struct ReportInfo {
   std::vector<std::string> photos;
   RunTimes times;
   std::array<std::string, kNumDetectors> names = {"ChromaTag", "AprilTag 3", "OpenCV ArUco"};
+  std::array<bool, kNumDetectors> active = {true, true, true};  // Which ones ran.
 };
 
 // Writes report.md, the PNG figures and frames.csv into `out_dir` (which

@@ -1,7 +1,7 @@
 // The three detectors compared, behind one small interface: each takes the
-// same 8-bit BGR frame and returns 16h5 detections with their corners in the
-// tag's own orientation (spec section 7: top-left of the upright tag first,
-// then clockwise; pixel centres at integer coordinates), so that every
+// same 8-bit BGR frame and returns detections of the families it was made for
+// (16h5, 36h11 or both) with their corners in the tag's own orientation (spec section 7: top-left
+// of the upright tag first, then clockwise; pixel centres at integer coordinates), so that every
 // detector is scored against the same ground truth.
 #ifndef CHROMATAG_BENCH_COMPETITORS_H_
 #define CHROMATAG_BENCH_COMPETITORS_H_
@@ -13,6 +13,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/bench/dataset.h"
+#include "chromatag/bench/miss_analysis.h"
 #include "chromatag/detector/detection.h"
 
 namespace chromatag::bench {
@@ -20,35 +22,49 @@ namespace chromatag::bench {
 struct FoundTag {
   int id = -1;
   std::array<cv::Point2d, 4> corners;  // Spec section 7 order and pixel convention.
+  std::string family = "16h5";         // "16h5" or "36h11".
 };
 
 class TagDetector {
  public:
   virtual ~TagDetector() = default;
   virtual const std::string& name() const = 0;
-  // Detects 16h5 tags in `bgr` (CV_8UC3). Everything the detector needs to
+  // Detects tags in `bgr` (CV_8UC3). Everything the detector needs to
   // do with a colour camera frame is inside this call (AprilTag's grey
   // conversion too), so that timing it times the whole job.
   virtual void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) = 0;
 };
 
+// Families are named "16h5" and "36h11" (TagFamily::Names()); each maker
+// returns nullptr and sets *error for an empty list or another name.
+
 // libapriltag 3 with its defaults (quad_decimate 2, refine_edges on, two bits
-// corrected), one thread, family tag16h5.
-std::unique_ptr<TagDetector> MakeAprilTagDetector();
+// corrected), one thread, every family added to one detector.
+std::unique_ptr<TagDetector> MakeAprilTagDetector(
+    const std::vector<std::string>& families = {"16h5"}, std::string* error = nullptr);
 
 // OpenCV's ArUco module (opencv_contrib 4.6) with DetectorParameters::create()
-// defaults and DICT_APRILTAG_16h5.
-std::unique_ptr<TagDetector> MakeArucoDetector();
+// defaults and DICT_APRILTAG_16h5 and/or DICT_APRILTAG_36h11: one
+// detectMarkers call per dictionary, all inside the one timed Detect.
+std::unique_ptr<TagDetector> MakeArucoDetector(const std::vector<std::string>& families = {"16h5"},
+                                               std::string* error = nullptr);
 
-// This project's detector (family 16h5, default DetectorOptions). The last
-// frame's summary (per-stage times and rejections) is kept for Tables 2 and 4.
+// This project's detector (default DetectorOptions, the given families, as
+// `chromatag detect --family all` for both). The last frame's summary
+// (per-stage times and rejections) is kept for Tables 2 and 4.
 class ChromaTagDetector : public TagDetector {
  public:
-  static std::unique_ptr<ChromaTagDetector> Create(std::string* error = nullptr);
+  static std::unique_ptr<ChromaTagDetector> Create(
+      const std::vector<std::string>& families = {"16h5"}, std::string* error = nullptr);
   ~ChromaTagDetector() override;
   const std::string& name() const override;
   void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) override;
   const DetectorSummary& last_summary() const;
+
+  // Runs the detector again on `bgr`, with rejected candidates reported,
+  // and says why the tag of `truth` (a tagged frame) was missed: Table 4(b).
+  // Reporting rejections costs time, so this is never part of a timed call.
+  MissCause ExplainMiss(const cv::Mat& bgr, const FrameTruth& truth);
 
  private:
   struct Impl;
@@ -57,7 +73,8 @@ class ChromaTagDetector : public TagDetector {
 };
 
 // How each library orders its corners, as indices into its own output for
-// the upright tag's top-left, top-right, bottom-right and bottom-left.
+// the upright tag's top-left, top-right, bottom-right and bottom-left. The
+// same for 16h5 and 36h11 (bench_support_test checks both).
 // libapriltag: its homography maps the tag's (-1, 1), (1, 1), (1, -1),
 // (-1, -1) to p[0..3], with the tag's y along the rows of its upright picture
 // (downwards), so p[0] is the bottom-left and the order runs counter-clockwise
@@ -66,7 +83,8 @@ inline constexpr std::array<int, 4> kAprilTagCornerOrder = {3, 2, 1, 0};
 // OpenCV 4.6 ArUco: clockwise from its own corner 0, but its DICT_APRILTAG_*
 // codes are stored turned by 180 degrees against libapriltag's pictures, so
 // on a printed AprilTag corner 0 is the bottom-right (a known OpenCV issue,
-// opencv/opencv-python#1195, fixed for OpenCV 5).
+// opencv/opencv-python#1195, fixed for OpenCV 5). DICT_APRILTAG_36h11 is
+// turned the same way.
 inline constexpr std::array<int, 4> kArucoCornerOrder = {2, 3, 0, 1};
 // libapriltag puts pixel centres at half-integer coordinates (its corners
 // come out +0.5 px in x and y against OpenCV's convention); this is

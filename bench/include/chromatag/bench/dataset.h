@@ -1,10 +1,23 @@
-// A synthetic data set in the spirit of the paper's (section 5, Figure 8):
-// 752x480 colour frames in which a ChromaTag and an AprilTag 16h5 with the same
-// ID lie side by side on one flat sheet, seen by a pinhole camera moving along
-// a path that covers black-square sizes of about 15 to 200 px and viewing
-// angles of 0 to 75 degrees, in front of natural photographs, under two colour
-// conditions (white-balanced, and a strong uncorrected cast), with blur,
-// noise and JPEG. A share of the frames holds no tag at all.
+// Rendered data sets in the spirit of the paper's (section 5, Figure 8):
+// 752x480 colour frames in which a ChromaTag and an AprilTag twin (same
+// family, ID, size and plane) lie side by side on one flat card, seen by a
+// pinhole camera moving along a path that covers a range of black-square
+// sizes and viewing angles of 0 to 75 degrees, in front of natural
+// photographs. A share of the frames holds no tag at all.
+//
+// Two sets (DatasetKind):
+// - "classic" (issue 7): 16h5 only, a 2-cell quiet zone, sizes of about
+//   15-200 px, two colour conditions (white-balanced, and a strong tungsten
+//   cast), exposure x0.55-1.1, blur, noise added to the 8-bit values, JPEG
+//   70-95 on every frame. Kinder than a camera; kept pixel-identical.
+// - "camera" (issue 10): as hard as real cameras. 16h5 and 36h11 on
+//   alternate frames, a 1-cell quiet zone on 40 % of the cards, sizes of
+//   about 12-250 px, exposure x0.5-1.5 with light falling off across the card
+//   by up to 1.6x, six colour casts (uncorrected white balance), inks at
+//   75-100 % of the file's chroma, a tone curve on top of sRGB, optical and
+//   motion blur, shot and read noise in linear light, an RGGB Bayer mosaic
+//   demosaiced by OpenCV on a third of the frames, and JPEG 60-95 with 4:2:0
+//   chroma on 40 %. A quarter of the frames hold no tag.
 //
 // Every frame is a pure function of (options, index): frames may be rendered
 // in any order and on any thread, and the same seed gives the same pixels.
@@ -14,6 +27,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,7 +35,13 @@
 
 namespace chromatag::bench {
 
-// The paper's two lighting conditions.
+enum class DatasetKind { kClassic = 0, kCamera = 1 };
+const char* DatasetKindName(DatasetKind kind);  // "classic", "camera"
+// Parses "classic" or "camera"; nullopt for anything else.
+std::optional<DatasetKind> ParseDatasetKind(const std::string& name);
+
+// The paper's two lighting conditions. In the camera set a frame counts as
+// white-balanced when its cast is "neutral".
 enum class ColorCondition {
   kWhiteBalanced = 0,  // "WB": neutral, a few percent of residual cast.
   kColorCast = 1,      // "NWB": a strong tungsten-like cast left uncorrected.
@@ -29,7 +49,16 @@ enum class ColorCondition {
 inline constexpr int kNumConditions = 2;
 const char* ConditionName(ColorCondition condition);  // "WB", "NWB"
 
+// How the camera set's sensor turned its mosaic into colour (OpenCV's
+// demosaicing, on 16-bit linear data).
+enum class BayerMode { kNone = 0, kBilinear = 1, kEdgeAware = 2 };
+inline constexpr int kNumBayerModes = 3;
+const char* BayerModeName(BayerMode mode);  // "none", "bilinear", "edge-aware"
+
 struct DatasetOptions {
+  // Which set; see the top of this file. The defaults below are the classic
+  // set's; ForKind gives each set's own.
+  DatasetKind kind = DatasetKind::kClassic;
   int width = 752;  // The paper's camera (mvBluefox-200wc).
   int height = 480;
   int num_frames = 10000;  // About 6 minutes for the comparison on 2 cores.
@@ -51,11 +80,16 @@ struct DatasetOptions {
   // Each output pixel averages supersampling^2 samples (antialiased edges).
   int supersampling = 3;
 
+  // The defaults of `kind`: the camera set has sizes of 12-250 px and a
+  // quarter of its frames tag-free.
+  static DatasetOptions ForKind(DatasetKind kind);
+
   bool IsValid(std::string* error) const;
 };
 
 // Ground truth of one tag in a frame.
 struct TagTruth {
+  std::string family;  // "16h5" or "36h11"; empty when the frame has no tag.
   int id = -1;
   // The black square, top-left of the upright tag first, then clockwise
   // (spec section 7); pixel centres at integer coordinates.
@@ -69,17 +103,32 @@ struct TagTruth {
 
 struct FrameTruth {
   int index = 0;
+  DatasetKind kind = DatasetKind::kClassic;
   ColorCondition condition = ColorCondition::kWhiteBalanced;
   bool has_tags = false;
+  // Of both tags, when has_tags ("" and 0 otherwise).
+  std::string family;
+  int quiet_zone_cells = 0;
   TagTruth chromatag;  // Valid when has_tags.
   TagTruth apriltag;
   std::string photo;  // File name of the background photograph.
-  // How the frame was degraded, for the per-frame record.
+  // How the frame was made, for the per-frame record. The classic set fills
+  // the fields it has: cast "neutral" or "tungsten", tone gamma 1, print
+  // chroma 0.85, noise_sigma only.
+  std::string cast = "neutral";  // neutral, tungsten, cool, cyan, green, magenta.
   double exposure = 1.0;
-  double blur_sigma_px = 0.0;
+  double gradient = 1.0;       // Light on the card, brightest over darkest.
+  double tone_gamma = 1.0;     // Exponent applied to the sRGB-encoded value.
+  double print_chroma = 1.0;   // Ink chroma as a share of the file's.
+  double blur_sigma_px = 0.0;  // Gaussian, in linear light.
   double motion_blur_px = 0.0;
-  double noise_sigma = 0.0;  // 8-bit levels.
-  int jpeg_quality = 0;
+  double noise_sigma = 0.0;  // Classic: Gaussian noise on the 8-bit values, levels.
+  // Camera: shot noise (signal-to-noise ratio at linear mid-grey 0.18) and
+  // read noise (sigma, linear units), both in linear light before encoding.
+  double shot_snr = 0.0;
+  double read_noise = 0.0;
+  BayerMode bayer = BayerMode::kNone;
+  int jpeg_quality = 0;  // 0: stored losslessly.
 };
 
 struct Frame {
@@ -98,6 +147,9 @@ class Dataset {
 
   // Frame `index` in [0, num_frames). Thread-safe; deterministic.
   Frame Render(int index) const;
+  // Render(index).truth. Cheap for the camera set (no pixels are made); the
+  // classic set renders the frame.
+  FrameTruth Truth(int index) const;
 
   const DatasetOptions& options() const;
   const std::vector<std::string>& photos() const;  // File names used.

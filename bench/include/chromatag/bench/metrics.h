@@ -1,6 +1,6 @@
 // Scoring detections against the ground truth as in the paper (section 5.2):
-// a true positive has the right ID and an intersection over union of at least
-// 0.5 with the true black square; every other detection is a false positive;
+// a true positive has the right family and ID and an intersection over union
+// of at least 0.5 with the true black square; every other detection is a false positive;
 // a tag not found is a false negative.
 #ifndef CHROMATAG_BENCH_METRICS_H_
 #define CHROMATAG_BENCH_METRICS_H_
@@ -25,6 +25,7 @@ struct FrameScore {
   bool found = false;          // The tag was detected (a true positive).
   int false_positives = 0;     // Wrong ID, wrong place, or a second report of the tag.
   int false_on_other_tag = 0;  // Of those, how many lie on the frame's other tag.
+  int wrong_ids = 0;           // Of those, how many lie on the own tag with a wrong family or ID.
   // When found: each corner's distance to the truth, pixels, and the mean
   // signed offset (detected minus true), which shows a convention mismatch.
   std::array<double, 4> corner_error_px{};

@@ -1,0 +1,312 @@
+// The report's breakdowns (issue 10): recall per family by size and tilt,
+// recall per condition, the targets table, and Table 4(b) from the miss
+// analysis.
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <set>
+
+#include "report_util.h"
+
+namespace chromatag::bench {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Range {
+  std::string name;
+  double lo, hi;  // [lo, hi)
+  bool Contains(double v) const { return v >= lo && v < hi; }
+};
+
+const Range kSizeGroups[] = {{"< 30 px", 0, 30},       {"30–50 px", 30, 50},
+                             {"50–70 px", 50, 70},     {"70–100 px", 70, 100},
+                             {"100–150 px", 100, 150}, {"≥ 150 px", 150, kInf}};
+const Range kTiltGroups[] = {
+    {"0–30°", 0, 30}, {"30–45°", 30, 45}, {"45–60°", 45, 60}, {"60–75°", 60, kInf}};
+
+// Which tags count: the frame (for its conditions) and the detector's own tag.
+using TagFilter = std::function<bool(const FrameTruth&, const TagTruth&)>;
+
+struct Tally {
+  int tags = 0, hits = 0;
+  double Recall() const { return tags > 0 ? static_cast<double>(hits) / tags : kNaN; }
+};
+
+std::array<Tally, kNumDetectors> Count(const Context& c, const TagFilter& filter) {
+  std::array<Tally, kNumDetectors> tally;
+  for (const auto& r : c.records) {
+    if (!r.truth.has_tags) continue;
+    for (int d = 0; d < kNumDetectors; ++d) {
+      if (!c.info.active[d] || !filter(r.truth, OwnTruth(r, d))) continue;
+      ++tally[d].tags;
+      tally[d].hits += r.detectors[d].score.found ? 1 : 0;
+    }
+  }
+  return tally;
+}
+
+std::string RecallCell(const Context& c, const std::array<Tally, kNumDetectors>& tally, int d) {
+  return c.info.active[d] ? Percent(tally[d].hits, tally[d].tags) : "n/a";
+}
+
+std::vector<std::string> Families(const Context& c) {
+  std::set<std::string> names;
+  for (const auto& r : c.records) {
+    if (r.truth.has_tags) names.insert(r.truth.family);
+  }
+  return {names.begin(), names.end()};
+}
+
+bool Squarish(const TagTruth& t) { return t.size_px >= 30 && t.view_angle_deg <= 60; }
+
+}  // namespace
+
+std::string FamilyRecallSection(const Context& c) {
+  std::ostringstream out;
+  out << "### Recall per family by size and tilt\n\n"
+      << "Each detector against its own tag (sizes and tilts of the ChromaTag and its AprilTag "
+         "twin differ a little, so the tag counts, the ChromaTags', are approximate for the "
+         "others). Size: square root of the black square's area; tilt: viewing angle.\n\n";
+  for (const std::string& family : Families(c)) {
+    Table rows;
+    auto add = [&](const std::string& label, const TagFilter& filter) {
+      const auto tally = Count(c, [&](const FrameTruth& f, const TagTruth& t) {
+        return f.family == family && filter(f, t);
+      });
+      if (tally[kChromaTag].tags == 0) return;
+      rows.push_back({label, Grouped(tally[kChromaTag].tags), RecallCell(c, tally, kChromaTag),
+                      RecallCell(c, tally, kAprilTag), RecallCell(c, tally, kAruco)});
+    };
+    for (const Range& size : kSizeGroups) {
+      add("size " + size.name,
+          [&](const FrameTruth&, const TagTruth& t) { return size.Contains(t.size_px); });
+    }
+    for (const Range& tilt : kTiltGroups) {
+      add("tilt " + tilt.name,
+          [&](const FrameTruth&, const TagTruth& t) { return tilt.Contains(t.view_angle_deg); });
+    }
+    add("all", [](const FrameTruth&, const TagTruth&) { return true; });
+    out << "**" << family << "**\n\n"
+        << Markdown({"range", "tags", c.info.names[kChromaTag] + " %",
+                     c.info.names[kAprilTag] + " %", c.info.names[kAruco] + " %"},
+                    rows)
+        << "\n";
+  }
+  return out.str();
+}
+
+std::string ConditionRecallSection(const Context& c) {
+  Table rows;
+  auto add = [&](const std::string& label, const std::function<bool(const FrameTruth&)>& has) {
+    const auto all = Count(c, [&](const FrameTruth& f, const TagTruth&) { return has(f); });
+    if (all[kChromaTag].tags == 0) return;
+    const auto squarish =
+        Count(c, [&](const FrameTruth& f, const TagTruth& t) { return has(f) && Squarish(t); });
+    rows.push_back({label, Grouped(all[kChromaTag].tags), RecallCell(c, all, kChromaTag),
+                    RecallCell(c, all, kAprilTag), RecallCell(c, all, kAruco),
+                    RecallCell(c, squarish, kChromaTag), RecallCell(c, squarish, kAprilTag)});
+  };
+  auto ranges = [&](const std::string& what, const std::vector<Range>& bins,
+                    double FrameTruth::*field) {
+    for (const Range& bin : bins) {
+      add(what + " " + bin.name, [&](const FrameTruth& f) { return bin.Contains(f.*field); });
+    }
+  };
+  for (const char* family : {"16h5", "36h11"}) {
+    add(std::string("family ") + family, [&](const FrameTruth& f) { return f.family == family; });
+  }
+  for (const char* cast : {"neutral", "tungsten", "cool", "cyan", "green", "magenta"}) {
+    add(std::string("cast ") + cast, [&](const FrameTruth& f) { return f.cast == cast; });
+  }
+  ranges(
+      "exposure",
+      {{"×0.5–0.75", 0, 0.75}, {"×0.75–1", 0.75, 1}, {"×1–1.25", 1, 1.25}, {"×1.25–1.5", 1.25, 9}},
+      &FrameTruth::exposure);
+  ranges("light gradient", {{"1–1.2×", 0, 1.2}, {"1.2–1.4×", 1.2, 1.4}, {"1.4–1.6×", 1.4, 9}},
+         &FrameTruth::gradient);
+  ranges("tone gamma",
+         {{"0.75–0.9", 0, 0.9},
+          {"0.9–1.05", 0.9, 1.05},
+          {"1.05–1.2", 1.05, 1.2},
+          {"1.2–1.35", 1.2, 9}},
+         &FrameTruth::tone_gamma);
+  ranges("blur σ", {{"0–0.5 px", 0, 0.5}, {"0.5–1 px", 0.5, 1}, {"1–1.5 px", 1, 9}},
+         &FrameTruth::blur_sigma_px);
+  add("motion blur none", [](const FrameTruth& f) { return f.motion_blur_px == 0; });
+  add("motion blur 1–5 px", [](const FrameTruth& f) { return f.motion_blur_px > 0; });
+  ranges("shot noise SNR", {{"30–45", 1, 45}, {"45–60", 45, 60}, {"60–80", 60, 1e9}},
+         &FrameTruth::shot_snr);
+  ranges("read noise σ", {{"0.002–0.006", 1e-9, 0.006}, {"0.006–0.01", 0.006, 1}},
+         &FrameTruth::read_noise);
+  for (int mode = 0; mode < kNumBayerModes; ++mode) {
+    add(std::string("Bayer ") + BayerModeName(static_cast<BayerMode>(mode)),
+        [&](const FrameTruth& f) { return static_cast<int>(f.bayer) == mode; });
+  }
+  add("JPEG none", [](const FrameTruth& f) { return f.jpeg_quality == 0; });
+  add("JPEG any", [](const FrameTruth& f) { return f.jpeg_quality > 0; });
+  for (const Range& q : std::vector<Range>{
+           {"60–69", 60, 70}, {"70–79", 70, 80}, {"80–89", 80, 90}, {"90–95", 90, 101}}) {
+    add("JPEG quality " + q.name,
+        [&](const FrameTruth& f) { return f.jpeg_quality > 0 && q.Contains(f.jpeg_quality); });
+  }
+  for (int quiet : {1, 2}) {
+    add("quiet zone " + std::to_string(quiet) + (quiet == 1 ? " cell" : " cells"),
+        [&](const FrameTruth& f) { return f.quiet_zone_cells == quiet; });
+  }
+  ranges("print chroma", {{"0.75–0.85", 0.7, 0.85}, {"0.85–0.95", 0.85, 0.95}, {"0.95–1", 0.95, 9}},
+         &FrameTruth::print_chroma);
+  return "### Recall per condition\n\n"
+         "Every tag of the frames with each condition, both families. Conditions are drawn "
+         "independently of each other and of the camera path, so rows of one condition compare "
+         "fairly; family and quiet zone are the exception: they change the card's size in "
+         "black-square units, and the camera backs off further to fit a larger card, so their "
+         "largest tags are a little smaller. The last two columns keep only tags of at least "
+         "30 px seen at 60° or less, where the detectors are meant to work.\n\n" +
+         Markdown(
+             {"condition", "tags", c.info.names[kChromaTag] + " %", c.info.names[kAprilTag] + " %",
+              c.info.names[kAruco] + " %", c.info.names[kChromaTag] + " % (≥ 30 px, ≤ 60°)",
+              c.info.names[kAprilTag] + " % (≥ 30 px, ≤ 60°)"},
+             rows);
+}
+
+std::string TargetsSection(const Context& c) {
+  if (c.info.dataset.kind != DatasetKind::kCamera) return "";
+  Table rows;
+  const bool april = c.info.active[kAprilTag];
+  auto verdict = [](bool known, bool pass) {
+    return !known ? std::string("n/a") : pass ? std::string("pass") : std::string("**fail**");
+  };
+  for (const std::string& family : Families(c)) {
+    auto tally = [&](double size_lo, double size_hi, double tilt_lo, double tilt_hi) {
+      return Count(c, [&](const FrameTruth& f, const TagTruth& t) {
+        return f.family == family && t.size_px >= size_lo && t.size_px < size_hi &&
+               t.view_angle_deg > tilt_lo && t.view_angle_deg <= tilt_hi;
+      });
+    };
+    const auto mid = tally(30, kInf, -1, 60), large = tally(70, kInf, -1, 60),
+               steep = tally(70, kInf, 60, kInf), small = tally(0, 30, -1, kInf);
+    auto recall = [&](const std::array<Tally, kNumDetectors>& t, int d) {
+      return c.info.active[d] ? Percent(t[d].hits, t[d].tags) + " % (" + Grouped(t[d].tags) + ")"
+                              : "n/a";
+    };
+    const double ct_mid = mid[kChromaTag].Recall(), at_mid = mid[kAprilTag].Recall();
+    rows.push_back({family + ": recall, ≥ 30 px at ≤ 60°", "≥ AprilTag 3's",
+                    recall(mid, kChromaTag), recall(mid, kAprilTag),
+                    verdict(april && mid[kChromaTag].tags > 0, ct_mid >= at_mid)});
+    rows.push_back({family + ": recall, ≥ 70 px at ≤ 60°", "≥ 99.5 %", recall(large, kChromaTag),
+                    recall(large, kAprilTag),
+                    verdict(large[kChromaTag].tags > 0, large[kChromaTag].Recall() >= 0.995)});
+    rows.push_back({family + ": recall, ≥ 70 px at 60–75°", "≥ 95 %", recall(steep, kChromaTag),
+                    recall(steep, kAprilTag),
+                    verdict(steep[kChromaTag].tags > 0, steep[kChromaTag].Recall() >= 0.95)});
+    rows.push_back({family + ": recall, < 30 px", "≥ 2/3 of AprilTag 3's",
+                    recall(small, kChromaTag), recall(small, kAprilTag),
+                    verdict(april && small[kChromaTag].tags > 0,
+                            small[kChromaTag].Recall() >= small[kAprilTag].Recall() * 2.0 / 3.0)});
+  }
+  // Precision, false and wrong detections over all frames.
+  std::array<int, kNumDetectors> tp{}, fp{}, free_fp{}, wrong{};
+  std::array<std::vector<double>, kNumDetectors> corners, tagged_us, free_us;
+  for (const auto& r : c.records) {
+    for (int d = 0; d < kNumDetectors; ++d) {
+      const DetectorRecord& dr = r.detectors[d];
+      if (!dr.ran) continue;
+      tp[d] += dr.score.found ? 1 : 0;
+      fp[d] += dr.score.false_positives;
+      wrong[d] += dr.score.wrong_ids;
+      (r.truth.has_tags ? tagged_us : free_us)[d].push_back(dr.time_us);
+      if (!r.truth.has_tags) free_fp[d] += dr.score.false_positives;
+      if (dr.score.found) {
+        corners[d].insert(corners[d].end(), dr.score.corner_error_px.begin(),
+                          dr.score.corner_error_px.end());
+      }
+    }
+  }
+  auto apriltag = [&](const std::string& value) { return april ? value : std::string("n/a"); };
+  rows.push_back({"precision (all frames)", "100 %", Percent(tp[0], tp[0] + fp[0], 2) + " %",
+                  apriltag(Percent(tp[1], tp[1] + fp[1], 2) + " %"), verdict(true, fp[0] == 0)});
+  rows.push_back({"false detections on tag-free frames", "0", Grouped(free_fp[0]),
+                  apriltag(Grouped(free_fp[1])), verdict(c.tag_free > 0, free_fp[0] == 0)});
+  rows.push_back({"wrong IDs (wrong family or ID on the tag)", "0", Grouped(wrong[0]),
+                  apriltag(Grouped(wrong[1])), verdict(true, wrong[0] == 0)});
+  rows.push_back({"corner error, median px", "(no bound set)", Fixed(Percentile(corners[0], 50), 2),
+                  apriltag(Fixed(Percentile(corners[1], 50), 2)), "–"});
+  const double tagged_median = Percentile(tagged_us[0], 50),
+               free_median = Percentile(free_us[0], 50);
+  rows.push_back({"median time, frames with tags", "≤ 100 µs", Fixed(tagged_median, 1) + " µs",
+                  apriltag(Fixed(Percentile(tagged_us[1], 50), 0) + " µs"),
+                  verdict(!tagged_us[0].empty(), tagged_median <= 100)});
+  rows.push_back({"median time, tag-free frames", "≤ 30 µs", Fixed(free_median, 1) + " µs",
+                  apriltag(Fixed(Percentile(free_us[1], 50), 0) + " µs"),
+                  verdict(!free_us[0].empty(), free_median <= 30)});
+  return "### Targets (issue 10)\n\n"
+         "ChromaTag against the targets on this set; AprilTag 3's value beside it (in brackets: "
+         "tags counted). Tilt is the viewing angle; \"n/a\" where AprilTag 3 was not run "
+         "(`--detectors chromatag`) or no tag fell in the range. Times are the timed loop's, on "
+         "this machine under the load stated above.\n\n" +
+         Markdown(
+             {"target", "wanted", c.info.names[kChromaTag], c.info.names[kAprilTag], "verdict"},
+             rows);
+}
+
+std::string MissTable(const Context& c) {
+  constexpr int kGroups = sizeof(kSizeGroups) / sizeof(kSizeGroups[0]);
+  std::array<int, kGroups> tags{}, misses{};
+  // By stage (kNumStages: reported wrongly), and by (stage, reason).
+  std::vector<std::array<int, kGroups>> by_stage(kNumStages + 1);
+  std::map<std::pair<int, std::string>, std::array<int, kGroups>> by_reason;
+  int total = 0;
+  for (const auto& r : c.records) {
+    if (!r.truth.has_tags) continue;
+    int g = 0;
+    while (g + 1 < kGroups && !kSizeGroups[g].Contains(r.truth.chromatag.size_px)) ++g;
+    ++tags[g];
+    const MissCause& miss = r.chromatag_miss;
+    if (r.detectors[kChromaTag].score.found || !miss.analysed) continue;
+    ++misses[g];
+    ++total;
+    ++by_stage[std::clamp(miss.stage, 0, kNumStages)][g];
+    ++by_reason[{miss.stage, miss.reason}][g];
+  }
+  auto row = [&](const std::string& label, const std::array<int, kGroups>& counts) {
+    std::vector<std::string> cells = {label};
+    int sum = 0;
+    for (int g = 0; g < kGroups; ++g) {
+      cells.push_back(Grouped(counts[g]));
+      sum += counts[g];
+    }
+    cells.push_back(Grouped(sum));
+    cells.push_back(Percent(sum, total));
+    return cells;
+  };
+  std::vector<std::string> header = {"failed at"};
+  for (const Range& group : kSizeGroups) header.push_back(group.name);
+  header.insert(header.end(), {"all", "% of misses"});
+  Table stages = {row("tags", tags), row("missed", misses)};
+  stages[0].back() = "";  // Tags are not misses.
+  for (int s = 0; s <= kNumStages; ++s) {
+    const bool any = std::any_of(by_stage[s].begin(), by_stage[s].end(), [](int n) { return n; });
+    if (s < kNumStages || any) stages.push_back(row(MissStageName(s), by_stage[s]));
+  }
+  Table reasons;
+  for (const auto& [key, counts] : by_reason) {
+    reasons.push_back(row(MissStageName(key.first) + ": " + key.second, counts));
+  }
+  header[0] = "stage: reason";
+  std::vector<std::string> stage_header = header;
+  stage_header[0] = "failed at";
+  std::ostringstream out;
+  out << "(b) Frames with tags in which ChromaTag missed its tag, by size group (ChromaTag's "
+         "size), assigned exactly: the detector is run again, untimed, with its rejected "
+         "candidates reported, and the miss goes to the deepest stage (then the latest reason "
+         "in the detector's list) among the candidates whose seed or centre lies within the "
+         "tag's outer border (black square and quiet zone); to FindADiff (\"no candidate\") "
+         "when none started there; to \"reported\" when a detection on the tag had the wrong "
+         "family or ID or corners too far off.\n\n"
+      << Markdown(stage_header, stages) << "\n"
+      << Markdown(header, reasons);
+  return out.str();
+}
+
+}  // namespace chromatag::bench

@@ -1,0 +1,88 @@
+// What the report's files share: the run's context and small formatting
+// helpers. Private to the bench library.
+#ifndef CHROMATAG_BENCH_SRC_REPORT_UTIL_H_
+#define CHROMATAG_BENCH_SRC_REPORT_UTIL_H_
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "chromatag/bench/comparison.h"
+
+namespace chromatag::bench {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+inline std::string Fixed(double value, int digits) {
+  if (std::isnan(value)) return "–";
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", digits, value);
+  return text;
+}
+
+// Thousands separated by a thin space: 12 345.
+inline std::string Grouped(double value) {
+  if (std::isnan(value)) return "–";
+  std::string digits = std::to_string(static_cast<long long>(std::llround(value)));
+  const bool negative = !digits.empty() && digits[0] == '-';
+  if (negative) digits.erase(0, 1);
+  std::string out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += "\u2009";
+    out += digits[i];
+  }
+  return negative ? "-" + out : out;
+}
+
+inline std::string Percent(double numerator, double denominator, int digits = 1) {
+  return denominator > 0 ? Fixed(100.0 * numerator / denominator, digits) : "–";
+}
+
+using Table = std::vector<std::vector<std::string>>;
+
+inline std::string Markdown(const std::vector<std::string>& header, const Table& rows) {
+  std::ostringstream out;
+  auto line = [&](const std::vector<std::string>& cells) {
+    out << "|";
+    for (const auto& cell : cells) out << " " << cell << " |";
+    out << "\n";
+  };
+  line(header);
+  out << "|";
+  for (size_t i = 0; i < header.size(); ++i) out << (i == 0 ? "---|" : "---:|");
+  out << "\n";
+  for (const auto& row : rows) line(row);
+  return out.str();
+}
+
+inline double Mean(const std::vector<double>& values) {
+  if (values.empty()) return kNaN;
+  double sum = 0;
+  for (double v : values) sum += v;
+  return sum / values.size();
+}
+
+inline const TagTruth& OwnTruth(const FrameRecord& record, int detector) {
+  return detector == kChromaTag ? record.truth.chromatag : record.truth.apriltag;
+}
+
+struct Context {
+  const std::vector<FrameRecord>& records;
+  const ReportInfo& info;
+  std::string out_dir;
+  std::string* error;
+  int tagged = 0, tag_free = 0;
+};
+
+// Sections of the report that break recall down (report_breakdown.cc).
+std::string FamilyRecallSection(const Context& c);
+std::string ConditionRecallSection(const Context& c);
+std::string TargetsSection(const Context& c);  // Camera set only; empty otherwise.
+std::string MissTable(const Context& c);       // Table 4(b), from the miss analysis.
+
+}  // namespace chromatag::bench
+
+#endif  // CHROMATAG_BENCH_SRC_REPORT_UTIL_H_
