@@ -237,7 +237,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
         if (options.report_rejected) rejection = Rejection(candidate, seed, why);
         const bool after_scan = StageOf(why) != Stage::kInitialScan;
         bool grown = false;
-        if (candidate.enclosed && options.grow_regions) {
+        if (options.grow_regions && internal::WorthGrowing(candidate, why)) {
           grown = run_stage(Stage::kGrowRegion, [&] {
             return internal::GrowRegion(view, options, impl_->families, &candidate, &detection,
                                         &why);

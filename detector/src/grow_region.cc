@@ -19,7 +19,7 @@ namespace {
 // The region is grown on a grid of about this many steps across the red's
 // half-width: enough for an outline that the side fits then refine at full
 // resolution, and a bounded cost on large tags.
-constexpr float kGridStepsPerRedHalfWidth = 8.f;
+constexpr float kGridStepsPerRedHalfWidth = 4.f;
 // The window the black square may grow in: the scans' red/green border
 // points pushed out from the centre by this factor (16h5's black square is 3
 // times its red, 36h11's twice; then the quiet zone; and on small blurred
@@ -29,13 +29,18 @@ constexpr float kWindowReach = 7.f;
 constexpr int kWindowMarginPx = 4;
 // The grown black square's area over the area inside the scans' red/green
 // border points: 9 for 16h5 and 4 for 36h11 when the points are on the
-// border, up to about 25 on small blurred tags, whose red a* peaks in the
-// middle and drops by a third well inside the true border.
+// border. On small blurred tags the red's a* peaks in the middle and the
+// points fall a pixel or two inside the true border, so the upper bound
+// holds against the red widened by kBlurAllowancePx on each side.
 constexpr double kMinAreaRatio = 2.5;
-constexpr double kMaxAreaRatio = 40.0;
+constexpr double kMaxAreaRatio = 16.0;
+constexpr double kBlurAllowancePx = 2.0;
 // Where the green is read past the scans' red/green border, as a fraction of
 // the distance from the centre (inside the green ring for both families).
 constexpr float kGreenProbe = 0.25f;
+// The black ring starts within this many red/green border distances past the
+// border (two for 16h5, half for 36h11; more where the points fell short).
+constexpr float kMaxBlackReach = 4.f;
 // The region darker than the quiet zone: below this fraction of the way from
 // the lighter of the red and green to the quiet zone's white.
 constexpr float kDarkFraction = 0.45f;
@@ -78,8 +83,11 @@ bool RingLevels(const ImageView& image, const Candidate& candidate, float* chrom
     const cv::Point2f out = b - c;
     const float r = std::sqrt(out.dot(out));
     if (!(r > 0.5f)) continue;
-    const cv::Point2f u = out / r;
-    const int steps = static_cast<int>(kWindowReach * r) + kWindowMarginPx;
+    // Steps of an eighth of the red's half-width (the black ring is at least
+    // half of it wide), to where the window ends.
+    const float stride = std::max(1.f, r / kGridStepsPerRedHalfWidth / 2.f);
+    const cv::Point2f u = stride * out / r;
+    const int steps = static_cast<int>((kWindowReach * r + kWindowMarginPx) / stride);
     bool in_black = false;
     float lightest = -1.f;
     int light_until = 0;
@@ -90,9 +98,10 @@ bool RingLevels(const ImageView& image, const Candidate& candidate, float* chrom
       const float l = image.L(x, y);
       if (!in_black) {
         in_black = l < dark;
+        if (!in_black && k * stride > kMaxBlackReach * r + kWindowMarginPx) break;
       } else if (lightest < 0.f && l > *chroma_l + kMinWhiteGap) {
         lightest = l;  // Entered the quiet zone: its lightest within half a red.
-        light_until = k + static_cast<int>(0.5f * r) + 2;
+        light_until = k + static_cast<int>(0.5f * r / stride) + 2;
       } else if (lightest >= 0.f) {
         if (k > light_until) break;
         lightest = std::max(lightest, l);
@@ -109,7 +118,8 @@ bool RingLevels(const ImageView& image, const Candidate& candidate, float* chrom
 // `start`. Returns its outline (cells with a neighbour outside) in image
 // pixels, or false if it reaches the window's edge or is too small.
 template <typename Inside>
-bool Grow(const Grid& grid, cv::Point start, Inside&& inside, std::vector<cv::Point2f>* outline) {
+bool Grow(const Grid& grid, cv::Point start, int max_cells, Inside&& inside,
+          std::vector<cv::Point2f>* outline) {
   thread_local std::vector<uint8_t> state;  // 0 unseen, 1 in, 2 out, 3 queued.
   thread_local std::vector<int> queue;
   state.assign(static_cast<size_t>(grid.width) * grid.height, 0);
@@ -128,6 +138,7 @@ bool Grow(const Grid& grid, cv::Point start, Inside&& inside, std::vector<cv::Po
   for (size_t head = 0; head < queue.size(); ++head) {
     const int i = queue[head] % grid.width, j = queue[head] / grid.width;
     if (i == 0 || j == 0 || i == grid.width - 1 || j == grid.height - 1) return false;
+    if (static_cast<int>(head) >= max_cells) return false;
     bool edge = false;
     const int neighbours[4][2] = {{i + 1, j}, {i - 1, j}, {i, j + 1}, {i, j - 1}};
     for (const auto& n : neighbours) {
@@ -182,6 +193,14 @@ bool PlaceInnerRings(const ImageView& image, const TagFamily& family, Candidate*
 
 }  // namespace
 
+bool WorthGrowing(const Candidate& candidate, RejectReason why) {
+  // Red things that are not tags mostly fail re-centring (a red blob next to
+  // some green); a tag the scans lose gets as far as the ring scans. On
+  // tag-free camera frames that leaves one candidate in five, and no tag the
+  // second path found had failed earlier.
+  return candidate.enclosed && why >= RejectReason::kRingScan;
+}
+
 bool GrowRegion(const ImageView& image, const DetectorOptions& options,
                 const std::vector<FamilyDecoder>& families, Candidate* candidate,
                 Detection* detection, RejectReason* why) {
@@ -216,16 +235,20 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
   const cv::Point start(RoundToInt((c.x - grid.x0) / grid.step),
                         RoundToInt((c.y - grid.y0) / grid.step));
   std::vector<cv::Point2f>& outline = candidate->points[kBlackWhite];
+  // A region larger than any tag's black square around this red has leaked.
+  const double red_area = PolygonArea({candidate->red_border.begin(), candidate->red_border.end()});
+  const double widened = std::pow(std::sqrt(red_area) + 2 * kBlurAllowancePx, 2);
+  const int max_cells = static_cast<int>(kMaxAreaRatio * widened / (grid.step * grid.step)) + 16;
   if (!Grow(
-          grid, start, [&](cv::Point p) { return image.L(p.x, p.y) < threshold; }, &outline))
+          grid, start, max_cells, [&](cv::Point p) { return image.L(p.x, p.y) < threshold; },
+          &outline))
     return false;
 
   *why = RejectReason::kRegionNotQuad;
   Quad outer;
   if (!FitQuad(outline, &outer)) return false;
-  const double red_area = PolygonArea({candidate->red_border.begin(), candidate->red_border.end()});
-  const double ratio = QuadArea(outer) / std::max(1.0, red_area);
-  if (ratio < kMinAreaRatio || ratio > kMaxAreaRatio) return false;
+  if (QuadArea(outer) < kMinAreaRatio * red_area || QuadArea(outer) > kMaxAreaRatio * widened)
+    return false;
   const double cell = std::sqrt(QuadArea(outer)) / 8.0;  // Either family: refined next.
   if (!RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, grid.step + 1.5, 1.0},
                   &outer) ||

@@ -131,12 +131,15 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
 bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
                 RejectReason* why);
 
-// The second path (grow_region.cc), for a candidate InitialScan found
-// enclosed but the stages above lost: grows the red region on a* from the
-// centre (threshold halfway to the green around it), fits its four sides,
-// places each family's green and black rings from the red and fits them on
-// their edges, then Decode. Overwrites the candidate's quads and red/green
-// points.
+// The second path (grow_region.cc). WorthGrowing: whether a candidate the
+// stages above lost (for `why`) is one the second path can rescue: its red
+// was enclosed by green and it got as far as the ring scans. GrowRegion:
+// grows the black square from the centre (everything darker than the quiet
+// zone, levels from the candidate's own profiles), fits its four sides and
+// refines them, places each family's green and red rings inside it and fits
+// them on their edges, then Decode. Overwrites the candidate's quads and
+// outer points.
+bool WorthGrowing(const Candidate& candidate, RejectReason why);
 bool GrowRegion(const ImageView& image, const DetectorOptions& options,
                 const std::vector<FamilyDecoder>& families, Candidate* candidate,
                 Detection* detection, RejectReason* why);
