@@ -30,14 +30,27 @@ constexpr double kMaxCorrectedCellCertainty = 0.5;
 // red cell away from their complement, with margins and doubts no different
 // from true corrected reads.
 constexpr int kMaxUncorrectableCells = 4;
-// A code read with no bit wrong needs only this fraction of the decision
-// margin: to be a misread, at least the family's minimum Hamming distance of
-// cells (5 for 16h5, 11 for 36h11) would all have to fall on the wrong side
-// together. Small, blurred tags and JPEG's 4:2:0 chroma pull the cells next
-// to the other shade towards the split, which lowers the margin of otherwise
-// clean reads; on 2,000 benchmark frames with no margin gate at all, every
-// read was the right ID, the lowest margins included.
+// The decision margin guards against reads in which many cells are in
+// doubt; how much of it a read needs depends on how far the nearest other
+// code is. A read whose nearest other code is at least kFarCodeBits away
+// (36h11, minimum distance 11, corrected by up to 2 bits) needs none: that
+// many cells would all have to fall on the wrong side together, and the
+// corrected cells must still be doubtful ones. An exact read in a family of
+// closer codes (16h5) needs kExactReadMarginFactor of it; a corrected one
+// all of it. Small, blurred tags, JPEG's 4:2:0 chroma and demosaicing pull
+// cells next to the other shade towards the split and lower the margin of
+// clean reads: on 2,000 classic and 1,500 camera benchmark frames with no
+// margin gate at all every read was the right ID, the lowest margins (0.06)
+// included.
+constexpr int kFarCodeBits = 9;
 constexpr double kExactReadMarginFactor = 0.5;
+
+// The smallest margin a read of `family` at Hamming distance `hamming` from
+// its code needs, as a fraction of DetectorOptions::min_decision_margin.
+double MarginFactor(const TagFamily& family, int hamming) {
+  if (family.min_hamming() - hamming >= kFarCodeBits) return 0.0;
+  return hamming == 0 ? kExactReadMarginFactor : 1.0;
+}
 
 cv::Point2d Apply(const cv::Matx33d& h, double x, double y) {
   const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
@@ -184,7 +197,8 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
     return reject(RejectReason::kWeakChroma);
   const Split red = SplitShades(red_b), green = SplitShades(green_b);
   const double margin = std::min(red.margin, green.margin);
-  if (margin < options.min_decision_margin * kExactReadMarginFactor)
+  // The least any read of this family needs; the read's own need follows.
+  if (margin < options.min_decision_margin * MarginFactor(family, 0))
     return reject(RejectReason::kLowMargin);
 
   Code observed = 0;
@@ -199,7 +213,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   }
   CodeMatch match;
   if (!entry.decoder->Decode(observed, &match)) return reject(RejectReason::kUnknownCode);
-  if (margin < options.min_decision_margin && match.hamming > 0)
+  if (margin < options.min_decision_margin * MarginFactor(family, match.hamming))
     return reject(RejectReason::kLowMargin);
   // Correct only cells whose shade is in doubt. A cell read clearly as the
   // wrong shade is not noise: a tag printed with its shades swapped shows the

@@ -58,9 +58,10 @@ struct DetectorOptions {
   int max_hamming = -1;
 
   // Smallest accepted decision margin: the gap between the two b* clusters of
-  // a colour relative to their spread, dimensionless. [0, inf). A code read
-  // with no bit wrong in a family whose codes are at least 9 bits apart
-  // (36h11) needs half of it.
+  // a colour relative to their spread, dimensionless. [0, inf). It applies
+  // in full to reads that correct bits in a family of close codes (16h5);
+  // an exact 16h5 read needs half of it, and a read whose nearest other code
+  // is 9 or more bits away (36h11) none (decode.cc says why).
   double min_decision_margin = 2.0;
 
   // Sub-pixel corners (PolyToQuad's second half): least-squares lines through
