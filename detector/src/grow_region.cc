@@ -182,7 +182,8 @@ bool PlaceInnerRings(const ImageView& image, const TagFamily& family, Candidate*
   const double half = std::max(1.5, 0.35 * cell);
   Quad green = SquareThrough(from_outer, 1 / cells, 1 - 1 / cells);
   Quad red = SquareThrough(from_outer, 2 / cells, 1 - 2 / cells);
-  bool g = RefineQuad(image, {kGray, kFallsOutwards, kMinGrayContrast, cell, 10, half}, &green);
+  bool g =
+      RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, half}, &green);
   bool r = RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, half},
                       &red);
   if (!g || !r) return false;

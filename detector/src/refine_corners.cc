@@ -195,7 +195,7 @@ bool RefineQuads(const ImageView& image, Candidate* candidate) {
       moved = std::max(moved, cv::norm(candidate->quads[kBlackWhite][i] - before[i]));
     if (moved < kSettledPx) break;
   }
-  if (!RefineQuad(image, {kGray, kFallsOutwards, kMinGrayContrast, cell, 10, 2.5},
+  if (!RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, 2.5},
                   &candidate->quads[kGreenBlack]))
     return false;
   if (!RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, 2.5},

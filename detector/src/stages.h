@@ -157,6 +157,9 @@ bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad);
 // Contrast floors for side searches in encoded 8-bit units (gray is the sum
 // of three channels).
 inline constexpr float kMinGrayContrast = 30.f;
+// Green against black is a smaller step than black against white: a dim
+// green under a cast and a steep tone curve is 15-40 above the black.
+inline constexpr float kMinGreenBlackContrast = 12.f;
 inline constexpr float kMinRedGreenContrast = 20.f;
 // Across each ring's border, outwards: black to white rises in gray, green
 // to black falls, red to green falls in R - G.
