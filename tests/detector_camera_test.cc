@@ -14,18 +14,17 @@
 
 #include "chromatag/detector/detector.h"
 #include "chromatag/families/family.h"
+#include "expect_detections.h"
 #include "synthetic_scene.h"
 
 namespace chromatag {
 namespace {
 
 using testing::Demosaic;
-using testing::MaxCornerError;
+using testing::ExpectEveryTagFoundOnce;
 using testing::RenderScene;
-using testing::Scene;
 using testing::SceneOptions;
 using testing::SceneTag;
-using testing::TagTruth;
 
 std::unique_ptr<Detector> MakeDetector() {
   DetectorOptions options;
@@ -70,24 +69,6 @@ std::vector<SceneTag> Tags(const std::string& family_name, int count, double siz
   return tags;
 }
 
-// Every tag found once with its family and ID, corners within
-// `max_corner_px`; no other detection.
-void ExpectAllFound(const Detector& detector, const Scene& scene, double max_corner_px,
-                    const std::string& what) {
-  const DetectionResult result = detector.Detect(scene.bgr);
-  EXPECT_EQ(result.detections.size(), scene.truth.size()) << what;
-  for (const TagTruth& truth : scene.truth) {
-    int found = 0;
-    for (const Detection& d : result.detections) {
-      if (d.family->name() != truth.family || d.id != truth.id) continue;
-      ++found;
-      EXPECT_LT(MaxCornerError(d.corners, truth.corners), max_corner_px)
-          << what << ": " << truth.family << " ID " << truth.id;
-    }
-    EXPECT_EQ(found, 1) << what << ": " << truth.family << " ID " << truth.id;
-  }
-}
-
 // A card at half exposure under a flattening tone curve: the red, the green
 // and the black ring crowd together at low lightness, and the a* jump is a
 // third smaller than in a well-exposed frame.
@@ -100,8 +81,8 @@ TEST(DetectorCameraTest, DimCards) {
       options.exposure = exposure;
       options.tone_gamma = 1.3;
       options.gain = {0.95, 1.0, 1.05};
-      ExpectAllFound(*detector, RenderScene(tags, options), 1.0,
-                     family + " exposure " + std::to_string(exposure));
+      ExpectEveryTagFoundOnce(*detector, RenderScene(tags, options), 1.0,
+                              family + " exposure " + std::to_string(exposure));
     }
   }
 }
@@ -115,8 +96,8 @@ TEST(DetectorCameraTest, SteepViews) {
     for (double tilt : {62.0, 67.0, 72.0}) {
       SceneOptions options = Camera(11);
       const std::vector<SceneTag> tags = Tags(family, 6, 110, tilt, 3, 0.9, &options);
-      ExpectAllFound(*detector, RenderScene(tags, options), 1.5,
-                     family + " tilt " + std::to_string(tilt));
+      ExpectEveryTagFoundOnce(*detector, RenderScene(tags, options), 1.5,
+                              family + " tilt " + std::to_string(tilt));
     }
   }
 }
@@ -130,8 +111,8 @@ TEST(DetectorCameraTest, JpegQuality60) {
       SceneOptions options = Camera(13);
       const std::vector<SceneTag> tags = Tags(family, 8, size, 25, 4, 0.85, &options);
       options.jpeg_quality = 60;
-      ExpectAllFound(*detector, RenderScene(tags, options), 1.0,
-                     family + " JPEG q60 size " + std::to_string(size));
+      ExpectEveryTagFoundOnce(*detector, RenderScene(tags, options), 1.0,
+                              family + " JPEG q60 size " + std::to_string(size));
     }
   }
 }
@@ -145,8 +126,9 @@ TEST(DetectorCameraTest, DemosaicedFrames) {
       SceneOptions options = Camera(17);
       const std::vector<SceneTag> tags = Tags(family, 8, 42, 45, 4, 0.85, &options);
       options.demosaic = demosaic;
-      ExpectAllFound(*detector, RenderScene(tags, options), 1.5,
-                     family + (demosaic == Demosaic::kBilinear ? " bilinear" : " edge-aware"));
+      ExpectEveryTagFoundOnce(
+          *detector, RenderScene(tags, options), 1.5,
+          family + (demosaic == Demosaic::kBilinear ? " bilinear" : " edge-aware"));
     }
   }
 }
@@ -158,8 +140,8 @@ TEST(DetectorCameraTest, Small36h11Tags) {
   for (double size : {36.0, 44.0}) {
     SceneOptions options = Camera(19);
     const std::vector<SceneTag> tags = Tags("36h11", 12, size, 20, 6, 0.9, &options);
-    ExpectAllFound(*detector, RenderScene(tags, options), 1.0,
-                   "36h11 size " + std::to_string(size));
+    ExpectEveryTagFoundOnce(*detector, RenderScene(tags, options), 1.0,
+                            "36h11 size " + std::to_string(size));
   }
 }
 

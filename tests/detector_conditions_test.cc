@@ -9,12 +9,13 @@
 
 #include "chromatag/detector/detector.h"
 #include "chromatag/families/family.h"
+#include "expect_detections.h"
 #include "synthetic_scene.h"
 
 namespace chromatag {
 namespace {
 
-using testing::MaxCornerError;
+using testing::ExpectEveryTagFoundOnce;
 using testing::RenderScene;
 using testing::Scene;
 using testing::SceneOptions;
@@ -53,23 +54,6 @@ std::vector<SceneTag> Grid(const std::string& family_name, double size, int colu
   return tags;
 }
 
-// Every tag found once with its ID, corners within `max_corner_px`; nothing else.
-void ExpectAllDecoded(const Detector& detector, const Scene& scene, double max_corner_px,
-                      const std::string& what) {
-  const DetectionResult result = detector.Detect(scene.bgr);
-  EXPECT_EQ(result.detections.size(), scene.truth.size()) << what;
-  for (const TagTruth& truth : scene.truth) {
-    int found = 0;
-    for (const Detection& d : result.detections) {
-      if (d.family->name() != truth.family || d.id != truth.id) continue;
-      ++found;
-      EXPECT_LT(MaxCornerError(d.corners, truth.corners), max_corner_px)
-          << what << ": ID " << truth.id;
-    }
-    EXPECT_EQ(found, 1) << what << ": ID " << truth.id;
-  }
-}
-
 TEST(DetectorConditionsTest, BlurOfOneAndAHalfToTwoPixelsOnSixtyTo120PixelTags) {
   auto detector = MakeDetector();
   for (double blur : {1.5, 2.0}) {
@@ -81,8 +65,8 @@ TEST(DetectorConditionsTest, BlurOfOneAndAHalfToTwoPixelsOnSixtyTo120PixelTags) 
       options.seed = static_cast<unsigned>(size);
       // Symmetric blur leaves the halfway level on the edge: corners stay
       // sub-pixel.
-      ExpectAllDecoded(*detector, RenderScene(tags, options), 0.5,
-                       "blur " + std::to_string(blur) + " size " + std::to_string(size));
+      ExpectEveryTagFoundOnce(*detector, RenderScene(tags, options), 0.5,
+                              "blur " + std::to_string(blur) + " size " + std::to_string(size));
     }
   }
 }
@@ -108,7 +92,7 @@ TEST(DetectorConditionsTest, BlurredTiltedTagsOfBothFamilies) {
     options.height = 400;
     options.blur_sigma = 1.5;
     options.noise_sigma = 2;
-    ExpectAllDecoded(*detector, RenderScene(tags, options), 1.0, name + " tilted, blur 1.5");
+    ExpectEveryTagFoundOnce(*detector, RenderScene(tags, options), 1.0, name + " tilted, blur 1.5");
   }
 }
 
@@ -129,7 +113,7 @@ TEST(DetectorConditionsTest, StrongCoolCastAndJpegQuality40) {
     options.gain = c.gain;
     options.jpeg_quality = c.jpeg_quality;
     options.noise_sigma = 1;
-    ExpectAllDecoded(*detector, RenderScene(tags, options), 1.0, c.name);
+    ExpectEveryTagFoundOnce(*detector, RenderScene(tags, options), 1.0, c.name);
   }
 }
 

@@ -52,18 +52,6 @@ double MarginFactor(const TagFamily& family, int hamming) {
   return hamming == 0 ? kExactReadMarginFactor : 1.0;
 }
 
-cv::Point2d Apply(const cv::Matx33d& h, double x, double y) {
-  const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
-  return {p[0] / p[2], p[1] / p[2]};
-}
-
-cv::Matx33d UnitSquareToQuad(const Quad& quad) {
-  const cv::Point2f src[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  cv::Point2f dst[4];
-  for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(quad[i]);
-  return cv::Matx33d(cv::getPerspectiveTransform(src, dst));
-}
-
 // Mean distance in cells from where `family` puts the green/black and
 // red/green corners (1 and 2 cells inside the black square) to the nearest
 // measured ones.
@@ -78,7 +66,7 @@ double RingMisfit(const TagFamily& family, const cv::Matx33d& image_from_tag,
     const double corners[4][2] = {
         {inset, inset}, {1 - inset, inset}, {1 - inset, 1 - inset}, {inset, 1 - inset}};
     for (const auto& c : corners) {
-      const cv::Point2d predicted = Apply(image_from_tag, c[0], c[1]);
+      const cv::Point2d predicted = ApplyHomography(image_from_tag, c[0], c[1]);
       double nearest = 1e300;
       for (const auto& measured : candidate.quads[ring])
         nearest = std::min(nearest, cv::norm(measured - predicted));
@@ -100,9 +88,9 @@ CellSample ReadCell(const ImageView& image, const cv::Matx33d& image_from_tag, i
                     int col, int samples) {
   const double u = (col + 1.5) / cells, v = (row + 1.5) / cells;
   const double reach = kCellSampleReach / cells;
-  const cv::Point2d centre = Apply(image_from_tag, u, v);
-  const cv::Point2d du = Apply(image_from_tag, u + reach, v) - centre;
-  const cv::Point2d dv = Apply(image_from_tag, u, v + reach) - centre;
+  const cv::Point2d centre = ApplyHomography(image_from_tag, u, v);
+  const cv::Point2d du = ApplyHomography(image_from_tag, u + reach, v) - centre;
+  const cv::Point2d dv = ApplyHomography(image_from_tag, u, v + reach) - centre;
   int sum[3] = {0, 0, 0};
   int n = 0;
   for (int j = 0; j < samples; ++j) {
@@ -248,7 +236,8 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
         {inset, inset}, {1 - inset, inset}, {1 - inset, 1 - inset}, {inset, 1 - inset}};
     auto& out = ring == kGreenBlack ? detection->green_corners : detection->red_corners;
     for (int i = 0; i < 4; ++i) {
-      const cv::Point2d predicted = Apply(detection->image_from_tag, corners[i][0], corners[i][1]);
+      const cv::Point2d predicted =
+          ApplyHomography(detection->image_from_tag, corners[i][0], corners[i][1]);
       double nearest = 1e300;
       for (const auto& measured : candidate.quads[ring]) {
         if (cv::norm(measured - predicted) < nearest) {

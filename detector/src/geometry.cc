@@ -52,4 +52,16 @@ bool IsConvexClockwise(const Quad& quad) {
   return true;
 }
 
+cv::Matx33d UnitSquareToQuad(const Quad& quad) {
+  const cv::Point2f src[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  cv::Point2f dst[4];
+  for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(quad[i]);
+  return cv::Matx33d(cv::getPerspectiveTransform(src, dst));
+}
+
+cv::Point2d ApplyHomography(const cv::Matx33d& h, double x, double y) {
+  const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
+  return {p[0] / p[2], p[1] / p[2]};
+}
+
 }  // namespace chromatag::internal

@@ -156,20 +156,11 @@ bool Grow(const Grid& grid, cv::Point start, int max_cells, Inside&& inside,
   return static_cast<int>(outline->size()) >= kMinOutlinePoints;
 }
 
-cv::Matx33d UnitSquareTo(const Quad& quad) {
-  const cv::Point2f src[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  cv::Point2f dst[4];
-  for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(quad[i]);
-  return cv::Matx33d(cv::getPerspectiveTransform(src, dst));
-}
-
 Quad SquareThrough(const cv::Matx33d& image_from_tag, double lo, double hi) {
   const double corners[4][2] = {{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}};
   Quad quad;
-  for (int i = 0; i < 4; ++i) {
-    const cv::Vec3d p = image_from_tag * cv::Vec3d(corners[i][0], corners[i][1], 1.0);
-    quad[i] = cv::Point2d(p[0] / p[2], p[1] / p[2]);
-  }
+  for (int i = 0; i < 4; ++i)
+    quad[i] = ApplyHomography(image_from_tag, corners[i][0], corners[i][1]);
   return quad;
 }
 
@@ -177,7 +168,7 @@ Quad SquareThrough(const cv::Matx33d& image_from_tag, double lo, double hi) {
 // the outer quad, from the family's proportions, and fits each on its edge.
 bool PlaceInnerRings(const ImageView& image, const TagFamily& family, Candidate* candidate) {
   const double cells = family.black_square_cells();
-  const cv::Matx33d from_outer = UnitSquareTo(candidate->quads[kBlackWhite]);
+  const cv::Matx33d from_outer = UnitSquareToQuad(candidate->quads[kBlackWhite]);
   const double cell = std::sqrt(QuadArea(candidate->quads[kBlackWhite])) / cells;
   const double half = std::max(1.5, 0.35 * cell);
   Quad green = SquareThrough(from_outer, 1 / cells, 1 - 1 / cells);

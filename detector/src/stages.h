@@ -201,6 +201,10 @@ bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d 
 bool IsConvexClockwise(const Quad& quad);
 // The convex hull of `points`, clockwise on screen (y down).
 std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points);
+// The homography from the unit square ((0,0), (1,0), (1,1), (0,1)) to `quad`,
+// and a point through a homography.
+cv::Matx33d UnitSquareToQuad(const Quad& quad);
+cv::Point2d ApplyHomography(const cv::Matx33d& h, double x, double y);
 
 }  // namespace chromatag::internal
 

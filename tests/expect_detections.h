@@ -1,0 +1,35 @@
+// A check shared by the detector's condition tests: every tag of a synthetic
+// scene found exactly once with its family and ID and corners within a bound,
+// and nothing else found.
+#ifndef CHROMATAG_TESTS_EXPECT_DETECTIONS_H_
+#define CHROMATAG_TESTS_EXPECT_DETECTIONS_H_
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "chromatag/detector/detector.h"
+#include "chromatag/families/family.h"
+#include "synthetic_scene.h"
+
+namespace chromatag::testing {
+
+inline void ExpectEveryTagFoundOnce(const Detector& detector, const Scene& scene,
+                                    double max_corner_px, const std::string& what) {
+  const DetectionResult result = detector.Detect(scene.bgr);
+  EXPECT_EQ(result.detections.size(), scene.truth.size()) << what;
+  for (const TagTruth& truth : scene.truth) {
+    int found = 0;
+    for (const Detection& d : result.detections) {
+      if (d.family->name() != truth.family || d.id != truth.id) continue;
+      ++found;
+      EXPECT_LT(MaxCornerError(d.corners, truth.corners), max_corner_px)
+          << what << ": " << truth.family << " ID " << truth.id;
+    }
+    EXPECT_EQ(found, 1) << what << ": " << truth.family << " ID " << truth.id;
+  }
+}
+
+}  // namespace chromatag::testing
+
+#endif  // CHROMATAG_TESTS_EXPECT_DETECTIONS_H_
