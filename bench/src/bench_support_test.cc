@@ -91,9 +91,25 @@ TEST(DatasetTest, SameSeedSamePixelsAnyOrder) {
   EXPECT_GT(cv::norm(SharedDataset().Render(3).bgr, reseeded->Render(3).bgr, cv::NORM_L1), 0.0);
 }
 
+// The range of sizes and angles of a set's tags; every corner must lie in the
+// 752x480 frame.
+struct GeometrySpan {
+  double min_size = 1e9, max_size = 0, max_angle = 0;
+  void Add(const FrameTruth& t, int index) {
+    for (const TagTruth* tag : {&t.chromatag, &t.apriltag}) {
+      min_size = std::min(min_size, tag->size_px);
+      max_size = std::max(max_size, tag->size_px);
+      max_angle = std::max(max_angle, tag->view_angle_deg);
+      for (const auto& p : tag->corners) {
+        EXPECT_TRUE(p.x >= 0 && p.y >= 0 && p.x < 752 && p.y < 480) << "frame " << index;
+      }
+    }
+  }
+};
+
 TEST(DatasetTest, CoversTheRequestedRanges) {
   int tag_free = 0, tagged = 0;
-  double min_size = 1e9, max_size = 0, max_angle = 0;
+  GeometrySpan span;
   for (int i = 0; i < 150; ++i) {
     const FrameTruth t = SharedDataset().Render(i).truth;
     if (!t.has_tags) {
@@ -103,20 +119,13 @@ TEST(DatasetTest, CoversTheRequestedRanges) {
     ++tagged;
     EXPECT_EQ(t.chromatag.id, t.apriltag.id);
     EXPECT_TRUE(TagFamily::Load("16h5")->IsValidId(t.chromatag.id));
-    for (const TagTruth* tag : {&t.chromatag, &t.apriltag}) {
-      min_size = std::min(min_size, tag->size_px);
-      max_size = std::max(max_size, tag->size_px);
-      max_angle = std::max(max_angle, tag->view_angle_deg);
-      for (const auto& p : tag->corners) {
-        EXPECT_TRUE(p.x >= 0 && p.y >= 0 && p.x < 752 && p.y < 480) << "frame " << i;
-      }
-    }
+    span.Add(t, i);
   }
   EXPECT_GT(tag_free, 15);  // About 20 %.
   EXPECT_LT(tag_free, 50);
-  EXPECT_LT(min_size, 20);
-  EXPECT_GT(max_size, 120);
-  EXPECT_GT(max_angle, 65);
+  EXPECT_LT(span.min_size, 20);
+  EXPECT_GT(span.max_size, 120);
+  EXPECT_GT(span.max_angle, 65);
 }
 
 TEST(DatasetTest, TruthCornersFrameTheRenderedTags) {
@@ -281,7 +290,7 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   std::map<std::string, int> families, casts;
   std::array<int, 3> quiet{}, bayer{};
   int tag_free = 0, jpeg = 0, shaken = 0;
-  double min_size = 1e9, max_size = 0, max_angle = 0;
+  GeometrySpan span;
   const auto family16 = TagFamily::Load("16h5"), family36 = TagFamily::Load("36h11");
   for (int i = 0; i < 400; ++i) {
     const FrameTruth t = CameraDataset().Truth(i);
@@ -310,14 +319,7 @@ TEST(CameraSetTest, EveryConditionOccurs) {
     EXPECT_TRUE((t.family == "16h5" ? family16 : family36)->IsValidId(t.chromatag.id));
     EXPECT_TRUE(t.print_chroma >= 0.75 && t.print_chroma <= 1.0);
     EXPECT_TRUE(t.gradient >= 1.0 && t.gradient <= 1.6);
-    for (const TagTruth* tag : {&t.chromatag, &t.apriltag}) {
-      min_size = std::min(min_size, tag->size_px);
-      max_size = std::max(max_size, tag->size_px);
-      max_angle = std::max(max_angle, tag->view_angle_deg);
-      for (const auto& p : tag->corners) {
-        EXPECT_TRUE(p.x >= 0 && p.y >= 0 && p.x < 752 && p.y < 480) << "frame " << i;
-      }
-    }
+    span.Add(t, i);
   }
   EXPECT_GT(tag_free, 70);  // About 25 %.
   EXPECT_LT(tag_free, 130);
@@ -332,9 +334,9 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   EXPECT_GT(jpeg, 120);  // About 40 %.
   EXPECT_LT(jpeg, 200);
   EXPECT_GT(shaken, 60);  // About 25 %.
-  EXPECT_LT(min_size, 16);
-  EXPECT_GT(max_size, 180);
-  EXPECT_GT(max_angle, 65);
+  EXPECT_LT(span.min_size, 16);
+  EXPECT_GT(span.max_size, 180);
+  EXPECT_GT(span.max_angle, 65);
 }
 
 TEST(CameraSetTest, AprilTagFindsTheTruthCornersOfBothFamilies) {
@@ -477,6 +479,18 @@ TEST(MissAnalysisTest, DeepestStageOnTheTagWins) {
   EXPECT_EQ(cause.reason, RejectReasonName(RejectReason::kNotNested));  // Later in the list.
   EXPECT_EQ(cause.candidates, 3);
   EXPECT_EQ(MissStageName(cause.stage), "PolyToQuad");
+
+  // A candidate the second path tried too ends in GrowRegion, whatever stage
+  // the scans lost it in.
+  RejectedCandidate grown = rejected(RejectReason::kRingProportions, {128, 128}, {130, 130});
+  grown.grown = true;
+  grown.grow_reason = RejectReason::kLowMargin;
+  result.rejected.push_back(grown);
+  cause = AssignMiss(result, truth, 6, 1);
+  EXPECT_EQ(MissStageName(cause.stage), "GrowRegion");
+  EXPECT_EQ(cause.reason, std::string(RejectReasonName(RejectReason::kLowMargin)) +
+                              " (scans: " + RejectReasonName(RejectReason::kRingProportions) + ")");
+  EXPECT_EQ(cause.candidates, 4);
 
   // A detection on the tag with another ID outranks every rejection.
   Detection wrong;

@@ -203,18 +203,7 @@ cv::Mat Encode(const cv::Mat& linear, double tone_gamma) {
         std::pow(LinearToSrgb(static_cast<double>(i) / kEncodeSteps), tone_gamma);
     table[i] = static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0, 1.0) * 255));
   }
-  cv::Mat bgr(linear.size(), CV_8UC3);
-  for (int y = 0; y < linear.rows; ++y) {
-    const cv::Vec3f* in = linear.ptr<cv::Vec3f>(y);
-    cv::Vec3b* out = bgr.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < linear.cols; ++x) {
-      for (int c = 0; c < 3; ++c) {
-        const float v = std::clamp(in[x][c], 0.0f, 1.0f);
-        out[x][c] = table[static_cast<int>(v * kEncodeSteps + 0.5f)];
-      }
-    }
-  }
-  return bgr;
+  return EncodeThrough(linear, table);
 }
 
 // Light, optics, sensor, camera processing and compression, in that order.

@@ -311,17 +311,7 @@ cv::Mat Dataset::Impl::Finish(cv::Mat linear, FrameTruth* truth, ColorCondition 
     cv::filter2D(linear, linear, -1, MotionKernel(truth->motion_blur_px, rng.Uniform(0.0, kPi)));
   }
 
-  cv::Mat bgr(linear.size(), CV_8UC3);
-  for (int y = 0; y < linear.rows; ++y) {
-    const cv::Vec3f* in = linear.ptr<cv::Vec3f>(y);
-    cv::Vec3b* out = bgr.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < linear.cols; ++x) {
-      for (int c = 0; c < 3; ++c) {
-        const float v = std::clamp(in[x][c], 0.0f, 1.0f);
-        out[x][c] = linear_to_srgb[static_cast<int>(v * 4095.0f + 0.5f)];
-      }
-    }
-  }
+  cv::Mat bgr = EncodeThrough(linear, linear_to_srgb);
 
   truth->noise_sigma = rng.Uniform(1.0, 4.0);
   cv::RNG noise_rng(noise_seed);

@@ -110,6 +110,10 @@ cv::Mat WarpSheet(const cv::Mat& texture, int ppc, const Camera& camera, const S
 // A normalised line of `length_px` at `angle` (radians) as a filter kernel.
 cv::Mat MotionKernel(double length_px, double angle);
 
+// Linear light (CV_32FC3, clipped to [0, 1]) to 8 bits through `table`, whose
+// entries encode equal steps of [0, 1] (table.size() - 1 steps).
+cv::Mat EncodeThrough(const cv::Mat& linear, const std::vector<uint8_t>& table);
+
 // Colours as printed: inks are less saturated than the file (`chroma`, a
 // share of the file's a* and b*), black ink is not black and paper not
 // perfectly white (spec section 6 measured L* 14 for the authors' black).

@@ -61,11 +61,15 @@ MissCause AssignMiss(const DetectionResult& result, const TagTruth& truth, int s
   for (const RejectedCandidate& r : result.rejected) {
     if (!Inside(outer, cv::Point2d(r.seed)) && !Inside(outer, cv::Point2d(r.centre))) continue;
     ++cause.candidates;
-    const int stage = static_cast<int>(r.stage), reason = static_cast<int>(r.reason);
+    // A candidate the second path tried too was abandoned there last.
+    const int stage = static_cast<int>(r.grown ? Stage::kGrowRegion : r.stage);
+    const int reason = static_cast<int>(r.grown ? r.grow_reason : r.reason);
     if (stage > deepest_stage || (stage == deepest_stage && reason > deepest_reason)) {
       deepest_stage = stage;
       deepest_reason = reason;
-      cause.reason = RejectReasonName(r.reason);
+      cause.reason = r.grown ? std::string(RejectReasonName(r.grow_reason)) +
+                                   " (scans: " + RejectReasonName(r.reason) + ")"
+                             : RejectReasonName(r.reason);
     }
   }
   if (deepest_stage < 0) {

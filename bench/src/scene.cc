@@ -197,6 +197,21 @@ cv::Mat MotionKernel(double length_px, double angle) {
   return kernel;
 }
 
+cv::Mat EncodeThrough(const cv::Mat& linear, const std::vector<uint8_t>& table) {
+  const float steps = static_cast<float>(table.size() - 1);
+  cv::Mat bgr(linear.size(), CV_8UC3);
+  for (int y = 0; y < linear.rows; ++y) {
+    const cv::Vec3f* in = linear.ptr<cv::Vec3f>(y);
+    cv::Vec3b* out = bgr.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < linear.cols; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        out[x][c] = table[static_cast<int>(std::clamp(in[x][c], 0.0f, 1.0f) * steps + 0.5f)];
+      }
+    }
+  }
+  return bgr;
+}
+
 TagColors PrintedColors(const Palette& palette, double chroma) {
   Palette printed = palette;
   for (Shade shade : kAllShades) printed[shade] = PrintedLab(palette[shade], shade, chroma);

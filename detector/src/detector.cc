@@ -66,12 +66,14 @@ const char* RejectReasonName(RejectReason reason) {
       return "unknown code";
     case RejectReason::kDoubtfulCorrection:
       return "doubtful correction";
-    case RejectReason::kRegionOpen:
-      return "red region open";
-    case RejectReason::kRegionNotQuad:
-      return "red region not a quad";
-    case RejectReason::kRegionNoRings:
-      return "no rings around the red";
+    case RejectReason::kNoQuietZone:
+      return "no quiet zone";
+    case RejectReason::kSquareOpen:
+      return "black square open";
+    case RejectReason::kSquareNotQuad:
+      return "black square not a quad";
+    case RejectReason::kNoInnerRings:
+      return "no inner rings";
   }
   return "?";
 }

@@ -1,9 +1,10 @@
 // The second path: for a candidate whose red InitialScan found enclosed by
-// far less red, but which the sparse scans then lost (thin or blurred rings,
-// steep views, chroma smeared by JPEG or demosaicing), the red region is grown
-// on a* pixel by pixel, its outline fitted with four sides, and the outer
-// borders placed from the tag's own proportions and fitted on their edges.
-// Then the same Decode. It runs only where such candidates exist.
+// green, but which the ring scans or a later stage then lost (thin or blurred
+// rings, steep views, chroma smeared by JPEG or demosaicing), the black
+// square is grown on L* from the centre (everything darker than the quiet
+// zone), its outline cut to four sides and refined on the black/white edge,
+// and the inner rings placed from each family's proportions and refined on
+// their own edges. Then the same Decode. It runs only for such candidates.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -38,9 +39,10 @@ constexpr double kBlurAllowancePx = 2.0;
 // Where the green is read past the scans' red/green border, as a fraction of
 // the distance from the centre (inside the green ring for both families).
 constexpr float kGreenProbe = 0.25f;
-// The black ring starts within this many red/green border distances past the
-// border (two for 16h5, half for 36h11; more where the points fell short).
-constexpr float kMaxBlackReach = 4.f;
+// The quiet zone starts within this many red/green border distances past the
+// border (two for 16h5, one for 36h11; up to twice that where the points fell
+// short of a small blurred red).
+constexpr float kMaxQuietZoneReach = 4.f;
 // The region darker than the quiet zone: below this fraction of the way from
 // the lighter of the red and green to the quiet zone's white.
 constexpr float kDarkFraction = 0.45f;
@@ -84,21 +86,20 @@ bool RingLevels(const ImageView& image, const Candidate& candidate, float* chrom
     const float r = std::sqrt(out.dot(out));
     if (!(r > 0.5f)) continue;
     // Steps of an eighth of the red's half-width (the black ring is at least
-    // half of it wide), to where the window ends.
+    // half of it wide), until the quiet zone must have started.
     const float stride = std::max(1.f, r / kGridStepsPerRedHalfWidth / 2.f);
     const cv::Point2f u = stride * out / r;
-    const int steps = static_cast<int>((kWindowReach * r + kWindowMarginPx) / stride);
+    const int steps = static_cast<int>((kMaxQuietZoneReach * r + kWindowMarginPx) / stride);
     bool in_black = false;
     float lightest = -1.f;
     int light_until = 0;
-    for (int k = 0; k <= steps; ++k) {
+    for (int k = 0; k <= steps || lightest >= 0.f; ++k) {
       const cv::Point2f p = b + static_cast<float>(k) * u;
       const int x = RoundToInt(p.x), y = RoundToInt(p.y);
       if (!image.Contains(x, y)) break;
       const float l = image.L(x, y);
       if (!in_black) {
         in_black = l < dark;
-        if (!in_black && k * stride > kMaxBlackReach * r + kWindowMarginPx) break;
       } else if (lightest < 0.f && l > *chroma_l + kMinWhiteGap) {
         lightest = l;  // Entered the quiet zone: its lightest within half a red.
         light_until = k + static_cast<int>(0.5f * r / stride) + 2;
@@ -156,6 +157,30 @@ bool Grow(const Grid& grid, cv::Point start, int max_cells, Inside&& inside,
   return static_cast<int>(outline->size()) >= kMinOutlinePoints;
 }
 
+// Whether, along each ray from the centre through a red/green border point,
+// the image turns lighter than `threshold` within `reach` times the border
+// point's distance (widened by `allowance` px): the black square ends there.
+bool BoundedAlongRays(const ImageView& image, const Candidate& candidate, float threshold,
+                      int stride, double reach, double allowance) {
+  const cv::Point2f c = candidate.centre;
+  for (const cv::Point2f& b : candidate.red_border) {
+    const cv::Point2f out = b - c;
+    const float r = std::sqrt(out.dot(out));
+    if (!(r > 0.5f)) continue;
+    const cv::Point2f u = static_cast<float>(stride) * out / r;
+    const int steps = static_cast<int>(reach * (r + allowance) / stride) + 1;
+    bool ended = false;
+    for (int k = 1; k <= steps && !ended; ++k) {
+      const cv::Point2f p = c + static_cast<float>(k) * u;
+      const int x = RoundToInt(p.x), y = RoundToInt(p.y);
+      if (!image.Contains(x, y)) return false;
+      ended = image.L(x, y) >= threshold;
+    }
+    if (!ended) return false;
+  }
+  return true;
+}
+
 Quad SquareThrough(const cv::Matx33d& image_from_tag, double lo, double hi) {
   const double corners[4][2] = {{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}};
   Quad quad;
@@ -173,11 +198,10 @@ bool PlaceInnerRings(const ImageView& image, const TagFamily& family, Candidate*
   const double half = std::max(1.5, 0.35 * cell);
   Quad green = SquareThrough(from_outer, 1 / cells, 1 - 1 / cells);
   Quad red = SquareThrough(from_outer, 2 / cells, 1 - 2 / cells);
-  bool g =
-      RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, half}, &green);
-  bool r = RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, half},
-                      &red);
-  if (!g || !r) return false;
+  if (!RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, half}, &green) ||
+      !RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, half},
+                  &red))
+    return false;
   candidate->quads[kGreenBlack] = green;
   candidate->quads[kRedGreen] = red;
   return true;
@@ -196,7 +220,7 @@ bool WorthGrowing(const Candidate& candidate, RejectReason why) {
 bool GrowRegion(const ImageView& image, const DetectorOptions& options,
                 const std::vector<FamilyDecoder>& families, Candidate* candidate,
                 Detection* detection, RejectReason* why) {
-  *why = RejectReason::kRegionNoRings;
+  *why = RejectReason::kNoQuietZone;
   if (!candidate->enclosed) return false;
   float chroma_l = 0.f, white_l = 0.f;
   if (!RingLevels(image, *candidate, &chroma_l, &white_l)) return false;
@@ -222,7 +246,7 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
 
   // The black square is everything darker than its quiet zone: the red, the
   // green and the black ring alike, whatever the light.
-  *why = RejectReason::kRegionOpen;
+  *why = RejectReason::kSquareOpen;
   const float threshold = chroma_l + kDarkFraction * (white_l - chroma_l);
   const cv::Point start(RoundToInt((c.x - grid.x0) / grid.step),
                         RoundToInt((c.y - grid.y0) / grid.step));
@@ -231,12 +255,17 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
   const double red_area = PolygonArea({candidate->red_border.begin(), candidate->red_border.end()});
   const double widened = std::pow(std::sqrt(red_area) + 2 * kBlurAllowancePx, 2);
   const int max_cells = static_cast<int>(kMaxAreaRatio * widened / (grid.step * grid.step)) + 16;
-  if (!Grow(
+  // The same bound along each scan direction first, which costs a few dozen
+  // pixels instead of the thousands a leaking region fills before it is
+  // caught: most candidates that get here and are not tags leak.
+  if (!BoundedAlongRays(image, *candidate, threshold, grid.step, std::sqrt(kMaxAreaRatio),
+                        kBlurAllowancePx) ||
+      !Grow(
           grid, start, max_cells, [&](cv::Point p) { return image.L(p.x, p.y) < threshold; },
           &outline))
     return false;
 
-  *why = RejectReason::kRegionNotQuad;
+  *why = RejectReason::kSquareNotQuad;
   Quad outer;
   if (!FitQuad(outline, &outer)) return false;
   if (QuadArea(outer) < kMinAreaRatio * red_area || QuadArea(outer) > kMaxAreaRatio * widened)
@@ -248,7 +277,7 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
     return false;
   candidate->quads[kBlackWhite] = outer;
 
-  *why = RejectReason::kRegionNoRings;
+  *why = RejectReason::kNoInnerRings;
   for (const FamilyDecoder& entry : families) {
     if (!PlaceInnerRings(image, *entry.family, candidate)) continue;
     // Decode tells the families apart by the rings' proportions, which now

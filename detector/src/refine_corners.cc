@@ -83,8 +83,7 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
   for (int i = 1; i + 1 < n; ++i) {
     // Only steps the right way round count: the next ring's edge, a cell
     // away, is often steeper (black/white beside green/black).
-    const float step = profile[i + 1] - profile[i - 1];
-    const float change = polarity == 0 ? std::abs(step) : polarity * step;
+    const float change = polarity * (profile[i + 1] - profile[i - 1]);
     if (change > steepest_change) {
       steepest_change = change;
       steepest = i;

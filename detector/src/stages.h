@@ -149,9 +149,10 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
 // edge points to fit.
 bool RefineQuads(const ImageView& image, Candidate* candidate);
 
-// Four sides from the convex hull of `points` (length-weighted k-means of
-// the hull's edge directions, a line fitted per side) and their corners,
-// clockwise. False if they do not make a convex quad.
+// Four sides from the convex hull of `points` (the hull cut to its four
+// corners by dropping the vertex of the smallest triangle, a line fitted
+// through each side's hull edges) and their corners, clockwise. False if
+// they do not make a convex quad.
 bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad);
 
 // Contrast floors for side searches in encoded 8-bit units (gray is the sum
@@ -169,8 +170,9 @@ inline constexpr int kFallsOutwards = -1;
 // How RefineQuad looks for one ring's sides.
 struct SideSearch {
   ChannelWeights channel;  // kGray for the black ring's borders, kRedMinusGreen for red/green.
-  // Whether the channel rises (+1) or falls (-1) outwards across the edge.
-  int polarity = 0;
+  // Whether the channel rises (kRisesOutwards) or falls (kFallsOutwards)
+  // outwards across the edge; steps the other way round are not taken.
+  int polarity = kRisesOutwards;
   float min_contrast = kMinGrayContrast;  // Smallest step between the two levels.
   double cell = 0;        // Cell size in pixels: the levels are read half a cell either side.
   int max_samples = 10;   // Profiles per side (at most; about one per 2 px).

@@ -2,7 +2,9 @@
 // reports its rejected candidates when asked (DetectorOptions::
 // report_rejected); a miss is put down to the deepest stage, then the latest
 // reason in the detector's list, among the candidates that started on the
-// tag, or to FindADiff ("no candidate") when none did.
+// tag, or to FindADiff ("no candidate") when none did. A candidate the second
+// path also tried counts as abandoned in GrowRegion, for GrowRegion's reason,
+// with the scans' reason in brackets.
 #ifndef CHROMATAG_BENCH_MISS_ANALYSIS_H_
 #define CHROMATAG_BENCH_MISS_ANALYSIS_H_
 

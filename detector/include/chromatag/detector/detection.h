@@ -51,9 +51,9 @@ struct Detection {
 };
 
 // Algorithm 1's stages, in order, then the second path: a candidate whose red
-// is enclosed by green but which the sparse scans lost has its red region
-// grown pixel by pixel, its rings placed from the red and fitted on their
-// edges, and is decoded again (DetectorOptions::grow_regions).
+// is enclosed by green but which the ring scans or later stages lost has its
+// black square grown on a grid of pixels, its inner rings placed from it and
+// fitted on their edges, and is decoded again (DetectorOptions::grow_regions).
 enum class Stage { kFindADiff = 0, kInitialScan, kBuildPolygon, kPolyToQuad, kDecode, kGrowRegion };
 inline constexpr int kNumStages = 6;
 const char* StageName(Stage stage);  // "FindADiff", ..., "GrowRegion"
@@ -96,13 +96,14 @@ enum class RejectReason {
   kUnknownCode,         // The bits are no code of the family within the radius.
   kDoubtfulCorrection,  // A corrected bit's cell was clearly the other shade.
   // GrowRegion (then Decode's reasons).
-  kRegionOpen,     // The red region is not enclosed: it grew out of its window.
-  kRegionNotQuad,  // The red region's outline is not a quadrilateral.
-  kRegionNoRings,  // No family's green and black rings were found around it.
+  kNoQuietZone,    // Profiles out of the red find no dark ring, then no lighter quiet zone.
+  kSquareOpen,     // The dark region around the red leaked: larger than any tag's black square.
+  kSquareNotQuad,  // The dark region's outline is not a quadrilateral of a tag's size.
+  kNoInnerRings,   // No family's green/black and red/green sides were found inside it.
 };
-inline constexpr int kNumRejectReasons = 22;
+inline constexpr int kNumRejectReasons = 23;
 const char* RejectReasonName(RejectReason reason);  // "in rejected region", ...
-// The stage of Algorithm 1 a reason belongs to (GrowRegion's own three map to
+// The stage of Algorithm 1 a reason belongs to (GrowRegion's own four map to
 // kGrowRegion; it also fails with Decode's).
 Stage StageOf(RejectReason reason);
 
@@ -115,7 +116,7 @@ struct RejectedCandidate {
   RejectReason reason = RejectReason::kPaleRed;
   // Whether GrowRegion tried it too, and why that failed.
   bool grown = false;
-  RejectReason grow_reason = RejectReason::kRegionOpen;
+  RejectReason grow_reason = RejectReason::kNoQuietZone;
   cv::Point seed;      // FindADiff's sample that started it.
   cv::Point2f centre;  // InitialScan's last centre (the seed if it never moved).
   // The outline known when it was abandoned, clockwise on screen: the outer

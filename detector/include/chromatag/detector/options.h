@@ -70,9 +70,10 @@ struct DetectorOptions {
   bool refine_corners = true;
 
   // The second path (Stage::kGrowRegion): a candidate whose red is enclosed
-  // by green but which the sparse scans lose is grown pixel by pixel and
-  // fitted on its edges. Costs time only where such candidates exist; off
-  // gives the paper's Algorithm 1 alone.
+  // by green but which the ring scans or a later stage lose has its black
+  // square grown on a grid of pixels and its rings fitted on their edges.
+  // Costs time only where such candidates exist; off gives the paper's
+  // Algorithm 1 alone.
   bool grow_regions = true;
 
   // Report every rejected candidate (DetectionResult::rejected): where it
