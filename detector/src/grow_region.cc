@@ -50,6 +50,9 @@ constexpr float kDarkFraction = 0.45f;
 // L* units.
 constexpr float kMinWhiteGap = 8.f;
 constexpr int kMinOutlinePoints = 8;
+// Of the eight profiles out of the red, this many must read the green, and
+// as many the quiet zone.
+constexpr int kMinProfiles = 4;
 
 struct Grid {
   int x0 = 0, y0 = 0;  // Image position of cell (0, 0).
@@ -78,10 +81,13 @@ bool RingLevels(const ImageView& image, const Candidate& candidate, float* chrom
     if (!image.Contains(RoundToInt(probe.x), RoundToInt(probe.y))) continue;
     green[num_green++] = image.L(RoundToInt(probe.x), RoundToInt(probe.y));
   }
-  if (num_green < 4) return false;
+  if (num_green < kMinProfiles) return false;
   *chroma_l = std::max(red_l, Median(green.data(), num_green));
   const float dark = *chroma_l - std::max(6.f, 0.25f * *chroma_l);
-  for (const cv::Point2f& b : candidate.red_border) {
+  for (int i = 0; i < 8; ++i) {
+    // Four of the eight profiles must find the quiet zone.
+    if (num_white + (8 - i) < kMinProfiles) return false;
+    const cv::Point2f& b = candidate.red_border[i];
     const cv::Point2f out = b - c;
     const float r = std::sqrt(out.dot(out));
     if (!(r > 0.5f)) continue;
@@ -110,7 +116,7 @@ bool RingLevels(const ImageView& image, const Candidate& candidate, float* chrom
     }
     if (lightest >= 0.f) white[num_white++] = lightest;
   }
-  if (num_white < 4) return false;
+  if (num_white < kMinProfiles) return false;
   *white_l = Median(white.data(), num_white);
   return *white_l - *chroma_l >= kMinWhiteGap;
 }
