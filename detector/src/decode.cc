@@ -44,6 +44,10 @@ constexpr int kMaxUncorrectableCells = 4;
 // included.
 constexpr int kFarCodeBits = 9;
 constexpr double kExactReadMarginFactor = 0.5;
+// A 36h11 read that fails is tried again with each cell's b* sharpened
+// against its four neighbours' by these shares (a neighbour's share of a cell's middle
+// under blur of about a third of a cell, and twice that).
+constexpr float kCrosstalk[] = {0.08f, 0.16f};
 
 // The smallest margin a read of `family` at Hamming distance `hamming` from
 // its code needs, as a fraction of DetectorOptions::min_decision_margin.
@@ -150,13 +154,75 @@ Split SplitShades(const std::vector<float>& values) {
   return split;
 }
 
-bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
-              const Candidate& candidate, const cv::Matx33d& image_from_tag, Detection* detection,
-              RejectReason* why) {
+// Splits each colour's cells at its own midpoint of b* (`b`: the payload's
+// cells, row by row), reads the code, looks it up and checks the margin and
+// the corrected cells. Fills *match and *margin.
+bool DecodeShades(const DetectorOptions& options, const FamilyDecoder& entry,
+                  const std::vector<float>& b, CodeMatch* match, double* margin,
+                  RejectReason* why) {
   auto reject = [why](RejectReason reason) {
     *why = reason;
     return false;
   };
+  const TagFamily& family = *entry.family;
+  const int d = family.payload_width();
+  std::vector<float> red_b, green_b;
+  for (int cell = 0; cell < d * d; ++cell) {
+    (family.CellColorAt(cell / d, cell % d) == CellColor::kRed ? red_b : green_b)
+        .push_back(b[cell]);
+  }
+  const Split red = SplitShades(red_b), green = SplitShades(green_b);
+  *margin = std::min(red.margin, green.margin);
+  // The least any read of this family needs; the read's own need follows.
+  if (*margin < options.min_decision_margin * MarginFactor(family, 0))
+    return reject(RejectReason::kLowMargin);
+
+  Code observed = 0;
+  for (int cell = 0; cell < d * d; ++cell) {
+    // Bit 1 is the higher-b* red (red-1) and the lower-b* green (green-1).
+    const bool bit = family.CellColorAt(cell / d, cell % d) == CellColor::kRed
+                         ? b[cell] > red.threshold
+                         : b[cell] <= green.threshold;
+    observed = (observed << 1) | (bit ? 1u : 0u);
+  }
+  if (!entry.decoder->Decode(observed, match)) return reject(RejectReason::kUnknownCode);
+  if (*margin < options.min_decision_margin * MarginFactor(family, match->hamming))
+    return reject(RejectReason::kLowMargin);
+  // Correct only cells whose shade is in doubt. A cell read clearly as the
+  // wrong shade is not noise: a tag printed with its shades swapped shows the
+  // complement of its code, and for 16h5 that complement lies within two bits
+  // of another ID for 10 of the 28 IDs; it would decode as that ID.
+  const Code wrong = observed ^ family.Rotate(family.CodeOf(match->id), match->rotation);
+  for (int cell = 0; cell < d * d; ++cell) {
+    if (!((wrong >> (d * d - 1 - cell)) & 1u)) continue;
+    const bool is_red = family.CellColorAt(cell / d, cell % d) == CellColor::kRed;
+    if (static_cast<int>((is_red ? red_b : green_b).size()) <= kMaxUncorrectableCells)
+      return reject(RejectReason::kDoubtfulCorrection);
+    const Split& split = is_red ? red : green;
+    const double doubt = std::abs(b[cell] - split.threshold) / std::max(1e-6, split.half_gap);
+    if (doubt > kMaxCorrectedCellCertainty) return reject(RejectReason::kDoubtfulCorrection);
+  }
+  return true;
+}
+
+// The payload's b* with each cell's share of its four neighbours' taken out
+// (the black ring's beyond the payload's edge): b' = (b - k sum) / (1 - 4 k).
+std::vector<float> Sharpened(const std::vector<CellSample>& grid, int d, float k) {
+  const int w = d + 2;  // The grid includes the black ring.
+  std::vector<float> b(d * d);
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const int i = (row + 1) * w + col + 1;
+      const float around = grid[i - 1].b + grid[i + 1].b + grid[i - w].b + grid[i + w].b;
+      b[row * d + col] = (grid[i].b - k * around) / (1.f - 4.f * k);
+    }
+  }
+  return b;
+}
+
+bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
+              const Candidate& candidate, const cv::Matx33d& image_from_tag, Detection* detection,
+              RejectReason* why) {
   const TagFamily& family = *entry.family;
   const int d = family.payload_width();
   const int cells = family.black_square_cells();
@@ -164,59 +230,52 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   const double cell_px = std::sqrt(QuadArea(candidate.quads[kBlackWhite])) / cells;
   const int samples = std::clamp(static_cast<int>(2 * kCellSampleReach * cell_px) + 1,
                                  kMinCellSamples, kMaxCellSamples);
-  std::vector<float> red_b, green_b;
-  std::vector<CellSample> colors(d * d);
+  // The payload and, read only when needed, the black ring around it.
+  const int w = d + 2;
+  std::vector<CellSample> grid(w * w);
+  std::vector<float> b(d * d);
   float min_red_a = 1e30f, max_green_a = -1e30f;
   for (int row = 0; row < d; ++row) {
     for (int col = 0; col < d; ++col) {
       const CellSample c = ReadCell(image, image_from_tag, cells, row, col, samples);
-      colors[row * d + col] = c;
-      if (family.CellColorAt(row, col) == CellColor::kRed) {
-        red_b.push_back(c.b);
+      grid[(row + 1) * w + col + 1] = c;
+      b[row * d + col] = c.b;
+      if (family.CellColorAt(row, col) == CellColor::kRed)
         min_red_a = std::min(min_red_a, c.a);
-      } else {
-        green_b.push_back(c.b);
+      else
         max_green_a = std::max(max_green_a, c.a);
-      }
     }
   }
   // Every red cell must be clearly redder than every green one.
-  if (min_red_a - max_green_a < 0.5f * static_cast<float>(options.adiff_thresh))
-    return reject(RejectReason::kWeakChroma);
-  const Split red = SplitShades(red_b), green = SplitShades(green_b);
-  const double margin = std::min(red.margin, green.margin);
-  // The least any read of this family needs; the read's own need follows.
-  if (margin < options.min_decision_margin * MarginFactor(family, 0))
-    return reject(RejectReason::kLowMargin);
-
-  Code observed = 0;
-  for (int row = 0; row < d; ++row) {
-    for (int col = 0; col < d; ++col) {
-      const float b = colors[row * d + col].b;
-      // Bit 1 is the higher-b* red (red-1) and the lower-b* green (green-1).
-      const bool bit = family.CellColorAt(row, col) == CellColor::kRed ? b > red.threshold
-                                                                       : b <= green.threshold;
-      observed = (observed << 1) | (bit ? 1u : 0u);
-    }
+  if (min_red_a - max_green_a < 0.5f * static_cast<float>(options.adiff_thresh)) {
+    *why = RejectReason::kWeakChroma;
+    return false;
   }
   CodeMatch match;
-  if (!entry.decoder->Decode(observed, &match)) return reject(RejectReason::kUnknownCode);
-  if (margin < options.min_decision_margin * MarginFactor(family, match.hamming))
-    return reject(RejectReason::kLowMargin);
-  // Correct only cells whose shade is in doubt. A cell read clearly as the
-  // wrong shade is not noise: a tag printed with its shades swapped shows the
-  // complement of its code, and for 16h5 that complement lies within two bits
-  // of another ID for 10 of the 28 IDs; it would decode as that ID.
-  const Code wrong = observed ^ family.Rotate(family.CodeOf(match.id), match.rotation);
-  for (int cell = 0; cell < d * d; ++cell) {
-    if (!((wrong >> (d * d - 1 - cell)) & 1u)) continue;
-    const bool is_red = family.CellColorAt(cell / d, cell % d) == CellColor::kRed;
-    if (static_cast<int>((is_red ? red_b : green_b).size()) <= kMaxUncorrectableCells)
-      return reject(RejectReason::kDoubtfulCorrection);
-    const Split& split = is_red ? red : green;
-    const double doubt =
-        std::abs(colors[cell].b - split.threshold) / std::max(1e-6, split.half_gap);
-    if (doubt > kMaxCorrectedCellCertainty) return reject(RejectReason::kDoubtfulCorrection);
+  double margin = 0;
+  if (!DecodeShades(options, entry, b, &match, &margin, why)) {
+    // Blur, demosaicing and JPEG's chroma mix each cell with its neighbours;
+    // small cells lose their shade to them. Read again with the neighbours'
+    // share taken out; the first reason stands if that fails too. Only where
+    // every read stays kFarCodeBits from any other code (36h11): sharpening
+    // moves cells across the split, and a 16h5 tag printed with its shades
+    // swapped then read as another ID exactly (DetectorConditionsTest).
+    if (family.min_hamming() - entry.decoder->radius() < kFarCodeBits) return false;
+    for (int i = 0; i < w; ++i) {
+      for (int row : {-1, d})
+        grid[(row + 1) * w + i] = ReadCell(image, image_from_tag, cells, row, i - 1, samples);
+      for (int col : {-1, d})
+        grid[i * w + col + 1] = ReadCell(image, image_from_tag, cells, i - 1, col, samples);
+    }
+    bool decoded = false;
+    for (float k : kCrosstalk) {
+      RejectReason ignored;
+      if (DecodeShades(options, entry, Sharpened(grid, d, k), &match, &margin, &ignored)) {
+        decoded = true;
+        break;
+      }
+    }
+    if (!decoded) return false;
   }
 
   // The observation is the tag turned `rotation` quarter turns clockwise, so
