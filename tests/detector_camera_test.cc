@@ -102,6 +102,23 @@ TEST(DetectorCameraTest, SteepViews) {
   }
 }
 
+// Views of 68-72 degrees from close by (the camera 2.5 tag sizes away): the
+// far end of the tag is half the size of the near end, so each ring is half
+// as wide at one end of a side as at the other, and a search that takes one
+// cell size per side reads the quiet zone as the black ring.
+TEST(DetectorCameraTest, SteepCloseViews) {
+  auto detector = MakeDetector();
+  for (const std::string family : {"16h5", "36h11"}) {
+    for (double tilt : {68.0, 72.0}) {
+      SceneOptions options = Camera(29);
+      std::vector<SceneTag> tags = Tags(family, 6, 120, tilt, 3, 0.9, &options);
+      for (SceneTag& tag : tags) tag.distance = 2.5;
+      ExpectEveryTagFoundOnce(*detector, RenderScene(tags, options), 1.5,
+                              family + " close, tilt " + std::to_string(tilt));
+    }
+  }
+}
+
 // JPEG at quality 60 with OpenCV's 4:2:0 chroma: the chroma is halved in
 // resolution and blocky, so a thin green ring is smeared into its neighbours.
 TEST(DetectorCameraTest, JpegQuality60) {

@@ -131,18 +131,25 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
     const double length = cv::norm(q - p);
     const cv::Point2d along = (q - p) / length;
     const cv::Point2d outward(along.y, -along.x);
-    // Foreshortening shrinks cells across this side as much as it shrinks
-    // the two sides next to it.
-    const double across =
-        0.5 * (cv::norm((*quad)[i] - (*quad)[(i + 3) % 4]) + cv::norm((*quad)[(i + 2) % 4] - q));
-    const double local_cell = cell * std::clamp(across / mean_length, 0.4, 2.5);
-    const double level_offset = 0.5 * local_cell;
-    const double half = std::clamp(0.5 * local_cell, 1.0, max_half);
+    // Cells across this side, along its normal, shrink as much as the quad's
+    // height over it: at each end, the distance of the neighbouring side's
+    // far corner from this side. Under perspective on steep views the two
+    // ends differ two-fold and more, so the cell is taken where it is read.
+    auto cell_at = [&](const cv::Point2d& far_corner, const cv::Point2d& from) {
+      const cv::Point2d v = far_corner - from;
+      const double height = std::abs(v.x * along.y - v.y * along.x);
+      return cell * std::clamp(height / mean_length, 0.4, 2.5);
+    };
+    const double cell_p = cell_at((*quad)[(i + 3) % 4], p);
+    const double cell_q = cell_at((*quad)[(i + 2) % 4], q);
     const int samples = std::clamp(static_cast<int>(length / 2.0), 5, max_samples);
     points.clear();
     for (int j = 0; j < samples; ++j) {
       // Keep clear of the corners, where the neighbouring side interferes.
       const double t = 0.12 + 0.76 * j / (samples - 1);
+      const double local_cell = cell_p + t * (cell_q - cell_p);
+      const double level_offset = 0.5 * local_cell;
+      const double half = std::clamp(0.5 * local_cell, 1.0, max_half);
       cv::Point2d edge;
       if (EdgePoint(image, channel, search.polarity, p + t * (q - p), outward, half, level_offset,
                     min_contrast, &edge)) {
