@@ -8,8 +8,9 @@ namespace chromatag::internal {
 namespace {
 
 constexpr int kMaxScans = 40;
-// Two scans closer than this in angle would find the same border points.
-constexpr float kMinAngleApart = 0.02f;  // radians, about 1.1 degrees.
+// Two scans closer than this in angle would find the same border points:
+// 0.02 radians (about 1.1 degrees), as the cosine between unit directions.
+constexpr float kMaxCosApart = 0.9998f;
 
 // Figure 7: the largest area edge i of a convex polygon could still gain
 // without breaking convexity is the triangle between the edge and the meeting
@@ -49,11 +50,9 @@ double DepthInside(const std::vector<cv::Point2f>& hull, cv::Point2f point) {
   return depth;
 }
 
-bool AlreadyScanned(const std::vector<float>& angles, float angle) {
-  for (float a : angles) {
-    float diff = std::abs(a - angle);
-    diff = std::min(diff, static_cast<float>(2 * CV_PI) - diff);
-    if (diff < kMinAngleApart) return true;
+bool AlreadyScanned(const std::vector<cv::Point2f>& directions, cv::Point2f direction) {
+  for (const cv::Point2f& d : directions) {
+    if (d.dot(direction) > kMaxCosApart) return true;
   }
   return false;
 }
@@ -63,8 +62,9 @@ bool AlreadyScanned(const std::vector<float>& angles, float angle) {
 bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
                   RejectReason* why) {
   auto& outer = candidate->points[kBlackWhite];
+  thread_local std::vector<cv::Point2f> hull;
   for (int scan = 0; scan < kMaxScans; ++scan) {
-    const std::vector<cv::Point2f> hull = ClockwiseHull(outer);
+    ClockwiseHull(outer, &hull);
     if (hull.size() < 3) {
       *why = RejectReason::kPolygonScan;
       return false;
@@ -72,16 +72,20 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
     const double area = PolygonArea(hull);
     double perimeter = 0.0, potential = 0.0;
     double best_area = -1.0;
-    float best_angle = 0.f;
+    cv::Point2f best_direction;
     for (size_t i = 0; i < hull.size(); ++i) {
       perimeter += cv::norm(hull[(i + 1) % hull.size()] - hull[i]);
       const Potential edge = EdgePotential(hull, i);
       potential += edge.area;
+      if (edge.area <= best_area) continue;
       const cv::Point2d to = edge.target - cv::Point2d(candidate->centre);
-      const float angle = static_cast<float>(std::atan2(to.y, to.x));
-      if (edge.area > best_area && !AlreadyScanned(candidate->scan_angles, angle)) {
+      const double length = std::sqrt(to.dot(to));
+      if (!(length > 1e-9)) continue;
+      const cv::Point2f direction(static_cast<float>(to.x / length),
+                                  static_cast<float>(to.y / length));
+      if (!AlreadyScanned(candidate->scan_directions, direction)) {
         best_area = edge.area;
-        best_angle = angle;
+        best_direction = direction;
       }
     }
     // ConvThresh, or nothing left to gain beyond the half-pixel jitter of the
@@ -91,11 +95,9 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
     }
     if (best_area < 0.0) return true;  // Every direction worth scanning was scanned.
 
-    cv::Point2f direction(std::cos(best_angle), std::sin(best_angle));
-
     RingHits hits;
-    candidate->scan_angles.push_back(best_angle);
-    if (!ScanRings(image, options, candidate->centre, direction, candidate->reference_red, &hits)) {
+    candidate->scan_directions.push_back(best_direction);
+    if (!ScanRings(image, options, candidate->centre, best_direction, candidate->reference_red, &hits)) {
       *why = RejectReason::kPolygonScan;
       return false;
     }

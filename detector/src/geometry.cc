@@ -1,4 +1,8 @@
-// Small geometry on polygons and quads, on top of OpenCV's (stages.h).
+// Small geometry on polygons and quads (stages.h). Written out rather than
+// called through OpenCV: the polygons have a few dozen points, and
+// cv::convexHull, cv::contourArea and cv::moments cost more in their
+// InputArray wrapping and buffers than in the arithmetic (BuildPolygon takes
+// a hull and an area on every scan).
 #include <algorithm>
 #include <cmath>
 
@@ -8,20 +12,43 @@
 
 namespace chromatag::internal {
 
+namespace {
+
+// Twice the signed area (shoelace) of the polygon points[0 .. n - 1].
+template <typename Point>
+double TwiceSignedArea(const Point* points, size_t n) {
+  double sum = 0.0;
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    sum += static_cast<double>(points[j].x) * points[i].y -
+           static_cast<double>(points[i].x) * points[j].y;
+  }
+  return sum;
+}
+
+}  // namespace
+
 double PolygonArea(const std::vector<cv::Point2f>& polygon) {
-  return polygon.size() < 3 ? 0.0 : cv::contourArea(polygon);
+  return polygon.size() < 3 ? 0.0 : 0.5 * std::abs(TwiceSignedArea(polygon.data(), polygon.size()));
 }
 
-double QuadArea(const Quad& quad) {
-  const std::array<cv::Point2f, 4> points = {cv::Point2f(quad[0]), cv::Point2f(quad[1]),
-                                             cv::Point2f(quad[2]), cv::Point2f(quad[3])};
-  return cv::contourArea(points);
-}
+double QuadArea(const Quad& quad) { return 0.5 * std::abs(TwiceSignedArea(quad.data(), 4)); }
 
-cv::Point2f PolygonCentroid(cv::InputArray polygon) {
-  const cv::Moments m = cv::moments(polygon);
-  if (std::abs(m.m00) < 1e-9) return {NAN, NAN};
-  return {static_cast<float>(m.m10 / m.m00), static_cast<float>(m.m01 / m.m00)};
+cv::Point2f PolygonCentroid(const cv::Point2f* polygon, size_t n) {
+  // Area centroid by Green's theorem, about the first point (better
+  // conditioned far from the origin).
+  if (n < 3) return {NAN, NAN};
+  const double ox = polygon[0].x, oy = polygon[0].y;
+  double a2 = 0.0, cx = 0.0, cy = 0.0;
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    const double xj = polygon[j].x - ox, yj = polygon[j].y - oy;
+    const double xi = polygon[i].x - ox, yi = polygon[i].y - oy;
+    const double cross = xj * yi - xi * yj;
+    a2 += cross;
+    cx += (xj + xi) * cross;
+    cy += (yj + yi) * cross;
+  }
+  if (std::abs(a2) < 2e-9) return {NAN, NAN};
+  return {static_cast<float>(ox + cx / (3.0 * a2)), static_cast<float>(oy + cy / (3.0 * a2))};
 }
 
 bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
@@ -34,11 +61,42 @@ bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d 
   return true;
 }
 
+void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* hull) {
+  // Andrew's monotone chain. A turn with a positive cross product is
+  // clockwise on screen (y down); collinear and repeated points are dropped.
+  thread_local std::vector<cv::Point2f> sorted;
+  sorted.assign(points.begin(), points.end());
+  std::sort(sorted.begin(), sorted.end(), [](const cv::Point2f& a, const cv::Point2f& b) {
+    return a.x < b.x || (a.x == b.x && a.y < b.y);
+  });
+  hull->clear();
+  const size_t n = sorted.size();
+  if (n < 3) {
+    if (n > 0) hull->push_back(sorted.front());
+    if (n > 1 && sorted.back() != sorted.front()) hull->push_back(sorted.back());
+    return;
+  }
+  hull->resize(2 * n);
+  auto turn = [](const cv::Point2f& o, const cv::Point2f& a, const cv::Point2f& b) {
+    return (static_cast<double>(a.x) - o.x) * (static_cast<double>(b.y) - o.y) -
+           (static_cast<double>(a.y) - o.y) * (static_cast<double>(b.x) - o.x);
+  };
+  size_t k = 0;
+  auto& h = *hull;
+  for (size_t i = 0; i < n; ++i) {  // Lower chain on screen: left to right along the top.
+    while (k >= 2 && turn(h[k - 2], h[k - 1], sorted[i]) <= 0) --k;
+    h[k++] = sorted[i];
+  }
+  for (size_t i = n - 1, lower = k + 1; i-- > 0;) {  // And back along the bottom.
+    while (k >= lower && turn(h[k - 2], h[k - 1], sorted[i]) <= 0) --k;
+    h[k++] = sorted[i];
+  }
+  hull->resize(k > 1 ? k - 1 : k);  // The last point repeats the first.
+}
+
 std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points) {
-  // OpenCV's orientation flag assumes y up; on screen (y down) its
-  // counter-clockwise hull runs clockwise.
   std::vector<cv::Point2f> hull;
-  if (!points.empty()) cv::convexHull(points, hull, /*clockwise=*/false);
+  ClockwiseHull(points, &hull);
   return hull;
 }
 

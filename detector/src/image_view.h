@@ -27,12 +27,12 @@ inline int RoundToInt(double v) { return RoundToInt(static_cast<float>(v)); }
 // such channels because blending (antialiasing, blur) is linear in them, so the
 // midpoint between two plateaus marks the true edge; L* or a* would not.
 struct ChannelWeights {
-  float r = 1.f;
-  float g = 1.f;
-  float b = 1.f;
+  int r = 1;
+  int g = 1;
+  int b = 1;
 };
-inline constexpr ChannelWeights kGray{1.f, 1.f, 1.f};            // Black/white, green/black.
-inline constexpr ChannelWeights kRedMinusGreen{1.f, -1.f, 0.f};  // Red/green.
+inline constexpr ChannelWeights kGray{1, 1, 1};            // Black/white, green/black.
+inline constexpr ChannelWeights kRedMinusGreen{1, -1, 0};  // Red/green.
 
 class ImageView {
  public:
@@ -92,14 +92,65 @@ class ImageView {
     const float tx = x - static_cast<float>(x0), ty = y - static_cast<float>(y0);
     const uint8_t* p = Pixel(x0, y0);
     const uint8_t* q = p + step_;
+    // The channel in integers at the four pixels, then one bilinear blend.
     auto channel = [&](const uint8_t* px) { return w.r * px[r_] + w.g * px[1] + w.b * px[b_]; };
-    const float top = channel(p) + (channel(p + 3) - channel(p)) * tx;
-    const float bottom = channel(q) + (channel(q + 3) - channel(q)) * tx;
+    const int c00 = channel(p), c01 = channel(p + 3), c10 = channel(q), c11 = channel(q + 3);
+    const float top = static_cast<float>(c00) + static_cast<float>(c01 - c00) * tx;
+    const float bottom = static_cast<float>(c10) + static_cast<float>(c11 - c10) * tx;
     *value = top + (bottom - top) * ty;
     return true;
   }
 
+  // Sample() at the n points (x + i dx, y + i dy), i = 0 .. n - 1, into
+  // out[0 .. n - 1]. False (out undefined) if any point lies outside. The
+  // frame test is made once for the segment's two ends, and the two
+  // channels the detector uses have their own loops: the sub-pixel side
+  // searches spend most of their time here.
+  bool SampleLine(float x, float y, float dx, float dy, int n, const ChannelWeights& w,
+                  float* out) const {
+    const float last_x = x + static_cast<float>(n - 1) * dx;
+    const float last_y = y + static_cast<float>(n - 1) * dy;
+    const float w1 = static_cast<float>(width_ - 1), h1 = static_cast<float>(height_ - 1);
+    // Strictly inside [0, width - 1) x [0, height - 1): both ends, hence
+    // every point between them (also rejects NaN).
+    if (!(x >= 0.f && y >= 0.f && last_x >= 0.f && last_y >= 0.f && x < w1 && y < h1 &&
+          last_x < w1 && last_y < h1)) {
+      return false;
+    }
+    if (w.r == 1 && w.g == 1 && w.b == 1) {
+      SampleLineWith(x, y, dx, dy, n, out, [](const uint8_t* px, int, int) {
+        return static_cast<int>(px[0]) + px[1] + px[2];
+      });
+    } else if (w.r == 1 && w.g == -1 && w.b == 0) {
+      SampleLineWith(x, y, dx, dy, n, out, [](const uint8_t* px, int r, int) {
+        return static_cast<int>(px[r]) - px[1];
+      });
+    } else {
+      SampleLineWith(x, y, dx, dy, n, out, [&w](const uint8_t* px, int r, int b) {
+        return w.r * px[r] + w.g * px[1] + w.b * px[b];
+      });
+    }
+    return true;
+  }
+
  private:
+  template <typename Channel>
+  void SampleLineWith(float x, float y, float dx, float dy, int n, float* out,
+                      Channel&& channel) const {
+    for (int i = 0; i < n; ++i) {
+      const float px = x + static_cast<float>(i) * dx, py = y + static_cast<float>(i) * dy;
+      const int x0 = static_cast<int>(px), y0 = static_cast<int>(py);
+      const float tx = px - static_cast<float>(x0), ty = py - static_cast<float>(y0);
+      const uint8_t* p = Pixel(x0, y0);
+      const uint8_t* q = p + step_;
+      const int c00 = channel(p, r_, b_), c01 = channel(p + 3, r_, b_);
+      const int c10 = channel(q, r_, b_), c11 = channel(q + 3, r_, b_);
+      const float top = static_cast<float>(c00) + static_cast<float>(c01 - c00) * tx;
+      const float bottom = static_cast<float>(c10) + static_cast<float>(c11 - c10) * tx;
+      out[i] = top + (bottom - top) * ty;
+    }
+  }
+
   const uint8_t* data_;
   size_t step_;
   int width_;

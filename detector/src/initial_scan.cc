@@ -174,7 +174,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   candidate->reference_red = reference_red;
   candidate->enclosed = true;
   candidate->red_border = border;
-  candidate->scan_angles.clear();
+  candidate->scan_directions.clear();
   for (int i = 0; i < 8; i += 2) {
     const cv::Point2f direction = kDirections[i];
     RingHits hits;
@@ -182,7 +182,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       return reject(RejectReason::kRingScan);
     for (int ring = 0; ring < kNumRings; ++ring)
       candidate->points[ring].push_back(hits.border[ring]);
-    candidate->scan_angles.push_back(std::atan2(direction.y, direction.x));
+    candidate->scan_directions.push_back(direction);
   }
   // Ring widths along each scan: a tag's green and black rings are each one
   // cell, the red half-width one (16h5) or two (36h11) cells. Perspective

@@ -73,10 +73,9 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
   const float ox = static_cast<float>(outward.x) * kProfileStep,
               oy = static_cast<float>(outward.y) * kProfileStep;
   std::array<float, 2 * kMaxProfileSteps + 1> profile;
-  for (int i = 0; i < n; ++i) {
-    const float s = static_cast<float>(i - steps);
-    if (!image.Sample(mx + s * ox, my + s * oy, channel, &profile[i])) return false;
-  }
+  const float first = static_cast<float>(-steps);
+  if (!image.SampleLine(mx + first * ox, my + first * oy, ox, oy, n, channel, profile.data()))
+    return false;
   // Steepest: the largest change over one pixel (two samples).
   int steepest = 1;
   float steepest_change = -1.f;

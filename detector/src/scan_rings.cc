@@ -26,22 +26,32 @@ constexpr float kPlateauTolerance = 0.5f;
 // green and black rings count as thin (see ScanRings).
 constexpr int kThinRingSteps = 12;
 
-float ValueAt(const ImageView& image, int x, int y, Border border) {
-  return border == Border::kRedToGreen ? image.A(x, y) : image.L(x, y);
+// The border is a template argument throughout: the scans visit every pixel
+// on their way, and a branch (and call) per pixel on which channel to read
+// cost a fifth of their time.
+template <Border border>
+float ValueAt(const ImageView& image, int x, int y) {
+  if constexpr (border == Border::kRedToGreen) {
+    return image.A(x, y);
+  } else {
+    return image.L(x, y);
+  }
 }
 
 // How far `value` lies past `reference` towards the next ring's colour (a*
 // falls into green, L* falls into black and rises into white).
-float Depth(float reference, float value, Border border) {
+template <Border border>
+float Depth(float reference, float value) {
   return border == Border::kBlackToWhite ? value - reference : reference - value;
 }
 
 // Whether a pixel counts towards the M successive ones that make a border.
 // Leaving green, a pixel lighter than the green (the white beyond a ring
 // thinner than M pixels) counts as well as a darker one.
-bool Beyond(float reference, float value, Border border, float thresh) {
-  if (border == Border::kGreenToBlack) return std::abs(reference - value) > thresh;
-  return Depth(reference, value, border) > thresh;
+template <Border border>
+bool Beyond(float reference, float value, float thresh) {
+  if constexpr (border == Border::kGreenToBlack) return std::abs(reference - value) > thresh;
+  return Depth<border>(reference, value) > thresh;
 }
 
 struct Crossing {
@@ -51,8 +61,9 @@ struct Crossing {
   int steps = 0;  // Steps from the start to `resume`.
 };
 
+template <Border border>
 bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction, float reference,
-                Border border, float thresh, int run, int max_steps, Crossing* crossing) {
+                float thresh, int run, int max_steps, Crossing* crossing) {
   auto pixel = [&](int k) {
     return cv::Point(RoundToInt(start.x + k * direction.x), RoundToInt(start.y + k * direction.y));
   };
@@ -61,7 +72,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   for (; k <= max_steps; ++k) {
     const cv::Point p = pixel(k);
     if (!image.Contains(p.x, p.y)) return false;
-    if (Beyond(reference, ValueAt(image, p.x, p.y, border), border, thresh)) {
+    if (Beyond<border>(reference, ValueAt<border>(image, p.x, p.y), thresh)) {
       if (++consecutive == run) break;
     } else {
       consecutive = 0;
@@ -75,7 +86,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   float deepest_depth = -1e30f;
   for (int j = k - run + 1; j <= k; ++j) {
     const cv::Point p = pixel(j);
-    const float depth = Depth(reference, ValueAt(image, p.x, p.y, border), border);
+    const float depth = Depth<border>(reference, ValueAt<border>(image, p.x, p.y));
     if (depth > deepest_depth) {
       deepest_depth = depth;
       deepest = j;
@@ -88,7 +99,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   for (int j = k + 1, level = 0; j <= k + kMaxPlateauSteps && level < 2; ++j) {
     const cv::Point p = pixel(j);
     if (!image.Contains(p.x, p.y)) break;
-    const float depth = Depth(reference, ValueAt(image, p.x, p.y, border), border);
+    const float depth = Depth<border>(reference, ValueAt<border>(image, p.x, p.y));
     if (depth > deepest_depth + kPlateauTolerance) {
       deepest_depth = depth;
       deepest = j;
@@ -98,7 +109,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
     }
   }
   const cv::Point end = pixel(deepest);
-  crossing->value_after = ValueAt(image, end.x, end.y, border);
+  crossing->value_after = ValueAt<border>(image, end.x, end.y);
   crossing->resume = cv::Point2f(static_cast<float>(end.x), static_cast<float>(end.y));
   crossing->steps = deepest;
   // The border is where the depth passes half the reference pixel's depth,
@@ -107,11 +118,11 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   float previous_depth = 0.f;  // The reference itself, at the step before the run.
   cv::Point previous = pixel(k - run);
   if (image.Contains(previous.x, previous.y)) {
-    previous_depth = Depth(reference, ValueAt(image, previous.x, previous.y, border), border);
+    previous_depth = Depth<border>(reference, ValueAt<border>(image, previous.x, previous.y));
   }
   for (int j = k - run + 1; j <= deepest; ++j) {
     const cv::Point p = pixel(j);
-    const float depth = Depth(reference, ValueAt(image, p.x, p.y, border), border);
+    const float depth = Depth<border>(reference, ValueAt<border>(image, p.x, p.y));
     if (depth >= half) {
       const float span = depth - previous_depth;
       const float t = span > 1e-6f ? std::clamp((half - previous_depth) / span, 0.f, 1.f) : 0.5f;
@@ -135,8 +146,8 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
   const int reach = std::max(image.width(), image.height());
 
   Crossing red_green;
-  if (!ScanBorder(image, start, direction, reference_red, Border::kRedToGreen,
-                  RedGreenThresh(options, reference_red), run, reach, &red_green)) {
+  if (!ScanBorder<Border::kRedToGreen>(image, start, direction, reference_red,
+                                       RedGreenThresh(options, reference_red), run, reach, &red_green)) {
     return false;
   }
   // ReferenceGreen: a tag's green is far less red than its red (the seed saw
@@ -158,14 +169,14 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
   const int ring_run = run > 2 && red_green.steps <= kThinRingSteps ? run - 1 : run;
 
   Crossing green_black;
-  if (!ScanBorder(image, red_green.resume, direction, green_l, Border::kGreenToBlack,
-                  std::max(thresh, 0.3f * green_l), ring_run, ring_reach, &green_black)) {
+  if (!ScanBorder<Border::kGreenToBlack>(image, red_green.resume, direction, green_l,
+                                         std::max(thresh, 0.3f * green_l), ring_run, ring_reach, &green_black)) {
     return false;
   }
   const float black_l = green_black.value_after;
   Crossing black_white;
-  if (!ScanBorder(image, green_black.resume, direction, black_l, Border::kBlackToWhite,
-                  std::max(thresh, 0.3f * (green_l - black_l)), ring_run, ring_reach,
+  if (!ScanBorder<Border::kBlackToWhite>(image, green_black.resume, direction, black_l,
+                                         std::max(thresh, 0.3f * (green_l - black_l)), ring_run, ring_reach,
                   &black_white)) {
     return false;
   }

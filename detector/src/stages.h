@@ -36,7 +36,7 @@ struct Candidate {
   float reference_red = 0;  // ReferenceRed, a*.
   // Border points per ring, from every scan (InitialScan and BuildPolygon).
   std::array<std::vector<cv::Point2f>, kNumRings> points;
-  std::vector<float> scan_angles;  // Directions already scanned, radians.
+  std::vector<cv::Point2f> scan_directions;  // Unit directions already scanned.
   std::array<Quad, kNumRings> quads;
   // The red/green border points of InitialScan's last completed centring
   // pass, in eight directions from `centre`: a red region enclosed by
@@ -196,12 +196,18 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
 // Geometry helpers (geometry.cc), unsigned areas in square pixels.
 double PolygonArea(const std::vector<cv::Point2f>& polygon);
 double QuadArea(const Quad& quad);
-// Area centroid of a simple polygon (Point2f points); NaN if degenerate.
-cv::Point2f PolygonCentroid(cv::InputArray polygon);
+// Area centroid of a simple polygon; NaN if degenerate.
+cv::Point2f PolygonCentroid(const cv::Point2f* polygon, size_t n);
+template <size_t N>
+cv::Point2f PolygonCentroid(const std::array<cv::Point2f, N>& polygon) {
+  return PolygonCentroid(polygon.data(), N);
+}
 bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
                     cv::Point2d* at);
 bool IsConvexClockwise(const Quad& quad);
-// The convex hull of `points`, clockwise on screen (y down).
+// The convex hull of `points`, clockwise on screen (y down), without
+// collinear points; into *hull (reused) or returned.
+void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* hull);
 std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points);
 // The homography from the unit square ((0,0), (1,0), (1,1), (0,1)) to `quad`,
 // and a point through a homography.

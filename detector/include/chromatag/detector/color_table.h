@@ -70,6 +70,15 @@ class ColorTable {
   const int8_t* coarse_a_table() const { return coarse_a_.data(); }
   static constexpr int kCoarsePadding = 4;
 
+  // Reads every cache line of the tables once, in order, so that they are
+  // in the caches before a frame's random lookups start. A detector called
+  // once per frame, with other work in between (the camera driver, the
+  // rest of a robot's pipeline, other detectors), otherwise takes a cache
+  // miss on each first lookup of a line; streamed in order, the 58 KiB
+  // arrive in about a microsecond. Returns a checksum, only so that the reads
+  // are not optimised away.
+  uint32_t Prefetch() const;
+
   size_t memory_bytes() const { return sizeof(xyz_) + sizeof(f_) + coarse_a_.size(); }
 
  private:
