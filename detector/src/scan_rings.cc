@@ -3,6 +3,7 @@
 // threshold from the reference colour.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "stages.h"
 
@@ -67,12 +68,19 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   auto pixel = [&](int k) {
     return cv::Point(RoundToInt(start.x + k * direction.x), RoundToInt(start.y + k * direction.y));
   };
+  // Each pixel's value is read once: values[k] for step k (the run's pixels
+  // are looked at again below, for the deepest one and the halfway level).
+  thread_local std::vector<float> values;
+  const size_t needed = static_cast<size_t>(max_steps) + kMaxPlateauSteps + 2;
+  if (values.size() < needed) values.resize(needed);
   int consecutive = 0;
   int k = 1;
   for (; k <= max_steps; ++k) {
     const cv::Point p = pixel(k);
     if (!image.Contains(p.x, p.y)) return false;
-    if (Beyond<border>(reference, ValueAt<border>(image, p.x, p.y), thresh)) {
+    const float value = ValueAt<border>(image, p.x, p.y);
+    values[k] = value;
+    if (Beyond<border>(reference, value, thresh)) {
       if (++consecutive == run) break;
     } else {
       consecutive = 0;
@@ -85,8 +93,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   int deepest = k - run + 1;
   float deepest_depth = -1e30f;
   for (int j = k - run + 1; j <= k; ++j) {
-    const cv::Point p = pixel(j);
-    const float depth = Depth<border>(reference, ValueAt<border>(image, p.x, p.y));
+    const float depth = Depth<border>(reference, values[j]);
     if (depth > deepest_depth) {
       deepest_depth = depth;
       deepest = j;
@@ -99,7 +106,8 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   for (int j = k + 1, level = 0; j <= k + kMaxPlateauSteps && level < 2; ++j) {
     const cv::Point p = pixel(j);
     if (!image.Contains(p.x, p.y)) break;
-    const float depth = Depth<border>(reference, ValueAt<border>(image, p.x, p.y));
+    values[j] = ValueAt<border>(image, p.x, p.y);
+    const float depth = Depth<border>(reference, values[j]);
     if (depth > deepest_depth + kPlateauTolerance) {
       deepest_depth = depth;
       deepest = j;
@@ -109,7 +117,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
     }
   }
   const cv::Point end = pixel(deepest);
-  crossing->value_after = ValueAt<border>(image, end.x, end.y);
+  crossing->value_after = values[deepest];
   crossing->resume = cv::Point2f(static_cast<float>(end.x), static_cast<float>(end.y));
   crossing->steps = deepest;
   // The border is where the depth passes half the reference pixel's depth,
@@ -117,12 +125,14 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   const float half = 0.5f * deepest_depth;
   float previous_depth = 0.f;  // The reference itself, at the step before the run.
   cv::Point previous = pixel(k - run);
-  if (image.Contains(previous.x, previous.y)) {
+  if (k - run >= 1) {
+    previous_depth = Depth<border>(reference, values[k - run]);
+  } else if (image.Contains(previous.x, previous.y)) {
     previous_depth = Depth<border>(reference, ValueAt<border>(image, previous.x, previous.y));
   }
   for (int j = k - run + 1; j <= deepest; ++j) {
     const cv::Point p = pixel(j);
-    const float depth = Depth<border>(reference, ValueAt<border>(image, p.x, p.y));
+    const float depth = Depth<border>(reference, values[j]);
     if (depth >= half) {
       const float span = depth - previous_depth;
       const float t = span > 1e-6f ? std::clamp((half - previous_depth) / span, 0.f, 1.f) : 0.5f;
