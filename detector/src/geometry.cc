@@ -69,11 +69,12 @@ void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point
   std::sort(sorted.begin(), sorted.end(), [](const cv::Point2f& a, const cv::Point2f& b) {
     return a.x < b.x || (a.x == b.x && a.y < b.y);
   });
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
   hull->clear();
   const size_t n = sorted.size();
   if (n < 3) {
     if (n > 0) hull->push_back(sorted.front());
-    if (n > 1 && sorted.back() != sorted.front()) hull->push_back(sorted.back());
+    if (n > 1) hull->push_back(sorted.back());
     return;
   }
   hull->resize(2 * n);

@@ -1,0 +1,158 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "stages.h"
+
+namespace chromatag::internal {
+namespace {
+
+Quad RotatedSquare(cv::Point2d centre, double side, double degrees) {
+  const double c = std::cos(degrees * CV_PI / 180), s = std::sin(degrees * CV_PI / 180);
+  const double h = side / 2;
+  const cv::Point2d offsets[4] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}};
+  Quad quad;
+  for (int i = 0; i < 4; ++i) {
+    quad[i] = centre +
+              cv::Point2d(c * offsets[i].x - s * offsets[i].y, s * offsets[i].x + c * offsets[i].y);
+  }
+  return quad;
+}
+
+// Whether p lies inside the clockwise convex quad.
+bool Inside(const Quad& quad, cv::Point2d p) {
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d u = quad[(i + 1) % 4] - quad[i], v = p - quad[i];
+    if (u.x * v.y - u.y * v.x < 0) return false;
+  }
+  return true;
+}
+
+// A black quad on white, antialiased: point-sampled at 8x, then averaged
+// down. Coordinates as ImageView::Sample reads them (pixel centres at
+// integers), so the high-resolution pixel X has its centre at (X + 0.5) / 8 - 0.5.
+cv::Mat RenderQuad(cv::Size size, const Quad& quad) {
+  constexpr int kScale = 8;
+  cv::Mat fine(size * kScale, CV_8UC3, cv::Scalar::all(255));
+  for (int y = 0; y < fine.rows; ++y) {
+    for (int x = 0; x < fine.cols; ++x) {
+      const cv::Point2d p((x + 0.5) / kScale - 0.5, (y + 0.5) / kScale - 0.5);
+      if (Inside(quad, p)) fine.at<cv::Vec3b>(y, x) = cv::Vec3b(0, 0, 0);
+    }
+  }
+  cv::Mat image;
+  cv::resize(fine, image, size, 0, 0, cv::INTER_AREA);
+  return image;
+}
+
+// The index of the corner of `quad` nearest to `p`.
+int Nearest(const Quad& quad, cv::Point2d p) {
+  int best = 0;
+  for (int i = 1; i < 4; ++i) {
+    if (cv::norm(quad[i] - p) < cv::norm(quad[best] - p)) best = i;
+  }
+  return best;
+}
+
+// Expects `fitted` to be `truth` up to which corner comes first.
+void ExpectSameQuad(const Quad& fitted, const Quad& truth, double tolerance) {
+  const int shift = Nearest(fitted, truth[0]);
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d& p = fitted[(i + shift) % 4];
+    EXPECT_NEAR(p.x, truth[i].x, tolerance) << "corner " << i;
+    EXPECT_NEAR(p.y, truth[i].y, tolerance) << "corner " << i;
+  }
+}
+
+// Points along each side, both ends included, every `spacing` pixels.
+std::vector<cv::Point2f> AlongSides(const Quad& quad, double spacing) {
+  std::vector<cv::Point2f> points;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d p = quad[i], q = quad[(i + 1) % 4];
+    const int n = static_cast<int>(std::ceil(cv::norm(q - p) / spacing));
+    for (int j = 0; j < n; ++j) points.emplace_back(p + (q - p) * (static_cast<double>(j) / n));
+  }
+  return points;
+}
+
+// FitQuad on exact points along a convex quad's sides, with interior points
+// mixed in, returns the quad's corners, clockwise.
+TEST(FitQuadTest, RecoversTheCornersOfAConvexQuad) {
+  const Quad truth = {{{20.25, 10.5}, {90, 18}, {82.75, 70}, {15, 60.5}}};
+  ASSERT_TRUE(IsConvexClockwise(truth));
+  std::vector<cv::Point2f> points = AlongSides(truth, 3.0);
+  for (cv::Point2f inner : {cv::Point2f(50, 40), cv::Point2f(30, 30), cv::Point2f(70, 55)})
+    points.insert(points.begin() + points.size() / 2, inner);
+  Quad fitted;
+  ASSERT_TRUE(FitQuad(points, &fitted));
+  EXPECT_TRUE(IsConvexClockwise(fitted));
+  ExpectSameQuad(fitted, truth, 1e-3);
+}
+
+// Points a little off the sides (at most 0.2 px along the normal) still give
+// corners within a fraction of a pixel.
+TEST(FitQuadTest, ToleratesNoisyPoints) {
+  const Quad truth = RotatedSquare({60, 50}, 50, 25);
+  cv::RNG rng(3);
+  std::vector<cv::Point2f> points;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d p = truth[i], q = truth[(i + 1) % 4];
+    const cv::Point2d along = (q - p) / cv::norm(q - p), normal(-along.y, along.x);
+    for (double t = 0.0; t < 1.0; t += 0.04) {
+      points.emplace_back(p + t * (q - p) + rng.uniform(-0.2, 0.2) * normal);
+    }
+  }
+  Quad fitted;
+  ASSERT_TRUE(FitQuad(points, &fitted));
+  ExpectSameQuad(fitted, truth, 0.5);
+}
+
+// Fewer than four points cannot make a quad; neither can points on a line.
+TEST(FitQuadTest, FailsOnTooFewPoints) {
+  Quad quad;
+  EXPECT_FALSE(FitQuad({}, &quad));
+  EXPECT_FALSE(FitQuad({{0, 0}, {10, 0}, {5, 8}}, &quad));
+  EXPECT_FALSE(FitQuad({{0, 0}, {1, 1}, {2, 2}, {3, 3}, {4, 4}}, &quad));
+}
+
+// The side search for the outer border: black inside, white outside.
+SideSearch BlackOnWhite(double cell) {
+  return {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, 4.0};
+}
+
+// A quad 1.5 px off moves onto an antialiased black square, axis-aligned or
+// turned, to within 0.1 px of its corners.
+TEST(RefineQuadTest, MovesOntoTheEdgesOfABlackSquare) {
+  for (double degrees : {0.0, 17.0, 40.0}) {
+    const Quad truth = RotatedSquare({60.3, 59.6}, 56.0, degrees);
+    const cv::Mat image = RenderQuad({120, 120}, truth);
+    const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+    const cv::Point2d offsets[4] = {{1.5, 0}, {0, -1.5}, {-1.06, 1.06}, {1.06, 1.06}};
+    Quad quad;
+    for (int i = 0; i < 4; ++i) quad[i] = truth[i] + offsets[i];
+    ASSERT_TRUE(RefineQuad(view, BlackOnWhite(56.0 / 8), &quad)) << degrees << " degrees";
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_LT(cv::norm(quad[i] - truth[i]), 0.1) << degrees << " degrees, corner " << i;
+    }
+  }
+}
+
+// Without an edge (a flat frame), or with the edge the wrong way round (a
+// white square on black), the quad is left as it was.
+TEST(RefineQuadTest, FailsAndLeavesTheQuadWithoutAMatchingEdge) {
+  const Quad start = RotatedSquare({60, 60}, 56.0, 10.0);
+  const cv::Mat flat(120, 120, CV_8UC3, cv::Scalar::all(128));
+  const cv::Mat inverted = ~RenderQuad({120, 120}, start);
+  for (const cv::Mat* image : {&flat, &inverted}) {
+    const ImageView view(*image, PixelOrder::kBgr, ColorTable::Get());
+    Quad quad = start;
+    EXPECT_FALSE(RefineQuad(view, BlackOnWhite(7.0), &quad));
+    EXPECT_EQ(quad, start);
+  }
+}
+
+}  // namespace
+}  // namespace chromatag::internal
