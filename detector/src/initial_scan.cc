@@ -20,6 +20,88 @@ const cv::Point2f kDirections[8] = {{1, 0},  {kD, kD},   {0, 1},  {-kD, kD},
                                     {-1, 0}, {-kD, -kD}, {0, -1}, {kD, -kD}};
 // Pixels past a red/green run searched for the green's full a* drop.
 constexpr int kGreenLookAhead = 6;
+// The a* drop into a tag's green, as a fraction of ADiffThresh: the palettes'
+// reds and greens are 58 or more apart; a fifth less allows for blur and casts.
+constexpr float kMinGreenDropFraction = 0.8f;
+// Ring widths along one scan (RingProportionsFit): a tag's green and black
+// rings are one cell each, its red half-width one (16h5) or two (36h11)
+// cells; perspective along one line changes these ratios little. Each ring
+// lies between kMinRingOverRed and kMaxRingOverRed times the red half-width
+// (plus kRingSlackPx for blur on small tags), and black over green between
+// kMinBlackOverGreen and kMaxBlackOverGreen (each with a pixel of slack).
+constexpr float kMinRingOverRed = 0.2f;
+constexpr float kMaxRingOverRed = 2.5f;
+constexpr float kRingSlackPx = 2.f;
+constexpr float kMinBlackOverGreen = 0.4f;
+constexpr float kMaxBlackOverGreen = 2.5f;
+
+// Step 1: the red/green border in the eight directions from `centre`, into
+// `border`. False (and *why) when a scan leaves the frame or reach, or finds
+// no tag green past the red.
+bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Point2f centre,
+                  float reference_red, int reach, std::array<cv::Point2f, 8>* border,
+                  RejectReason* why) {
+  const float red_thresh = RedGreenThresh(options, reference_red);
+  const float min_drop = kMinGreenDropFraction * static_cast<float>(options.adiff_thresh);
+  for (int i = 0; i < 8; ++i) {
+    // Red -> green only: the a* drop of the full scan, without the rings.
+    const cv::Point2f direction = kDirections[i];
+    int consecutive = 0, k = 1;
+    float deepest_a = reference_red;
+    for (; k <= reach; ++k) {
+      const cv::Point2f p = centre + static_cast<float>(k) * direction;
+      const int x = RoundToInt(p.x), y = RoundToInt(p.y);
+      if (!image.Contains(x, y)) {
+        *why = RejectReason::kNoRedGreenBorder;
+        return false;
+      }
+      const float a = image.A(x, y);
+      if (reference_red - a > red_thresh) {
+        deepest_a = std::min(deepest_a, a);
+        if (++consecutive == options.border_run) break;
+      } else {
+        consecutive = 0;
+        deepest_a = reference_red;
+      }
+    }
+    if (k > reach) {
+      *why = RejectReason::kNoRedGreenBorder;
+      return false;
+    }
+    // Past the border lies a tag's green, far less red than its red; on a
+    // blurred edge the run may end on the slope, so look a few pixels on.
+    // Most red things that are not tags (bricks, skin, wood) fade into
+    // grey here and are dropped after one scan instead of eight per pass.
+    for (int j = k + 1; j <= k + kGreenLookAhead && reference_red - deepest_a < min_drop; ++j) {
+      const cv::Point2f p = centre + static_cast<float>(j) * direction;
+      const int x = RoundToInt(p.x), y = RoundToInt(p.y);
+      if (!image.Contains(x, y)) break;
+      deepest_a = std::min(deepest_a, image.A(x, y));
+    }
+    if (reference_red - deepest_a < min_drop) {
+      *why = RejectReason::kNotGreen;
+      return false;
+    }
+    (*border)[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
+  }
+  return true;
+}
+
+// Step 3: whether the ring widths along each of the final scans fit a tag.
+bool RingProportionsFit(const Candidate& candidate) {
+  for (size_t i = 0; i < candidate.points[kRedGreen].size(); ++i) {
+    const float red = cv::norm(candidate.points[kRedGreen][i] - candidate.centre);
+    const float green = cv::norm(candidate.points[kGreenBlack][i] - candidate.points[kRedGreen][i]);
+    const float black =
+        cv::norm(candidate.points[kBlackWhite][i] - candidate.points[kGreenBlack][i]);
+    if (green < kMinRingOverRed * red || green > kMaxRingOverRed * red + kRingSlackPx ||
+        black < kMinRingOverRed * red || black > kMaxRingOverRed * red + kRingSlackPx ||
+        black < kMinBlackOverGreen * green - 1.f || black > kMaxBlackOverGreen * green + 1.f) {
+      return false;
+    }
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -98,48 +180,16 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   const int reach = std::max(image.width(), image.height()) / 2;
   if (reference_red < static_cast<float>(kMinTagRedA)) return reject(RejectReason::kPaleRed);
 
-  // Re-centre on the centroid of the polygon of red/green border points
-  // found in eight directions. The paper averages the four axis scans, but
+  // Step 1, repeated: re-centre on the centroid of the polygon of red/green
+  // border points found in eight directions. The paper averages the four axis scans, but
   // on a strongly sheared view (tilt and rotation together) that iteration
   // oscillates instead of converging; the centroid does not.
   bool converged = false;
   for (int iteration = 0; iteration < kMaxCentreIterations && !converged; ++iteration) {
     const float red_thresh = RedGreenThresh(options, reference_red);
-    // The a* drop into a tag's green: at least ADiffThresh (the palettes'
-    // reds and greens are 58 or more apart), less a fifth for blur and casts.
-    const float min_drop = 0.8f * static_cast<float>(options.adiff_thresh);
-    for (int i = 0; i < 8; ++i) {
-      // Red -> green only: the a* drop of the full scan, without the rings.
-      const cv::Point2f direction = kDirections[i];
-      int consecutive = 0, k = 1;
-      float deepest_a = reference_red;
-      for (; k <= reach; ++k) {
-        const cv::Point2f p = centre + static_cast<float>(k) * direction;
-        const int x = RoundToInt(p.x), y = RoundToInt(p.y);
-        if (!image.Contains(x, y)) return reject(RejectReason::kNoRedGreenBorder);
-        const float a = image.A(x, y);
-        if (reference_red - a > red_thresh) {
-          deepest_a = std::min(deepest_a, a);
-          if (++consecutive == options.border_run) break;
-        } else {
-          consecutive = 0;
-          deepest_a = reference_red;
-        }
-      }
-      if (k > reach) return reject(RejectReason::kNoRedGreenBorder);
-      // Past the border lies a tag's green, far less red than its red; on a
-      // blurred edge the run may end on the slope, so look a few pixels on.
-      // Most red things that are not tags (bricks, skin, wood) fade into
-      // grey here and are dropped after one scan instead of eight per pass.
-      for (int j = k + 1; j <= k + kGreenLookAhead && reference_red - deepest_a < min_drop; ++j) {
-        const cv::Point2f p = centre + static_cast<float>(j) * direction;
-        const int x = RoundToInt(p.x), y = RoundToInt(p.y);
-        if (!image.Contains(x, y)) break;
-        deepest_a = std::min(deepest_a, image.A(x, y));
-      }
-      if (reference_red - deepest_a < min_drop) return reject(RejectReason::kNotGreen);
-      border[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
-    }
+    RejectReason pass_why;
+    if (!CentringPass(image, options, centre, reference_red, reach, &border, &pass_why))
+      return reject(pass_why);
     region = RejectedRegion::Around(border);
     have_region = true;
     const cv::Point2f next = PolygonCentroid(border);
@@ -174,6 +224,8 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   candidate->reference_red = reference_red;
   candidate->enclosed = true;
   candidate->red_border = border;
+  // Step 2: the three rings in the four axis directions from the converged
+  // centre seed the candidate's polygons.
   candidate->scan_directions.clear();
   for (int i = 0; i < 8; i += 2) {
     const cv::Point2f direction = kDirections[i];
@@ -184,20 +236,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       candidate->points[ring].push_back(hits.border[ring]);
     candidate->scan_directions.push_back(direction);
   }
-  // Ring widths along each scan: a tag's green and black rings are each one
-  // cell, the red half-width one (16h5) or two (36h11) cells. Perspective
-  // along one line changes these ratios little.
-  for (int i = 0; i < 4; ++i) {
-    const float red = cv::norm(candidate->points[kRedGreen][i] - centre);
-    const float green =
-        cv::norm(candidate->points[kGreenBlack][i] - candidate->points[kRedGreen][i]);
-    const float black =
-        cv::norm(candidate->points[kBlackWhite][i] - candidate->points[kGreenBlack][i]);
-    if (green < 0.2f * red || green > 2.5f * red + 2.f || black < 0.2f * red ||
-        black > 2.5f * red + 2.f || black < 0.4f * green - 1.f || black > 2.5f * green + 1.f) {
-      return reject(RejectReason::kRingProportions);
-    }
-  }
+  if (!RingProportionsFit(*candidate)) return reject(RejectReason::kRingProportions);
   return true;
 }
 
