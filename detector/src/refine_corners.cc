@@ -25,7 +25,10 @@ struct Line {
 
 // Total least squares line through `points`, then once more without points
 // farther than three median residuals (at least half a pixel) from it.
+// Works in place (the kept points are moved to the front): it runs for every
+// side of every ring, and allocating its scratch cost more than the fit.
 bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
+  thread_local std::vector<double> residual, sorted;
   for (int pass = 0; pass < 2; ++pass) {
     if (points->size() < 3) return false;
     cv::Point2d c(0, 0);
@@ -43,16 +46,16 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
     line->direction = {std::cos(angle), std::sin(angle)};
     if (pass == 1) break;
     const cv::Point2d normal(-line->direction.y, line->direction.x);
-    std::vector<double> residual;
+    residual.clear();
     for (const auto& p : *points) residual.push_back(std::abs((p - c).dot(normal)));
-    std::vector<double> sorted = residual;
+    sorted.assign(residual.begin(), residual.end());
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     const double limit = std::max(0.5, 3.0 * sorted[sorted.size() / 2]);
-    std::vector<cv::Point2d> kept;
+    size_t kept = 0;
     for (size_t i = 0; i < points->size(); ++i) {
-      if (residual[i] <= limit) kept.push_back((*points)[i]);
+      if (residual[i] <= limit) (*points)[kept++] = (*points)[i];
     }
-    *points = std::move(kept);
+    points->resize(kept);
   }
   return true;
 }
@@ -124,7 +127,7 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
   double mean_length = 0;
   for (int i = 0; i < 4; ++i) mean_length += 0.25 * cv::norm((*quad)[(i + 1) % 4] - (*quad)[i]);
   std::array<Line, 4> sides;
-  std::vector<cv::Point2d> points;
+  thread_local std::vector<cv::Point2d> points;
   for (int i = 0; i < 4; ++i) {
     const cv::Point2d p = (*quad)[i], q = (*quad)[(i + 1) % 4];
     const double length = cv::norm(q - p);
