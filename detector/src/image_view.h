@@ -66,6 +66,13 @@ class ImageView {
   int b_offset() const { return b_; }
   const ColorTable& table() const { return *table_; }
 
+  // Coarse a* (ColorTable::CoarseA): within ColorTable::kCoarseErrorBound of
+  // A(x, y), one table read. The scans use it to pass over pixels that are
+  // clearly not past a threshold.
+  int CoarseA(int x, int y) const {
+    const uint8_t* p = Pixel(x, y);
+    return table_->CoarseA(p[r_], p[1], p[b_]);
+  }
   float A(int x, int y) const {
     const uint8_t* p = Pixel(x, y);
     return table_->A(p[r_], p[1], p[b_]);

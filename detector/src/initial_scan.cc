@@ -55,6 +55,14 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
         *why = RejectReason::kNoRedGreenBorder;
         return false;
       }
+      // Clearly short of the threshold by the coarse a*: the exact one is
+      // not needed (as in ScanBorder).
+      if (static_cast<float>(image.CoarseA(x, y)) >
+          reference_red - red_thresh + ColorTable::kCoarseErrorBound) {
+        consecutive = 0;
+        deepest_a = reference_red;
+        continue;
+      }
       const float a = image.A(x, y);
       if (reference_red - a > red_thresh) {
         deepest_a = std::min(deepest_a, a);

@@ -3,6 +3,7 @@
 // threshold from the reference colour.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "stages.h"
@@ -26,6 +27,9 @@ constexpr float kPlateauTolerance = 0.5f;
 // Red half-widths (pixels from the scan's start to the green) up to which the
 // green and black rings count as thin (see ScanRings).
 constexpr int kThinRingSteps = 12;
+
+// A step whose exact value was not read (ScanBorder).
+constexpr float kNotRead = std::numeric_limits<float>::quiet_NaN();
 
 // The border is a template argument throughout: the scans visit every pixel
 // on their way, and a branch (and call) per pixel on which channel to read
@@ -75,9 +79,21 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   if (values.size() < needed) values.resize(needed);
   int consecutive = 0;
   int k = 1;
+  // Red -> green: a pixel whose coarse a* is clearly above the threshold is
+  // not past it, and its exact a* is not needed below (only the run's pixels
+  // and the one before it are read again); most of a red region is passed
+  // over with one table read a pixel instead of the exact conversion.
+  const float clearly_inside = reference - thresh + ColorTable::kCoarseErrorBound;
   for (; k <= max_steps; ++k) {
     const cv::Point p = pixel(k);
     if (!image.Contains(p.x, p.y)) return false;
+    if constexpr (border == Border::kRedToGreen) {
+      if (static_cast<float>(image.CoarseA(p.x, p.y)) > clearly_inside) {
+        values[k] = kNotRead;
+        consecutive = 0;
+        continue;
+      }
+    }
     const float value = ValueAt<border>(image, p.x, p.y);
     values[k] = value;
     if (Beyond<border>(reference, value, thresh)) {
@@ -125,7 +141,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
   const float half = 0.5f * deepest_depth;
   float previous_depth = 0.f;  // The reference itself, at the step before the run.
   cv::Point previous = pixel(k - run);
-  if (k - run >= 1) {
+  if (k - run >= 1 && !std::isnan(values[k - run])) {
     previous_depth = Depth<border>(reference, values[k - run]);
   } else if (image.Contains(previous.x, previous.y)) {
     previous_depth = Depth<border>(reference, ValueAt<border>(image, previous.x, previous.y));
@@ -157,7 +173,8 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
 
   Crossing red_green;
   if (!ScanBorder<Border::kRedToGreen>(image, start, direction, reference_red,
-                                       RedGreenThresh(options, reference_red), run, reach, &red_green)) {
+                                       RedGreenThresh(options, reference_red), run, reach,
+                                       &red_green)) {
     return false;
   }
   // ReferenceGreen: a tag's green is far less red than its red (the seed saw
@@ -180,14 +197,15 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
 
   Crossing green_black;
   if (!ScanBorder<Border::kGreenToBlack>(image, red_green.resume, direction, green_l,
-                                         std::max(thresh, 0.3f * green_l), ring_run, ring_reach, &green_black)) {
+                                         std::max(thresh, 0.3f * green_l), ring_run, ring_reach,
+                                         &green_black)) {
     return false;
   }
   const float black_l = green_black.value_after;
   Crossing black_white;
   if (!ScanBorder<Border::kBlackToWhite>(image, green_black.resume, direction, black_l,
-                                         std::max(thresh, 0.3f * (green_l - black_l)), ring_run, ring_reach,
-                  &black_white)) {
+                                         std::max(thresh, 0.3f * (green_l - black_l)), ring_run,
+                                         ring_reach, &black_white)) {
     return false;
   }
   // The quiet zone is the lightest part of a tag.
