@@ -66,6 +66,8 @@ const char* RejectReasonName(RejectReason reason) {
       return "unknown code";
     case RejectReason::kDoubtfulCorrection:
       return "doubtful correction";
+    case RejectReason::kSwappedPrint:
+      return "fits a swapped print";
     case RejectReason::kNoQuietZone:
       return "no quiet zone";
     case RejectReason::kSquareOpen:
@@ -82,7 +84,7 @@ Stage StageOf(RejectReason reason) {
   if (reason <= RejectReason::kRingProportions) return Stage::kInitialScan;
   if (reason <= RejectReason::kPolygonUnfinished) return Stage::kBuildPolygon;
   if (reason <= RejectReason::kRefineFailed) return Stage::kPolyToQuad;
-  if (reason <= RejectReason::kDoubtfulCorrection) return Stage::kDecode;
+  if (reason <= RejectReason::kSwappedPrint) return Stage::kDecode;
   return Stage::kGrowRegion;
 }
 
@@ -179,6 +181,7 @@ std::unique_ptr<Detector> Detector::Create(const DetectorOptions& options, std::
         options.max_hamming < 0 ? CodeDecoder::DefaultRadius(*entry.family) : options.max_hamming;
     entry.decoder = CodeDecoder::Create(entry.family, radius, error);
     if (!entry.decoder) return nullptr;
+    entry.swapped_codes = internal::SwappedCodes(*entry.family);
     impl->families.push_back(std::move(entry));
   }
   impl->table = &ColorTable::Get();

@@ -68,7 +68,14 @@ struct RowCursor {
 struct FamilyDecoder {
   std::shared_ptr<const TagFamily> family;
   std::unique_ptr<CodeDecoder> decoder;
+  // What a tag printed with its shades swapped shows: within each colour,
+  // the complement of each kept code in each of its four orientations
+  // (SwappedCodes; Decode compares close-code reads with them).
+  std::vector<Code> swapped_codes;
 };
+
+// The swapped prints' codes of `family` (FamilyDecoder::swapped_codes).
+std::vector<Code> SwappedCodes(const TagFamily& family);
 
 // Stages 2-5 return false and set *why when they abandon a candidate.
 

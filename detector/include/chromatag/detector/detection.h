@@ -95,13 +95,14 @@ enum class RejectReason {
   kLowMargin,           // The shades do not split clearly (decision margin).
   kUnknownCode,         // The bits are no code of the family within the radius.
   kDoubtfulCorrection,  // A corrected bit's cell was clearly the other shade.
+  kSwappedPrint,        // A 16h5 read fits a tag printed with its shades swapped as well.
   // GrowRegion (then Decode's reasons).
   kNoQuietZone,    // Profiles out of the red find no dark ring, then no lighter quiet zone.
   kSquareOpen,     // The dark region around the red leaked: larger than any tag's black square.
   kSquareNotQuad,  // The dark region's outline is not a quadrilateral of a tag's size.
   kNoInnerRings,   // No family's green/black and red/green sides were found inside it.
 };
-inline constexpr int kNumRejectReasons = 23;
+inline constexpr int kNumRejectReasons = 24;
 const char* RejectReasonName(RejectReason reason);  // "in rejected region", ...
 // The stage of Algorithm 1 a reason belongs to (GrowRegion's own four map to
 // kGrowRegion; it also fails with Decode's).
