@@ -34,6 +34,11 @@ constexpr float kMaxRingOverRed = 2.5f;
 constexpr float kRingSlackPx = 2.f;
 constexpr float kMinBlackOverGreen = 0.4f;
 constexpr float kMaxBlackOverGreen = 2.5f;
+// A rejected region is its red/green border grown about its centre by this
+// share of each point's distance plus a margin in pixels: the seeds of later
+// rows lie on the region's left edge, where the octagon's sides cut inside.
+constexpr float kRejectedRegionGrowth = 0.15f;
+constexpr float kRejectedRegionMarginPx = 2.f;
 
 // Step 1: the red/green border in the eight directions from `centre`, into
 // `border`. False (and *why) when a scan leaves the frame or reach, or finds
@@ -119,9 +124,11 @@ RejectedRegion RejectedRegion::Around(const std::array<cv::Point2f, 8>& red_bord
   for (int i = 0; i < 8; ++i) {
     const cv::Point2f out = red_border[i] - middle;
     const float length = std::sqrt(out.dot(out));
-    region.border[i] = length > 1e-3f && std::isfinite(length)
-                           ? red_border[i] + out * ((0.15f * length + 2.f) / length)
-                           : red_border[i];
+    region.border[i] =
+        length > 1e-3f && std::isfinite(length)
+            ? red_border[i] +
+                  out * ((kRejectedRegionGrowth * length + kRejectedRegionMarginPx) / length)
+            : red_border[i];
   }
   region.min_x = region.max_x = region.border[0].x;
   region.min_y = region.max_y = region.border[0].y;
