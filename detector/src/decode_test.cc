@@ -1,0 +1,140 @@
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "chromatag/families/palette.h"
+#include "stages.h"
+
+namespace chromatag::internal {
+namespace {
+
+constexpr int kCellPx = 10;
+constexpr int kMarginPx = 20;  // White around the black square.
+
+cv::Scalar Bgr(const Palette& palette, Shade shade) {
+  const Rgb8 c = palette.Srgb8(shade);
+  return cv::Scalar(c.b, c.g, c.r);
+}
+
+// An upright tag of `family` drawn on the pixel grid (cells of kCellPx), its
+// quads where the drawing puts the three borders (pixel centres at integers,
+// so an edge lies half a pixel before the cell's first pixel). With `swap`,
+// each colour's two shades trade places (a misprinted tag).
+cv::Mat DrawTag(const TagFamily& family, int id, bool swap, Candidate* candidate) {
+  const Palette palette = *BuiltinPalette("default");
+  const int cells = family.black_square_cells(), d = family.payload_width();
+  const int side = cells * kCellPx;
+  cv::Mat image(side + 2 * kMarginPx, side + 2 * kMarginPx, CV_8UC3, Bgr(palette, Shade::kWhite));
+  cv::rectangle(image, cv::Rect(kMarginPx, kMarginPx, side, side), Bgr(palette, Shade::kBlack),
+                cv::FILLED);
+  const Code code = family.CodeOf(id);
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const bool bit = ((code >> (d * d - 1 - (row * d + col))) & 1u) != swap;
+      const bool red = family.CellColorAt(row, col) == CellColor::kRed;
+      const Shade shade =
+          red ? (bit ? Shade::kRed1 : Shade::kRed0) : (bit ? Shade::kGreen1 : Shade::kGreen0);
+      cv::rectangle(image,
+                    cv::Rect(kMarginPx + (col + 1) * kCellPx, kMarginPx + (row + 1) * kCellPx,
+                             kCellPx, kCellPx),
+                    Bgr(palette, shade), cv::FILLED);
+    }
+  }
+  // The green/black border is one cell inside the black square, the
+  // red/green border two (spec section 2).
+  for (int ring = 0; ring < kNumRings; ++ring) {
+    const int inset = (kBlackWhite - ring) * kCellPx;
+    const double lo = kMarginPx + inset - 0.5, hi = kMarginPx + side - inset - 0.5;
+    candidate->quads[ring] = {cv::Point2d(lo, lo), cv::Point2d(hi, lo), cv::Point2d(hi, hi),
+                              cv::Point2d(lo, hi)};
+  }
+  return image;
+}
+
+std::vector<FamilyDecoder> Families(const std::vector<std::string>& names) {
+  std::vector<FamilyDecoder> families;
+  for (const std::string& name : names) {
+    FamilyDecoder entry;
+    entry.family = TagFamily::Load(name);
+    entry.decoder = CodeDecoder::Create(entry.family, CodeDecoder::DefaultRadius(*entry.family));
+    entry.swapped_codes = SwappedCodes(*entry.family);
+    families.push_back(std::move(entry));
+  }
+  return families;
+}
+
+// Every kept 16h5 ID, drawn upright, decodes as itself, unturned, with no bit
+// corrected, its corners the black square's from the top-left on.
+TEST(DecodeTest, EveryKept16h5IdReadsAsItself) {
+  const auto families = Families({"16h5", "36h11"});
+  const TagFamily& family = *families[0].family;
+  for (int id : family.kept_ids()) {
+    Candidate candidate;
+    const cv::Mat image = DrawTag(family, id, false, &candidate);
+    const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+    Detection detection;
+    RejectReason why;
+    ASSERT_TRUE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why))
+        << "ID " << id << ": " << RejectReasonName(why);
+    EXPECT_EQ(detection.family, &family);
+    EXPECT_EQ(detection.id, id);
+    EXPECT_EQ(detection.hamming, 0);
+    EXPECT_GE(detection.decision_margin, DetectorOptions{}.min_decision_margin);
+    EXPECT_NEAR(detection.corners[0].x, kMarginPx - 0.5, 1e-9);
+    EXPECT_NEAR(detection.corners[0].y, kMarginPx - 0.5, 1e-9);
+  }
+}
+
+// 36h11 tags are told from 16h5 by their ring proportions and decode too.
+TEST(DecodeTest, Kept36h11IdsReadAsThemselves) {
+  const auto families = Families({"16h5", "36h11"});
+  const TagFamily& family = *families[1].family;
+  const std::vector<int>& ids = family.kept_ids();
+  for (size_t i = 0; i < ids.size(); i += ids.size() / 25) {
+    Candidate candidate;
+    const cv::Mat image = DrawTag(family, ids[i], false, &candidate);
+    const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+    Detection detection;
+    RejectReason why;
+    ASSERT_TRUE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why))
+        << "ID " << ids[i] << ": " << RejectReasonName(why);
+    EXPECT_EQ(detection.family, &family);
+    EXPECT_EQ(detection.id, ids[i]);
+  }
+}
+
+// A tag printed with its shades swapped shows its code's complement; for
+// 16h5 several complements lie one or two bits from another ID (14's from
+// 25). Sharp and upright, none of them may decode.
+TEST(DecodeTest, SwappedShadesNeverDecode) {
+  const auto families = Families({"16h5", "36h11"});
+  const TagFamily& family = *families[0].family;
+  for (int id : family.kept_ids()) {
+    Candidate candidate;
+    const cv::Mat image = DrawTag(family, id, true, &candidate);
+    const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+    Detection detection;
+    RejectReason why;
+    EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why))
+        << "swapped ID " << id << " read as " << detection.id;
+  }
+}
+
+// Inner rings where neither family puts them: no family fits.
+TEST(DecodeTest, RingsOutOfProportionFitNoFamily) {
+  const auto families = Families({"16h5", "36h11"});
+  Candidate candidate;
+  const cv::Mat image =
+      DrawTag(*families[0].family, families[0].family->kept_ids()[0], false, &candidate);
+  // The red/green quad shrunk to half its size about the centre.
+  const cv::Point2d centre = 0.5 * (candidate.quads[kRedGreen][0] + candidate.quads[kRedGreen][2]);
+  for (cv::Point2d& corner : candidate.quads[kRedGreen]) corner = centre + 0.5 * (corner - centre);
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  Detection detection;
+  RejectReason why;
+  EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why));
+  EXPECT_EQ(why, RejectReason::kNoFamilyFits);
+}
+
+}  // namespace
+}  // namespace chromatag::internal

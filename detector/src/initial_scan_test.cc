@@ -1,0 +1,122 @@
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "stages.h"
+
+namespace chromatag::internal {
+namespace {
+
+// Tag-like colours, as BGR for cv::Mat.
+const cv::Scalar kRed(50, 40, 200), kGreen(70, 160, 40), kBlack(20, 20, 20), kWhite(235, 235, 235),
+    kGrey(128, 128, 128);
+
+// Concentric axis-aligned squares about (cx, cy): pixels within half-width 12
+// are red, 24 green, 36 black, the rest white. A missing ring is skipped.
+constexpr int kRedHalf = 12, kGreenHalf = 24, kBlackHalf = 36;
+constexpr int kHalves[kNumRings] = {kRedHalf, kGreenHalf, kBlackHalf};
+
+cv::Mat RenderRings(cv::Size size, int cx, int cy, bool with_green = true, bool with_black = true) {
+  cv::Mat image(size, CV_8UC3, kWhite);
+  auto square = [&](int half, const cv::Scalar& colour) {
+    cv::rectangle(image, {cx - half, cy - half}, {cx + half, cy + half}, colour, cv::FILLED);
+  };
+  if (with_black) square(kBlackHalf, kBlack);
+  if (with_green) square(kGreenHalf, kGreen);
+  square(kRedHalf, kRed);
+  return image;
+}
+
+// The drawn border between a ring of half-width `half` and the next lies
+// half a pixel past its last pixel (pixel centres at integers).
+constexpr float EdgeOffset(int half) { return half + 0.5f; }
+
+// InitialScan's four final scans run right, down, left, up, in this order.
+const cv::Point2f kAxes[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+
+// Seeded just inside the red's left edge on the centre row, InitialScan
+// converges on the drawn centre and finds each ring's border on each axis.
+TEST(InitialScanTest, FindsTheCentreAndTheRingsOfATagLikePattern) {
+  const int cx = 100, cy = 90;
+  const cv::Mat image = RenderRings({200, 180}, cx, cy);
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  Candidate candidate;
+  std::vector<RejectedRegion> rejected;
+  RejectReason why;
+  ASSERT_TRUE(
+      InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, &candidate, &rejected, &why))
+      << "rejected for " << static_cast<int>(why);
+  const cv::Point2f centre(cx, cy);
+  EXPECT_LT(cv::norm(candidate.centre - centre), 1.0) << candidate.centre;
+  EXPECT_TRUE(candidate.enclosed);
+  EXPECT_TRUE(rejected.empty());
+  for (int ring = 0; ring < kNumRings; ++ring) {
+    ASSERT_EQ(candidate.points[ring].size(), 4u) << "ring " << ring;
+    for (int i = 0; i < 4; ++i) {
+      const cv::Point2f expected = centre + EdgeOffset(kHalves[ring]) * kAxes[i];
+      EXPECT_LT(cv::norm(candidate.points[ring][i] - expected), 1.5)
+          << "ring " << ring << " direction " << kAxes[i] << ": " << candidate.points[ring][i];
+    }
+  }
+}
+
+// A seed on grey (a* about 0) is too pale to be a tag's red.
+TEST(InitialScanTest, RejectsASeedOnGreyAsPale) {
+  cv::Mat image = RenderRings({200, 200}, 100, 100);
+  cv::rectangle(image, {160, 20}, {190, 50}, kGrey, cv::FILLED);
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  Candidate candidate;
+  RejectReason why;
+  ASSERT_FALSE(InitialScan(view, DetectorOptions{}, {175, 35}, &candidate, nullptr, &why));
+  EXPECT_EQ(why, RejectReason::kPaleRed);
+}
+
+// A seed inside a region already rejected in this frame is dropped at once,
+// even on a tag, and adds no region.
+TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
+  const int cx = 100, cy = 100;
+  const cv::Mat image = RenderRings({200, 200}, cx, cy);
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  // The drawn red/green border in the eight directions of a centring pass.
+  std::array<cv::Point2f, 8> border;
+  const float e = EdgeOffset(kRedHalf);
+  const cv::Point2f offsets[8] = {{e, 0},  {e, e},   {0, e},  {-e, e},
+                                  {-e, 0}, {-e, -e}, {0, -e}, {e, -e}};
+  for (int i = 0; i < 8; ++i) border[i] = cv::Point2f(cx, cy) + offsets[i];
+  std::vector<RejectedRegion> rejected = {RejectedRegion::Around(border)};
+  Candidate candidate;
+  RejectReason why;
+  ASSERT_FALSE(
+      InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, &candidate, &rejected, &why));
+  EXPECT_EQ(why, RejectReason::kInRejectedRegion);
+  EXPECT_EQ(rejected.size(), 1u);
+}
+
+// Red on green without a black ring passes the centring but not the ring
+// scans (white follows the green); the region then joins `rejected`, around
+// the drawn red.
+TEST(InitialScanTest, AddsTheRegionRejectedAfterCentring) {
+  const int cx = 100, cy = 100;
+  const cv::Mat image = RenderRings({200, 200}, cx, cy, /*with_green=*/true, /*with_black=*/false);
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  std::vector<RejectedRegion> rejected;
+  Candidate candidate;
+  RejectReason why;
+  ASSERT_FALSE(
+      InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, &candidate, &rejected, &why));
+  EXPECT_EQ(why, RejectReason::kRingScan);
+  ASSERT_EQ(rejected.size(), 1u);
+  EXPECT_TRUE(rejected[0].Contains(cv::Point2f(cx, cy)));
+  // A later seed in the same red is now dropped at once.
+  ASSERT_FALSE(InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 2, cy + 3}, &candidate,
+                           &rejected, &why));
+  EXPECT_EQ(why, RejectReason::kInRejectedRegion);
+  EXPECT_EQ(rejected.size(), 1u);
+}
+
+}  // namespace
+}  // namespace chromatag::internal
