@@ -43,6 +43,8 @@ void Apply(const Json& options, DetectorOptions* out) {
       out->border_thresh = Number(value, key);
     } else if (key == "border_run") {
       out->border_run = Integer(value, key);
+    } else if (key == "max_green_a") {
+      out->max_green_a = Number(value, key);
     } else if (key == "conv_thresh") {
       out->conv_thresh = Number(value, key);
     } else if (key == "max_hamming") {
@@ -55,7 +57,8 @@ void Apply(const Json& options, DetectorOptions* out) {
     } else {
       throw ConfigError{"unknown option \"" + key +
                         "\" (allowed: families, step, adiff_thresh, border_thresh, border_run, "
-                        "conv_thresh, max_hamming, min_decision_margin, refine_corners)"};
+                        "max_green_a, conv_thresh, max_hamming, min_decision_margin, "
+                        "refine_corners)"};
     }
   }
 }
@@ -70,6 +73,7 @@ std::string DetectorConfigToJson(const DetectorOptions& options,
                     {"adiff_thresh", options.adiff_thresh},
                     {"border_thresh", options.border_thresh},
                     {"border_run", options.border_run},
+                    {"max_green_a", options.max_green_a},
                     {"conv_thresh", options.conv_thresh},
                     {"max_hamming", options.max_hamming},
                     {"min_decision_margin", options.min_decision_margin},

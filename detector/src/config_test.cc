@@ -12,6 +12,7 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   options.adiff_thresh = 12.5;
   options.border_thresh = 7.25;
   options.border_run = 4;
+  options.max_green_a = -4.5;
   options.conv_thresh = 0.9;
   options.max_hamming = 1;
   options.min_decision_margin = 1.5;
@@ -24,6 +25,7 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   EXPECT_DOUBLE_EQ(back.adiff_thresh, 12.5);
   EXPECT_DOUBLE_EQ(back.border_thresh, 7.25);
   EXPECT_EQ(back.border_run, 4);
+  EXPECT_DOUBLE_EQ(back.max_green_a, -4.5);
   EXPECT_DOUBLE_EQ(back.conv_thresh, 0.9);
   EXPECT_EQ(back.max_hamming, 1);
   EXPECT_DOUBLE_EQ(back.min_decision_margin, 1.5);

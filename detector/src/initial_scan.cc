@@ -48,6 +48,7 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
                   RejectReason* why) {
   const float red_thresh = RedGreenThresh(options, reference_red);
   const float min_drop = kMinGreenDropFraction * static_cast<float>(options.adiff_thresh);
+  const float max_green_a = static_cast<float>(options.max_green_a);
   for (int i = 0; i < 8; ++i) {
     // Red -> green only: the a* drop of the full scan, without the rings.
     const cv::Point2f direction = kDirections[i];
@@ -81,17 +82,21 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
       *why = RejectReason::kNoRedGreenBorder;
       return false;
     }
-    // Past the border lies a tag's green, far less red than its red; on a
-    // blurred edge the run may end on the slope, so look a few pixels on.
-    // Most red things that are not tags (bricks, skin, wood) fade into
-    // grey here and are dropped after one scan instead of eight per pass.
-    for (int j = k + 1; j <= k + kGreenLookAhead && reference_red - deepest_a < min_drop; ++j) {
+    // Past the border lies a tag's green: far less red than its red, and
+    // green (a* below DetectorOptions::max_green_a). On a blurred edge the run
+    // may end on the slope, so look a few pixels on. Most red things that are
+    // not tags (bricks, skin, wood, a red sign on a wall) meet grey, white or
+    // black here and are dropped after one scan instead of eight per pass.
+    const auto is_green = [&] {
+      return reference_red - deepest_a >= min_drop && deepest_a < max_green_a;
+    };
+    for (int j = k + 1; j <= k + kGreenLookAhead && !is_green(); ++j) {
       const cv::Point2f p = centre + static_cast<float>(j) * direction;
       const int x = RoundToInt(p.x), y = RoundToInt(p.y);
       if (!image.Contains(x, y)) break;
       deepest_a = std::min(deepest_a, image.A(x, y));
     }
-    if (reference_red - deepest_a < min_drop) {
+    if (!is_green()) {
       *why = RejectReason::kNotGreen;
       return false;
     }

@@ -75,6 +75,29 @@ TEST(InitialScanTest, RejectsASeedOnGreyAsPale) {
   EXPECT_EQ(why, RejectReason::kPaleRed);
 }
 
+// A red square straight on white (a red sign on a wall): white is far less
+// red than the red but not green, so the candidate is dropped at the first
+// scan, before any centring pass, and adds no rejected region. With
+// max_green_a raised above white's a* (0) it gets through to the ring scans.
+TEST(InitialScanTest, RejectsRedOnWhiteAtTheFirstScan) {
+  const cv::Mat image = RenderRings({200, 200}, 100, 100, /*with_green=*/false,
+                                    /*with_black=*/false);
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  const cv::Point seed(100 - kRedHalf + 1, 100);
+  Candidate candidate;
+  std::vector<RejectedRegion> rejected;
+  RejectReason why;
+  ASSERT_FALSE(InitialScan(view, DetectorOptions{}, seed, &candidate, &rejected, &why));
+  EXPECT_EQ(why, RejectReason::kNotGreen);
+  EXPECT_TRUE(rejected.empty());
+  EXPECT_FALSE(candidate.enclosed);
+
+  DetectorOptions lenient;
+  lenient.max_green_a = 10.0;
+  ASSERT_FALSE(InitialScan(view, lenient, seed, &candidate, &rejected, &why));
+  EXPECT_NE(why, RejectReason::kNotGreen);
+}
+
 // A seed inside a region already rejected in this frame is dropped at once,
 // even on a tag, and adds no region.
 TEST(InitialScanTest, RejectsASeedInARejectedRegion) {

@@ -32,6 +32,10 @@ TEST(DetectorOptionsTest, RefusesOutOfRangeValuesNamingTheField) {
   options = {};
   options.adiff_thresh = -1.0;
   EXPECT_FALSE(options.IsValid(&error));
+  options = {};
+  options.max_green_a = 150.0;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("max_green_a"), std::string::npos) << error;
 }
 
 }  // namespace
