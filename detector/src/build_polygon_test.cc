@@ -6,10 +6,13 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "stage_test_support.h"
 #include "stages.h"
 
 namespace chromatag::internal {
 namespace {
+
+using testing::RotatedSquare;
 
 // Tag-like colours, as BGR for cv::Mat.
 const cv::Scalar kRed(50, 40, 200), kGreen(70, 160, 40), kBlack(20, 20, 20), kWhite(235, 235, 235);
@@ -18,17 +21,6 @@ const cv::Scalar kRed(50, 40, 200), kGreen(70, 160, 40), kBlack(20, 20, 20), kWh
 // centres), white around. Their outlines lie half a pixel further out.
 constexpr int kRedHalf = 12, kGreenHalf = 24, kBlackHalf = 36;
 constexpr double kBlackOutlineHalf = kBlackHalf + 0.5;
-
-Quad RotatedSquare(cv::Point2d centre, double half, double degrees) {
-  const double c = std::cos(degrees * CV_PI / 180), s = std::sin(degrees * CV_PI / 180);
-  const cv::Point2d offsets[4] = {{-half, -half}, {half, -half}, {half, half}, {-half, half}};
-  Quad quad;
-  for (int i = 0; i < 4; ++i) {
-    quad[i] = centre +
-              cv::Point2d(c * offsets[i].x - s * offsets[i].y, s * offsets[i].x + c * offsets[i].y);
-  }
-  return quad;
-}
 
 // The pattern turned by `degrees` about `centre`, each square filled through
 // its outline (fixed point with 4 fractional bits for sub-pixel corners).

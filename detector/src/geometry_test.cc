@@ -7,10 +7,13 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "stage_test_support.h"
 #include "stages.h"
 
 namespace chromatag::internal {
 namespace {
+
+using testing::RotatedSquare;
 
 // Cross product of the edges a -> b and b -> c: positive for a clockwise turn
 // on screen (y down).
@@ -31,18 +34,6 @@ bool SamePointSets(std::vector<cv::Point2f> a, std::vector<cv::Point2f> b) {
   std::sort(a.begin(), a.end(), less);
   std::sort(b.begin(), b.end(), less);
   return a == b;
-}
-
-Quad RotatedSquare(cv::Point2d centre, double side, double degrees) {
-  const double c = std::cos(degrees * CV_PI / 180), s = std::sin(degrees * CV_PI / 180);
-  const double h = side / 2;
-  const cv::Point2d offsets[4] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}};
-  Quad quad;
-  for (int i = 0; i < 4; ++i) {
-    quad[i] = centre +
-              cv::Point2d(c * offsets[i].x - s * offsets[i].y, s * offsets[i].x + c * offsets[i].y);
-  }
-  return quad;
 }
 
 // The hull of a square's corners, its edge midpoints (collinear), repeated
@@ -102,7 +93,7 @@ TEST(GeometryTest, AreasOfKnownShapes) {
   EXPECT_DOUBLE_EQ(PolygonArea({{0, 0}, {12, 0}, {5, 7}}), 0.5 * 12 * 7);
   EXPECT_DOUBLE_EQ(PolygonArea({{0, 0}, {12, 0}}), 0.0);
 
-  Quad square = RotatedSquare({100.5, 40.25}, 17.0, 33.0);
+  Quad square = RotatedSquare({100.5, 40.25}, 8.5, 33.0);
   EXPECT_NEAR(QuadArea(square), 17.0 * 17.0, 1e-9);
   std::reverse(square.begin(), square.end());
   EXPECT_NEAR(QuadArea(square), 17.0 * 17.0, 1e-9);
@@ -164,7 +155,7 @@ TEST(GeometryTest, IntersectLines) {
 
 // Convex clockwise quads pass; the same reversed, or a dart, do not.
 TEST(GeometryTest, IsConvexClockwise) {
-  Quad square = RotatedSquare({10, 10}, 6, 20);
+  Quad square = RotatedSquare({10, 10}, 3, 20);
   EXPECT_TRUE(IsConvexClockwise(square));
   std::reverse(square.begin(), square.end());
   EXPECT_FALSE(IsConvexClockwise(square));

@@ -6,6 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "stage_test_support.h"
 #include "stages.h"
 
 namespace chromatag::internal {
@@ -21,14 +22,8 @@ constexpr int kRedHalf = 12, kGreenHalf = 24, kBlackHalf = 36;
 constexpr int kHalves[kNumRings] = {kRedHalf, kGreenHalf, kBlackHalf};
 
 cv::Mat RenderRings(cv::Size size, int cx, int cy, bool with_green = true, bool with_black = true) {
-  cv::Mat image(size, CV_8UC3, kWhite);
-  auto square = [&](int half, const cv::Scalar& colour) {
-    cv::rectangle(image, {cx - half, cy - half}, {cx + half, cy + half}, colour, cv::FILLED);
-  };
-  if (with_black) square(kBlackHalf, kBlack);
-  if (with_green) square(kGreenHalf, kGreen);
-  square(kRedHalf, kRed);
-  return image;
+  return testing::RenderRings(size, cx, cy, {kRedHalf, kGreenHalf, kBlackHalf}, with_green,
+                              with_black);
 }
 
 // The drawn border between a ring of half-width `half` and the next lies

@@ -4,10 +4,14 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "stage_test_support.h"
 #include "stages.h"
 
 namespace chromatag::internal {
 namespace {
+
+using testing::NearestCorner;
+using testing::RotatedSquare;
 
 // Tag-like colours, as BGR.
 const cv::Vec3b kRed(50, 40, 200), kGreen(70, 160, 40), kBlack(20, 20, 20), kWhite(235, 235, 235);
@@ -16,56 +20,12 @@ const cv::Vec3b kRed(50, 40, 200), kGreen(70, 160, 40), kBlack(20, 20, 20), kWhi
 // axis-aligned pattern's squares of half-width 12, 24 and 36 pixels).
 constexpr double kOutlineHalf[kNumRings] = {12.5, 24.5, 36.5};
 
-Quad RotatedSquare(cv::Point2d centre, double half, double degrees) {
-  const double c = std::cos(degrees * CV_PI / 180), s = std::sin(degrees * CV_PI / 180);
-  const cv::Point2d offsets[4] = {{-half, -half}, {half, -half}, {half, half}, {-half, half}};
-  Quad quad;
-  for (int i = 0; i < 4; ++i) {
-    quad[i] = centre +
-              cv::Point2d(c * offsets[i].x - s * offsets[i].y, s * offsets[i].x + c * offsets[i].y);
-  }
-  return quad;
-}
-
-// Whether p lies inside the clockwise convex quad.
-bool Inside(const Quad& quad, cv::Point2d p) {
-  for (int i = 0; i < 4; ++i) {
-    const cv::Point2d u = quad[(i + 1) % 4] - quad[i], v = p - quad[i];
-    if (u.x * v.y - u.y * v.x < 0) return false;
-  }
-  return true;
-}
-
 // The three rings' squares, antialiased: point-sampled at 8x, then averaged
 // down. Coordinates as ImageView::Sample reads them (pixel centres at
 // integers), so the high-resolution pixel X has its centre at (X + 0.5) / 8 - 0.5.
 cv::Mat RenderRings(cv::Size size, const std::array<Quad, kNumRings>& squares) {
-  constexpr int kScale = 8;
-  const cv::Vec3b colours[kNumRings] = {kRed, kGreen, kBlack};
-  cv::Mat fine(size * kScale, CV_8UC3, kWhite);
-  for (int y = 0; y < fine.rows; ++y) {
-    for (int x = 0; x < fine.cols; ++x) {
-      const cv::Point2d p((x + 0.5) / kScale - 0.5, (y + 0.5) / kScale - 0.5);
-      for (int ring = 0; ring < kNumRings; ++ring) {  // Innermost first.
-        if (Inside(squares[ring], p)) {
-          fine.at<cv::Vec3b>(y, x) = colours[ring];
-          break;
-        }
-      }
-    }
-  }
-  cv::Mat image;
-  cv::resize(fine, image, size, 0, 0, cv::INTER_AREA);
-  return image;
-}
-
-// The index of the corner of `quad` nearest to `p`.
-int Nearest(const Quad& quad, cv::Point2d p) {
-  int best = 0;
-  for (int i = 1; i < 4; ++i) {
-    if (cv::norm(quad[i] - p) < cv::norm(quad[best] - p)) best = i;
-  }
-  return best;
+  return testing::RenderQuadsAntialiased(size, {squares.begin(), squares.end()},
+                                         {kRed, kGreen, kBlack}, kWhite);
 }
 
 // On the antialiased pattern turned by 30 degrees, InitialScan, BuildPolygon
@@ -90,7 +50,7 @@ TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
   for (int ring = 0; ring < kNumRings; ++ring) {
     const Quad& fitted = candidate.quads[ring];
     // Clockwise like the truth; only the first corner may differ.
-    const int shift = Nearest(fitted, truth[ring][0]);
+    const int shift = NearestCorner(fitted, truth[ring][0]);
     for (int i = 0; i < 4; ++i) {
       const cv::Point2d& p = fitted[(i + shift) % 4];
       EXPECT_LT(cv::norm(p - truth[ring][i]), 0.5)

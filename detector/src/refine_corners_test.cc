@@ -5,61 +5,26 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "stage_test_support.h"
 #include "stages.h"
 
 namespace chromatag::internal {
 namespace {
 
-Quad RotatedSquare(cv::Point2d centre, double side, double degrees) {
-  const double c = std::cos(degrees * CV_PI / 180), s = std::sin(degrees * CV_PI / 180);
-  const double h = side / 2;
-  const cv::Point2d offsets[4] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}};
-  Quad quad;
-  for (int i = 0; i < 4; ++i) {
-    quad[i] = centre +
-              cv::Point2d(c * offsets[i].x - s * offsets[i].y, s * offsets[i].x + c * offsets[i].y);
-  }
-  return quad;
-}
-
-// Whether p lies inside the clockwise convex quad.
-bool Inside(const Quad& quad, cv::Point2d p) {
-  for (int i = 0; i < 4; ++i) {
-    const cv::Point2d u = quad[(i + 1) % 4] - quad[i], v = p - quad[i];
-    if (u.x * v.y - u.y * v.x < 0) return false;
-  }
-  return true;
-}
+using testing::NearestCorner;
+using testing::RotatedSquare;
 
 // A black quad on white, antialiased: point-sampled at 8x, then averaged
 // down. Coordinates as ImageView::Sample reads them (pixel centres at
 // integers), so the high-resolution pixel X has its centre at (X + 0.5) / 8 - 0.5.
 cv::Mat RenderQuad(cv::Size size, const Quad& quad) {
-  constexpr int kScale = 8;
-  cv::Mat fine(size * kScale, CV_8UC3, cv::Scalar::all(255));
-  for (int y = 0; y < fine.rows; ++y) {
-    for (int x = 0; x < fine.cols; ++x) {
-      const cv::Point2d p((x + 0.5) / kScale - 0.5, (y + 0.5) / kScale - 0.5);
-      if (Inside(quad, p)) fine.at<cv::Vec3b>(y, x) = cv::Vec3b(0, 0, 0);
-    }
-  }
-  cv::Mat image;
-  cv::resize(fine, image, size, 0, 0, cv::INTER_AREA);
-  return image;
-}
-
-// The index of the corner of `quad` nearest to `p`.
-int Nearest(const Quad& quad, cv::Point2d p) {
-  int best = 0;
-  for (int i = 1; i < 4; ++i) {
-    if (cv::norm(quad[i] - p) < cv::norm(quad[best] - p)) best = i;
-  }
-  return best;
+  return testing::RenderQuadsAntialiased(size, {quad}, {cv::Vec3b(0, 0, 0)},
+                                         cv::Vec3b(255, 255, 255));
 }
 
 // Expects `fitted` to be `truth` up to which corner comes first.
 void ExpectSameQuad(const Quad& fitted, const Quad& truth, double tolerance) {
-  const int shift = Nearest(fitted, truth[0]);
+  const int shift = NearestCorner(fitted, truth[0]);
   for (int i = 0; i < 4; ++i) {
     const cv::Point2d& p = fitted[(i + shift) % 4];
     EXPECT_NEAR(p.x, truth[i].x, tolerance) << "corner " << i;
@@ -95,7 +60,7 @@ TEST(FitQuadTest, RecoversTheCornersOfAConvexQuad) {
 // Points a little off the sides (at most 0.2 px along the normal) still give
 // corners within a fraction of a pixel.
 TEST(FitQuadTest, ToleratesNoisyPoints) {
-  const Quad truth = RotatedSquare({60, 50}, 50, 25);
+  const Quad truth = RotatedSquare({60, 50}, 25, 25);
   cv::RNG rng(3);
   std::vector<cv::Point2f> points;
   for (int i = 0; i < 4; ++i) {
@@ -127,7 +92,7 @@ SideSearch BlackOnWhite(double cell) {
 // turned, to within 0.1 px of its corners.
 TEST(RefineQuadTest, MovesOntoTheEdgesOfABlackSquare) {
   for (double degrees : {0.0, 17.0, 40.0}) {
-    const Quad truth = RotatedSquare({60.3, 59.6}, 56.0, degrees);
+    const Quad truth = RotatedSquare({60.3, 59.6}, 28.0, degrees);
     const cv::Mat image = RenderQuad({120, 120}, truth);
     const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
     const cv::Point2d offsets[4] = {{1.5, 0}, {0, -1.5}, {-1.06, 1.06}, {1.06, 1.06}};
@@ -143,7 +108,7 @@ TEST(RefineQuadTest, MovesOntoTheEdgesOfABlackSquare) {
 // Without an edge (a flat frame), or with the edge the wrong way round (a
 // white square on black), the quad is left as it was.
 TEST(RefineQuadTest, FailsAndLeavesTheQuadWithoutAMatchingEdge) {
-  const Quad start = RotatedSquare({60, 60}, 56.0, 10.0);
+  const Quad start = RotatedSquare({60, 60}, 28.0, 10.0);
   const cv::Mat flat(120, 120, CV_8UC3, cv::Scalar::all(128));
   const cv::Mat inverted = ~RenderQuad({120, 120}, start);
   for (const cv::Mat* image : {&flat, &inverted}) {

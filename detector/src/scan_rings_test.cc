@@ -5,6 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "stage_test_support.h"
 #include "stages.h"
 
 namespace chromatag::internal {
@@ -18,16 +19,9 @@ const cv::Scalar kRed(50, 40, 200), kGreen(70, 160, 40), kBlack(20, 20, 20), kWh
 constexpr int kRedHalf = 20, kGreenHalf = 30, kBlackHalf = 40;
 
 cv::Mat RenderRings(cv::Size size, int cx, int cy, bool with_green = true) {
-  cv::Mat image(size, CV_8UC3, kWhite);
-  auto square = [&](int half, const cv::Scalar& colour) {
-    cv::rectangle(image, {cx - half, cy - half}, {cx + half, cy + half}, colour, cv::FILLED);
-  };
-  if (with_green) {
-    square(kBlackHalf, kBlack);
-    square(kGreenHalf, kGreen);
-  }
-  square(kRedHalf, kRed);
-  return image;
+  // Without the green ring the red lies straight on white (no black ring).
+  return testing::RenderRings(size, cx, cy, {kRedHalf, kGreenHalf, kBlackHalf}, with_green,
+                              with_green);
 }
 
 float ReferenceRed() { return ColorTable::Get().A(200, 40, 50); }
