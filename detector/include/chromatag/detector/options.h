@@ -51,11 +51,12 @@ struct DetectorOptions {
 
   // The greenest a* past a candidate's red must be below this for the red to
   // count as enclosed by a tag's green, in CIELAB a* units. [-100, 100].
-  // The palettes' greens have a* of -36 (default) or less, and the camera
-  // set's casts and faded inks keep them below 0; white, grey and black next
-  // to a red object (a red sign on a wall) sit near 0 and are dropped after
-  // one scan. Raise it only for a palette whose greens are barely green.
-  double max_green_a = 0.0;
+  // The palettes' greens have a* of -36 (default) or less; white, grey and
+  // black next to a red object (a red sign on a wall) sit near 0 and are
+  // dropped after one scan. Not 0: under a tungsten cast, on views of 68-75
+  // degrees with JPEG, a thin green ring read through the blur comes out at
+  // a* 0-8 (4 large tags of the classic set were lost at 0).
+  double max_green_a = 8.0;
 
   // ConvThresh: BuildPolygon stops when polygon area over the area it could
   // still reach exceeds this ratio. (0, 1).
