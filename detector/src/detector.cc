@@ -202,7 +202,6 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   if (image.empty() || image.type() != CV_8UC3) return;
   const DetectorOptions& options = impl_->options;
   impl_->table->Prefetch();
-  impl_->table->Prefetch();
   const internal::ImageView view(image, order, *impl_->table);
   Scratch& scratch = ThreadScratch();
   scratch.areas.clear();

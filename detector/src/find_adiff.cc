@@ -190,6 +190,15 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
       coarse.resize(count);
       rises.resize(count);
     }
+    // The next sampled row, into the caches while this one is sampled: a
+    // frame from a camera or another thread is not in the caches, and the
+    // jump of `step` rows defeats the hardware's stream prefetch at each
+    // row's start.
+    if (y + step < image.height()) {
+      const char* next = reinterpret_cast<const char*>(image.Pixel(0, y + step));
+      const int bytes = 3 * image.width();
+      for (int offset = 0; offset < bytes; offset += 64) __builtin_prefetch(next + offset);
+    }
     cursor->num_rises =
         SampleRow({row, count, 3 * step, r, b, table.coarse_a_table(), coarse_thresh},
                   coarse.data(), rises.data());
