@@ -326,6 +326,15 @@ double SwappedPrintMisfit(const FamilyDecoder& entry, Code observed,
   return best;
 }
 
+// Whether some swapped print lies within kMaxSwappedRivalBits of the
+// observed bits (SwappedPrintMisfit is infinite otherwise).
+bool NearSwappedPrint(const FamilyDecoder& entry, Code observed) {
+  for (Code swapped : entry.swapped_codes) {
+    if (HammingDistance(swapped, observed) <= kMaxSwappedRivalBits) return true;
+  }
+  return false;
+}
+
 bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
               const Candidate& candidate, const cv::Matx33d& image_from_tag, Detection* detection,
               RejectReason* why) {
@@ -381,7 +390,9 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
       RejectReason ignored;
       decoded = DecodeShades(ungated, entry, b, &match, &margin, &ignored, &observed);
     }
-    if (decoded) {
+    // With no swapped print within kMaxSwappedRivalBits of the read and the
+    // margin passed, the blur model has nothing to decide: skip it.
+    if (decoded && (low_margin || NearSwappedPrint(entry, observed))) {
       // The blur model uses only the ring's mean: few samples a cell do.
       read_ring(kMinCellSamples);
       const Code code = family.Rotate(family.CodeOf(match.id), match.rotation);
