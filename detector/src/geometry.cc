@@ -116,10 +116,25 @@ bool IsConvexClockwise(const Quad& quad) {
 }
 
 cv::Matx33d UnitSquareToQuad(const Quad& quad) {
-  const cv::Point2f src[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  cv::Point2f dst[4];
-  for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(quad[i]);
-  return cv::Matx33d(cv::getPerspectiveTransform(src, dst));
+  // Closed form (Heckbert, "Fundamentals of Texture Mapping and Image
+  // Warping", 1989): the projective part from how far the quad is from a
+  // parallelogram, then the rest; H(2, 2) = 1 as cv::getPerspectiveTransform
+  // gives, without its 8 x 8 solve and buffers (Decode takes two a tag).
+  const double x0 = quad[0].x, y0 = quad[0].y, x1 = quad[1].x, y1 = quad[1].y;
+  const double x2 = quad[2].x, y2 = quad[2].y, x3 = quad[3].x, y3 = quad[3].y;
+  const double dx1 = x1 - x2, dx2 = x3 - x2, dx3 = x0 - x1 + x2 - x3;
+  const double dy1 = y1 - y2, dy2 = y3 - y2, dy3 = y0 - y1 + y2 - y3;
+  // No homography when three corners lie in a line (as OpenCV's solve).
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d a = quad[(i + 1) % 4] - quad[i], b = quad[(i + 2) % 4] - quad[i];
+    if (!(std::abs(a.x * b.y - a.y * b.x) > 0.0)) return cv::Matx33d::zeros();
+  }
+  const double det = dx1 * dy2 - dx2 * dy1;
+  const double g = (dx3 * dy2 - dx2 * dy3) / det;
+  const double h = (dx1 * dy3 - dx3 * dy1) / det;
+  return cv::Matx33d(x1 - x0 + g * x1, x3 - x0 + h * x3, x0,  //
+                     y1 - y0 + g * y1, y3 - y0 + h * y3, y0,  //
+                     g, h, 1.0);
 }
 
 cv::Point2d ApplyHomography(const cv::Matx33d& h, double x, double y) {

@@ -180,5 +180,24 @@ TEST(GeometryTest, UnitSquareToQuadMapsCornersAndCentre) {
   EXPECT_NEAR(centre.y, crossing.y, 1e-4);
 }
 
+// The closed form gives OpenCV's homography (normalised the same way), for
+// a parallelogram (no projective part) as for perspective views.
+TEST(GeometryTest, UnitSquareToQuadMatchesGetPerspectiveTransform) {
+  const Quad quads[] = {{{{12.5, 8}, {70, 15.25}, {60, 66}, {5, 50}}},
+                        {{{10, 10}, {50, 20}, {60, 60}, {20, 50}}},  // Parallelogram.
+                        {{{300, 200}, {420, 190}, {400, 260}, {310, 250}}},
+                        {{{-5, 3}, {2, -4}, {9, 3}, {2, 10}}}};
+  const cv::Point2f unit[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (const Quad& quad : quads) {
+    cv::Point2f dst[4];
+    for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(quad[i]);
+    const cv::Matx33d expected(cv::getPerspectiveTransform(unit, dst));
+    const cv::Matx33d h = UnitSquareToQuad(quad);
+    for (int k = 0; k < 9; ++k) EXPECT_NEAR(h.val[k], expected.val[k], 1e-6 * (1 + std::abs(expected.val[k])));
+  }
+  // Three corners in a line: no homography (all zeros, as OpenCV's).
+  EXPECT_EQ(UnitSquareToQuad({{{0, 0}, {1, 0}, {2, 0}, {0, 1}}}), cv::Matx33d::zeros());
+}
+
 }  // namespace
 }  // namespace chromatag::internal

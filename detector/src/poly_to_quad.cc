@@ -2,6 +2,7 @@
 // polygon, then sub-pixel corners (refine_corners.cc).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "stages.h"
 
@@ -66,41 +67,56 @@ Line FitSide(const std::vector<cv::Point2f>& hull, const std::vector<int>& label
 bool HullCorners(const std::vector<cv::Point2f>& hull, std::array<int, kSides>* corners) {
   const int n = static_cast<int>(hull.size());
   if (n < kSides) return false;
-  std::vector<int> kept(n);
-  for (int i = 0; i < n; ++i) kept[i] = i;
+  // A ring of the vertices still kept, with each one's triangle: dropping a
+  // vertex changes only its two neighbours' triangles.
+  thread_local std::vector<int> prev, next;
+  thread_local std::vector<double> area;
+  prev.resize(n);
+  next.resize(n);
+  area.resize(n);
   auto triangle = [&](int a, int b, int c) {
     const cv::Point2f u = hull[b] - hull[a], v = hull[c] - hull[b];
     return std::abs(static_cast<double>(u.x) * v.y - static_cast<double>(u.y) * v.x);
   };
-  while (static_cast<int>(kept.size()) > kSides) {
-    const int m = static_cast<int>(kept.size());
-    int drop = 0;
-    double smallest = 1e300;
-    for (int i = 0; i < m; ++i) {
-      const double area = triangle(kept[(i + m - 1) % m], kept[i], kept[(i + 1) % m]);
-      if (area < smallest) {
-        smallest = area;
-        drop = i;
-      }
-    }
-    kept.erase(kept.begin() + drop);
+  for (int i = 0; i < n; ++i) {
+    prev[i] = (i + n - 1) % n;
+    next[i] = (i + 1) % n;
   }
-  for (int k = 0; k < kSides; ++k) (*corners)[k] = kept[k];
-  return true;
+  for (int i = 0; i < n; ++i) area[i] = triangle(prev[i], i, next[i]);
+  constexpr double kDropped = std::numeric_limits<double>::infinity();
+  for (int kept = n; kept > kSides; --kept) {
+    int drop = 0;
+    for (int i = 1; i < n; ++i) {  // The first smallest, as the vertices go round.
+      if (area[i] < area[drop]) drop = i;
+    }
+    const int before = prev[drop], after = next[drop];
+    next[before] = after;
+    prev[after] = before;
+    area[drop] = kDropped;
+    area[before] = triangle(prev[before], before, after);
+    area[after] = triangle(before, after, next[after]);
+  }
+  int k = 0;
+  for (int i = 0; i < n && k < kSides; ++i) {
+    if (area[i] != kDropped) (*corners)[k++] = i;
+  }
+  return k == kSides;
 }
 
 }  // namespace
 
 bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
   if (points.size() < 4) return false;
-  const std::vector<cv::Point2f> hull = ClockwiseHull(points);
+  thread_local std::vector<cv::Point2f> hull;
+  ClockwiseHull(points, &hull);
   if (hull.size() < 4) return false;
   std::array<int, kSides> corners;
   if (!HullCorners(hull, &corners)) return false;
   // Hull edge i (from vertex i to i + 1) lies on side k when it lies between
   // corners k and k + 1; sides run clockwise like the hull.
   const int n = static_cast<int>(hull.size());
-  std::vector<int> label(n);
+  thread_local std::vector<int> label;
+  label.assign(n, 0);
   std::array<Line, kSides> sides;
   for (int k = 0; k < kSides; ++k) {
     for (int i = corners[k]; i != corners[(k + 1) % kSides]; i = (i + 1) % n) label[i] = k;
