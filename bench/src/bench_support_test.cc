@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/bench/comparison.h"
 #include "chromatag/bench/competitors.h"
 #include "chromatag/bench/dataset.h"
 #include "chromatag/bench/metrics.h"
@@ -263,6 +264,34 @@ TEST(CompetitorsTest, CornersComeInTheTagsOrderForBothFamilies) {
     const auto frames = EasyCameraFrames(family, 6);
     ASSERT_GE(frames.size(), 3u) << family;
     ExpectCornersInTheTagsOrder(frames, {"16h5", "36h11"});
+  }
+}
+
+// With another detector, ChromaTag is timed twice a frame (taking turns,
+// then alone); alone in the run, once. Timing does not change what it finds.
+TEST(ComparisonTest, ChromaTagIsAlsoTimedAloneWhenOthersRun) {
+  DatasetOptions options = DatasetOptions::ForKind(DatasetKind::kCamera);
+  options.num_frames = 12;
+  std::string error;
+  const auto dataset = Dataset::Create(options, &error);
+  ASSERT_NE(dataset, nullptr) << error;
+  auto chromatag = ChromaTagDetector::Create({"16h5", "36h11"}, &error);
+  auto aruco = MakeArucoDetector({"16h5", "36h11"}, &error);
+  ASSERT_TRUE(chromatag && aruco) << error;
+  RunOptions run;
+  run.chunk_frames = 5;  // Chunks of 5, 5 and 2 frames.
+  const auto both = RunComparison(*dataset, *chromatag, nullptr, aruco.get(), run, nullptr);
+  const auto alone = RunComparison(*dataset, *chromatag, nullptr, nullptr, run, nullptr);
+  ASSERT_EQ(both.size(), 12u);
+  ASSERT_EQ(alone.size(), 12u);
+  for (size_t i = 0; i < both.size(); ++i) {
+    EXPECT_TRUE(both[i].detectors[kAruco].ran);
+    EXPECT_FALSE(alone[i].detectors[kAruco].ran);
+    EXPECT_GT(both[i].chromatag_alone_us, 0.0) << i;
+    EXPECT_TRUE(std::isnan(alone[i].chromatag_alone_us)) << i;
+    EXPECT_GT(alone[i].detectors[kChromaTag].time_us, 0.0) << i;
+    EXPECT_EQ(both[i].detectors[kChromaTag].score.found, alone[i].detectors[kChromaTag].score.found)
+        << i;
   }
 }
 

@@ -449,6 +449,7 @@ bool WriteCsv(const Context& c) {
   for (const char* key : keys) {
     out << "," << key << "_us," << key << "_found," << key << "_false," << key << "_corner_px";
   }
+  out << ",chromatag_alone_us";
   for (int s = 0; s < kNumStages; ++s) out << ",us_" << StageName(static_cast<Stage>(s));
   for (int s = 0; s < kNumStages; ++s) out << ",rejected_" << StageName(static_cast<Stage>(s));
   out << ",seeds,chromatag_miss_stage,chromatag_miss_reason\n";
@@ -472,6 +473,8 @@ bool WriteCsv(const Context& c) {
       out << "," << d.time_us << "," << d.score.found << "," << d.score.false_positives << ","
           << (d.score.found ? std::to_string(mean) : "");
     }
+    out << ",";
+    if (!std::isnan(r.chromatag_alone_us)) out << r.chromatag_alone_us;
     for (double us : r.chromatag_summary.stage_time_us) out << "," << us;
     for (int n : r.chromatag_summary.rejected) out << "," << n;
     out << "," << r.chromatag_summary.seeds << ",";

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,11 @@ struct FrameRecord {
   FrameTruth truth;
   std::array<DetectorRecord, kNumDetectors> detectors;
   DetectorSummary chromatag_summary;  // Per-stage times and rejections.
+  // ChromaTag's time on the frame again, in a pass over each chunk with
+  // ChromaTag alone (one call after another on successive frames, as on a
+  // thread that runs nothing else); NaN in ChromaTag-only runs, where
+  // detectors[kChromaTag].time_us already is that.
+  double chromatag_alone_us = std::numeric_limits<double>::quiet_NaN();
   MissCause chromatag_miss;           // Why ChromaTag missed its tag, if it did.
 };
 
@@ -48,9 +54,11 @@ struct RunTimes {
 
 // Runs the detectors on every frame of `dataset`; for each tag ChromaTag
 // misses, runs it again untimed to find out why (FrameRecord::chromatag_miss). Detectors take turns
-// going first on successive frames so that none is favoured by a warm cache. `apriltag` and `aruco`
-// may be null (a ChromaTag-only run; their records then say ran = false). `progress(done, total)`
-// is called after each chunk (may be empty).
+// going first on successive frames so that none is favoured by a warm cache: each finds the caches
+// as the other two left them, as in a pipeline that does other work between frames. With the
+// other detectors, ChromaTag is also timed on each chunk alone (FrameRecord::chromatag_alone_us).
+// `apriltag` and `aruco` may be null (a ChromaTag-only run; their records then say ran = false).
+// `progress(done, total)` is called after each chunk (may be empty).
 std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
                                        TagDetector* apriltag, TagDetector* aruco,
                                        const RunOptions& options, RunTimes* times,
