@@ -43,6 +43,13 @@ inline constexpr ChannelWeights kRedMinusGreen{1, -1, 0};  // Red/green.
 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray, float x, float y,
                    float dx, float dy, int n, float* out);
 
+// ImageView::FirstNotClearlyAbove's vector path (image_view.cc): returns the
+// first step it could not decide, `first` without AVX2. Every step before it
+// lies inside the frame with a coarse a* above `above`.
+int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height,
+                             int r_offset, const int8_t* table, float x, float y, float dx,
+                             float dy, int first, int last, float above);
+
 class ImageView {
  public:
   ImageView(const cv::Mat& image, PixelOrder order, const ColorTable& table)
@@ -72,6 +79,33 @@ class ImageView {
   int CoarseA(int x, int y) const {
     const uint8_t* p = Pixel(x, y);
     return table_->CoarseA(p[r_], p[1], p[b_]);
+  }
+  // The scans' pass over a red region: the first step k in [first, last]
+  // whose pixel (RoundToInt of (x, y) + k (dx, dy)) lies outside the frame
+  // or has a coarse a* not above `above`; last + 1 if there is none. The
+  // same pixels and comparisons as a loop over CoarseA; after the first
+  // kScalarSteps, eight steps at a time where the CPU has AVX2.
+  static constexpr int kScalarSteps = 8;
+  int FirstNotClearlyAbove(float x, float y, float dx, float dy, int first, int last,
+                           float above) const {
+    int k = first;
+    auto stops = [&](int step) {
+      const int px = RoundToInt(x + static_cast<float>(step) * dx);
+      const int py = RoundToInt(y + static_cast<float>(step) * dy);
+      return !Contains(px, py) || !(static_cast<float>(CoarseA(px, py)) > above);
+    };
+    // Most scans stop within a few steps: those are not worth the vectors.
+    for (const int scalar_end = std::min(last, first + kScalarSteps - 1); k <= scalar_end; ++k) {
+      if (stops(k)) return k;
+    }
+    if (last - k >= 7 && step_ * static_cast<size_t>(height_) < (size_t{1} << 31)) {
+      k = FirstNotClearlyAboveAvx2(data_, step_, width_, height_, r_, table_->coarse_a_table(), x,
+                                   y, dx, dy, k, last, above);
+    }
+    for (; k <= last; ++k) {
+      if (stops(k)) return k;
+    }
+    return k;
   }
   float A(int x, int y) const {
     const uint8_t* p = Pixel(x, y);
