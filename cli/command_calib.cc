@@ -111,8 +111,8 @@ void PrintSummary(const calib::CalibrationResult& result, const std::vector<std:
   }
   std::printf(
       "Detector thresholds: ADiffThresh %.1f, BorderThresh %.1f, min decision margin "
-      "%.2f\n",
-      d.adiff_thresh, d.border_thresh, d.min_decision_margin);
+      "%.2f, max green a* %.1f\n",
+      d.adiff_thresh, d.border_thresh, d.min_decision_margin, d.max_green_a);
   for (const calib::PairVerdict& v : result.thresholds.verdicts)
     std::printf("  %-24s %-5s %s\n", v.pair.c_str(), calib::VerdictName(v.verdict), v.why.c_str());
   if (result.palette) {

@@ -104,9 +104,31 @@ TEST(CalibCalibrateTest, FullRunWritesLoadableOutputs) {
   ASSERT_TRUE(LoadDetectorConfig(dir + "/detector.json", &loaded, &error)) << error;
   EXPECT_DOUBLE_EQ(loaded.adiff_thresh, d.adiff_thresh);
   EXPECT_DOUBLE_EQ(loaded.border_thresh, d.border_thresh);
+  EXPECT_DOUBLE_EQ(loaded.min_decision_margin, d.min_decision_margin);
+  EXPECT_DOUBLE_EQ(loaded.max_green_a, d.max_green_a);
   EXPECT_TRUE(LoadPaletteFile(dir + "/palette.json", &error)) << error;
   EXPECT_TRUE(ColorLut::Load(dir + "/printer.cube", &error)) << error;
   std::filesystem::remove_all(dir);
+}
+
+// max_green_a: the worst green's a* plus a quarter of the a* gap (safety
+// factor 2), never below the detector's default; greens under a warm or
+// magenta cast, measured redder than a* 0, raise it.
+TEST(CalibCalibrateTest, MaxGreenAFollowsTheGreensMeasuredA) {
+  Margins neutral;
+  neutral.a_gap = 95.0;
+  neutral.max_green_a = -40.0;
+  neutral.red_decision = neutral.green_decision = 10.0;
+  Margins cast = neutral;
+  cast.a_gap = 60.0;
+  cast.max_green_a = 6.0;
+  EXPECT_DOUBLE_EQ(DeriveThresholds({neutral}).options.max_green_a,
+                   DetectorOptions{}.max_green_a);
+  // The worst over photos: the cast one.
+  EXPECT_DOUBLE_EQ(DeriveThresholds({neutral, cast}).options.max_green_a, 6.0 + 60.0 / 4.0);
+  ThresholdOptions careful;
+  careful.safety_factor = 3.0;
+  EXPECT_DOUBLE_EQ(DeriveThresholds({cast}, careful).options.max_green_a, 16.0);
 }
 
 }  // namespace

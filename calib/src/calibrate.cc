@@ -41,6 +41,7 @@ Json MarginsJson(const Margins& m) {
           {"green_b_gap", Round2(m.green_b_gap)},
           {"a_spread", Round2(m.a_spread)},
           {"min_red_a", Round2(m.min_red_a)},
+          {"max_green_a", Round2(m.max_green_a)},
           {"noise_a", Round2(m.noise_a)},
           {"l_gap_white", Round2(m.l_gap_white)},
           {"expected_decision_margin", Round2(m.decision())}};
@@ -186,7 +187,7 @@ std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
   std::vector<OutputFile> files;
   files.push_back({Join(folder, kDetectorConfigFile),
                    DetectorConfigToJson(result.thresholds.options,
-                                        {"adiff_thresh", "border_thresh", "min_decision_margin"},
+                                        {"adiff_thresh", "border_thresh", "min_decision_margin", "max_green_a"},
                                         Provenance(result))});
   if (result.palette)
     files.push_back({Join(folder, kPaletteFile), PaletteToJson(result.palette->palette)});

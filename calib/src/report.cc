@@ -203,6 +203,7 @@ void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
   y = Row(cr, y, "b* gap, red-1 - red-0", F("%.1f", w.red_b_gap));
   y = Row(cr, y, "b* gap, green-0 - green-1", F("%.1f", w.green_b_gap));
   y = Row(cr, y, "a* spread within a colour", F("%.1f", w.a_spread));
+  y = Row(cr, y, "a* of the redder green", F("%.1f", w.max_green_a));
   y = Row(cr, y, "pixel noise (a*)", F("%.1f", w.noise_a));
   y = Row(cr, y, "expected decision margin", F("%.1f", w.decision()));
   y += 8;
@@ -215,6 +216,7 @@ void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
           F("%.1f   (default %.0f)", d.border_thresh, defaults.border_thresh));
   y = Row(cr, y, "min decision margin",
           F("%.1f   (default %.0f)", d.min_decision_margin, defaults.min_decision_margin));
+  y = Row(cr, y, "max green a*", F("%.1f   (default %.0f)", d.max_green_a, defaults.max_green_a));
   y += 8;
   Text(cr, 470, y, 10, "Verdict per pair", true);
   y += 15;

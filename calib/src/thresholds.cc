@@ -8,6 +8,9 @@
 namespace chromatag::calib {
 namespace {
 
+// DetectorOptions::max_green_a's upper bound.
+constexpr double kMaxMaxGreenA = 100.0;
+
 constexpr std::array<Shade, 4> kChromatic = {Shade::kRed1, Shade::kRed0, Shade::kGreen1,
                                              Shade::kGreen0};
 
@@ -95,6 +98,7 @@ Margins MarginsOf(const std::array<ShadeReading, 4>& shades, double white_l, boo
   m.green_b_gap = g0.b - g1.b;
   m.a_spread = std::max(std::abs(r1.a - r0.a), std::abs(g1.a - g0.a));
   m.min_red_a = std::min(r1.a, r0.a);
+  m.max_green_a = std::max(g1.a, g0.a);
   for (const ShadeReading& s : shades) m.noise_a = std::max(m.noise_a, s.pixel_noise_a);
   m.l_gap_white = white_l - std::max(g1.L, g0.L);
   m.red_decision = m.red_b_gap / std::max(1.0, CellSpread(shades[0], shades[1]));
@@ -109,6 +113,7 @@ Margins Worst(const Margins& a, const Margins& b) {
   m.green_b_gap = std::min(a.green_b_gap, b.green_b_gap);
   m.a_spread = std::max(a.a_spread, b.a_spread);
   m.min_red_a = std::min(a.min_red_a, b.min_red_a);
+  m.max_green_a = std::max(a.max_green_a, b.max_green_a);
   m.noise_a = std::max(a.noise_a, b.noise_a);
   m.l_gap_white = std::min(a.l_gap_white, b.l_gap_white);
   m.red_decision = std::min(a.red_decision, b.red_decision);
@@ -147,6 +152,12 @@ DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
   }
   d.min_decision_margin =
       std::clamp(w.decision() / s, o.min_decision_margin, o.max_decision_margin);
+  // A tag's green ring, one cell wide, reads redder through blur and JPEG's
+  // chroma than a patch of it: past the red, the detector meets the greens'
+  // a* plus a share of the red-green gap. Never below the default, which
+  // allows for that on the benchmark's casts.
+  d.max_green_a = std::clamp(w.max_green_a + w.a_gap / (2.0 * s), DetectorOptions{}.max_green_a,
+                             kMaxMaxGreenA);
 
   PairVerdict a_pair{"reds / greens (a*)", w.a_gap, Verdict::kGood, ""};
   if (w.a_gap / s < o.min_adiff) {
@@ -202,7 +213,7 @@ DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
     out.verdicts.push_back(v);
   }
   // Tenths: finer than any of this is measured, and readable in the file.
-  for (double* v : {&d.adiff_thresh, &d.border_thresh, &d.min_decision_margin})
+  for (double* v : {&d.adiff_thresh, &d.border_thresh, &d.min_decision_margin, &d.max_green_a})
     *v = std::round(*v * 10.0) / 10.0;
   for (const PairVerdict& v : out.verdicts) {
     if (v.verdict != Verdict::kGood)

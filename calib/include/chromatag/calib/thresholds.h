@@ -38,6 +38,7 @@ struct Margins {
   double green_b_gap = 0.0;  // b*(green-0) - b*(green-1).
   double a_spread = 0.0;     // Largest a* difference between the two shades of a colour.
   double min_red_a = 0.0;    // The paler red's a*: the detector wants 12 or more.
+  double max_green_a = 0.0;  // The redder green's a* (DetectorOptions::max_green_a).
   double noise_a = 0.0;      // Single-pixel a* noise.
   double l_gap_white = 0.0;  // L*(white) - max L*(greens): the quiet zone's lead.
   // Expected decision margin: each colour's b* gap over its cell-level
@@ -97,8 +98,8 @@ struct DerivedThresholds {
   std::vector<std::string> warnings;  // Margins too thin to be trusted.
 };
 
-// Derives ADiffThresh, BorderThresh and min_decision_margin from the worst
-// margins over `photos` (each: normalised and as shot).
+// Derives ADiffThresh, BorderThresh, min_decision_margin and max_green_a
+// from the worst margins over `photos` (each: normalised and as shot).
 DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
                                    const ThresholdOptions& options = {});
 
