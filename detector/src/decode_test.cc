@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <map>
+
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/families/palette.h"
@@ -118,6 +122,48 @@ TEST(DecodeTest, SwappedShadesNeverDecode) {
     EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why))
         << "swapped ID " << id << " read as " << detection.id;
   }
+}
+
+// Blur pulls each cell towards its neighbours, and some swapped 16h5 prints
+// then read as another ID exactly, with a margin that passes. The blur model
+// (kSwappedPrint) must refuse them: none decodes at any blur, and the rule
+// is what refuses some of them.
+TEST(DecodeTest, BlurredSwappedShadesNeverDecode) {
+  const auto families = Families({"16h5", "36h11"});
+  const TagFamily& family = *families[0].family;
+  std::map<RejectReason, int> reasons;
+  for (int id : family.kept_ids()) {
+    Candidate candidate;
+    const cv::Mat sharp = DrawTag(family, id, true, &candidate);
+    for (int trial = 0; trial < 40; ++trial) {
+      // Cells of 3 to 5 px, blurred by 0.6 to 1.2 px.
+      const double scale = 0.3 + 0.05 * (trial % 5), sigma = 0.6 + 0.15 * (trial / 10);
+      cv::Mat image;
+      cv::resize(sharp, image, cv::Size(), scale, scale, cv::INTER_AREA);
+      Candidate small = candidate;
+      for (Quad& quad : small.quads) {
+        for (cv::Point2d& p : quad) p = (p + cv::Point2d(0.5, 0.5)) * scale - cv::Point2d(0.5, 0.5);
+      }
+      cv::GaussianBlur(image, image, cv::Size(), sigma);
+      cv::Mat noise(image.size(), CV_16SC3);
+      cv::RNG rng(1000 * id + trial);
+      rng.fill(noise, cv::RNG::NORMAL, 0, 4);
+      image.convertTo(image, CV_16SC3);
+      cv::add(image, noise, image);
+      image.convertTo(image, CV_8UC3);
+      std::vector<uchar> jpeg;
+      cv::imencode(".jpg", image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 70});
+      image = cv::imdecode(jpeg, cv::IMREAD_COLOR);
+      const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+      Detection detection;
+      RejectReason why;
+      EXPECT_FALSE(Decode(view, DetectorOptions{}, families, small, &detection, &why))
+          << "swapped ID " << id << " trial " << trial << " read as " << detection.id;
+      ++reasons[why];
+    }
+  }
+  for (const auto& [why, n] : reasons) std::printf("%s: %d\n", RejectReasonName(why), n);
+  EXPECT_GT(reasons[RejectReason::kSwappedPrint], 0);
 }
 
 // Inner rings where neither family puts them: no family fits.
