@@ -22,15 +22,10 @@ namespace {
 
 using testing::Demosaic;
 using testing::ExpectEveryTagFoundOnce;
+using testing::BothFamiliesDetector;
 using testing::RenderScene;
 using testing::SceneOptions;
 using testing::SceneTag;
-
-std::unique_ptr<Detector> MakeDetector() {
-  DetectorOptions options;
-  options.families = {"16h5", "36h11"};
-  return Detector::Create(options);
-}
 
 // A camera with a neutral white balance, mild blur and noise in linear light.
 SceneOptions Camera(unsigned seed) {
@@ -73,7 +68,7 @@ std::vector<SceneTag> Tags(const std::string& family_name, int count, double siz
 // and the black ring crowd together at low lightness, and the a* jump is a
 // third smaller than in a well-exposed frame.
 TEST(DetectorCameraTest, DimCards) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (const std::string family : {"16h5", "36h11"}) {
     for (double exposure : {0.5, 0.65}) {
       SceneOptions options = Camera(7);
@@ -91,7 +86,7 @@ TEST(DetectorCameraTest, DimCards) {
 // so scans in fixed directions cross the rings at grazing angles and a
 // blurred ring's width changes along its length.
 TEST(DetectorCameraTest, SteepViews) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (const std::string family : {"16h5", "36h11"}) {
     for (double tilt : {62.0, 67.0, 72.0}) {
       SceneOptions options = Camera(11);
@@ -107,7 +102,7 @@ TEST(DetectorCameraTest, SteepViews) {
 // as wide at one end of a side as at the other, and a search that takes one
 // cell size per side reads the quiet zone as the black ring.
 TEST(DetectorCameraTest, SteepCloseViews) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (const std::string family : {"16h5", "36h11"}) {
     for (double tilt : {68.0, 72.0}) {
       SceneOptions options = Camera(29);
@@ -122,7 +117,7 @@ TEST(DetectorCameraTest, SteepCloseViews) {
 // JPEG at quality 60 with OpenCV's 4:2:0 chroma: the chroma is halved in
 // resolution and blocky, so a thin green ring is smeared into its neighbours.
 TEST(DetectorCameraTest, JpegQuality60) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (const std::string family : {"16h5", "36h11"}) {
     for (double size : {50.0, 80.0}) {
       SceneOptions options = Camera(13);
@@ -137,7 +132,7 @@ TEST(DetectorCameraTest, JpegQuality60) {
 // An RGGB mosaic demosaiced bilinearly and edge-aware: colour fringes along
 // every black/white edge and chroma blurred over two pixels.
 TEST(DetectorCameraTest, DemosaicedFrames) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (const std::string family : {"16h5", "36h11"}) {
     for (Demosaic demosaic : {Demosaic::kBilinear, Demosaic::kEdgeAware}) {
       SceneOptions options = Camera(17);
@@ -153,7 +148,7 @@ TEST(DetectorCameraTest, DemosaicedFrames) {
 // 36h11 black squares of 36-44 px: cells of 4.5-5.5 px, the red centre's
 // cells as small as 16h5's at 27-33 px.
 TEST(DetectorCameraTest, Small36h11Tags) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (double size : {36.0, 44.0}) {
     SceneOptions options = Camera(19);
     const std::vector<SceneTag> tags = Tags("36h11", 12, size, 20, 6, 0.9, &options);
@@ -166,7 +161,7 @@ TEST(DetectorCameraTest, Small36h11Tags) {
 // each 4 px cell takes a large share of its neighbours' shade, and reads miss
 // the code unless Decode takes that share out again.
 TEST(DetectorCameraTest, BlurredSmall36h11Tags) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (Demosaic demosaic : {Demosaic::kNone, Demosaic::kEdgeAware}) {
     SceneOptions options = Camera(23);
     const std::vector<SceneTag> tags = Tags("36h11", 12, 34, 20, 6, 0.9, &options);
@@ -183,7 +178,7 @@ TEST(DetectorCameraTest, BlurredSmall36h11Tags) {
 // right reads falls below the gate (2 of 14 tags lost before). Decode keeps
 // a read whose code explains every cell under its model of blur.
 TEST(DetectorCameraTest, BlurredSmall16h5TagsInJpeg) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   const struct { double size, blur; } conditions[] = {{34, 1.0}, {34, 1.15}};
   for (const auto& c : conditions) {
     SceneOptions options = Camera(29);

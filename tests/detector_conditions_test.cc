@@ -17,17 +17,12 @@ namespace chromatag {
 namespace {
 
 using testing::ExpectEveryTagFoundOnce;
+using testing::BothFamiliesDetector;
 using testing::RenderScene;
 using testing::Scene;
 using testing::SceneOptions;
 using testing::SceneTag;
 using testing::TagTruth;
-
-std::unique_ptr<Detector> MakeDetector() {
-  DetectorOptions options;
-  options.families = {"16h5", "36h11"};
-  return Detector::Create(options);
-}
 
 // All kept IDs of `family_name` in one frame, `size` px black squares turned
 // 7 degrees (off the pixel grid, as verify's stress views) plus a little per
@@ -56,7 +51,7 @@ std::vector<SceneTag> Grid(const std::string& family_name, double size, int colu
 }
 
 TEST(DetectorConditionsTest, BlurOfOneAndAHalfToTwoPixelsOnSixtyTo120PixelTags) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (double blur : {1.5, 2.0}) {
     for (double size : {60., 80., 100., 120.}) {
       SceneOptions options;
@@ -73,7 +68,7 @@ TEST(DetectorConditionsTest, BlurOfOneAndAHalfToTwoPixelsOnSixtyTo120PixelTags) 
 }
 
 TEST(DetectorConditionsTest, BlurredTiltedTagsOfBothFamilies) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   const int kIds16h5[] = {1, 6, 9, 13, 17, 21};
   for (const std::string name : {"16h5", "36h11"}) {
     std::vector<SceneTag> tags;
@@ -98,7 +93,7 @@ TEST(DetectorConditionsTest, BlurredTiltedTagsOfBothFamilies) {
 }
 
 TEST(DetectorConditionsTest, StrongCoolCastAndJpegQuality40) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   struct Condition {
     std::string name;
     cv::Vec3d gain;
@@ -122,7 +117,7 @@ TEST(DetectorConditionsTest, StrongCoolCastAndJpegQuality40) {
 // noise, casts and JPEG (which compress and scatter the 16h5 red centre's four
 // cells) that must still never decode, in either palette.
 TEST(DetectorConditionsTest, SwappedShadesNeverDecodeUnderBlurNoiseCastsAndJpeg) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   struct Condition {
     double size, blur, noise;
     cv::Vec3d gain;
@@ -207,7 +202,7 @@ Scene SwappedStressFrame(int index, const std::string& family_name) {
 }
 
 TEST(DetectorConditionsTest, SwappedShadesUnderRandomCameraConditions) {
-  auto detector = MakeDetector();
+  auto detector = BothFamiliesDetector();
   for (int index : {54, 239, 302, 413, 570, 855, 932, 1370, 1491}) {
     const DetectionResult result = detector->Detect(SwappedStressFrame(index, "16h5").bgr);
     for (const Detection& d : result.detections) {

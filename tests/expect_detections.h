@@ -1,11 +1,12 @@
-// A check shared by the detector's condition tests: every tag of a synthetic
-// scene found exactly once with its family and ID and corners within a bound,
-// and nothing else found.
+// Shared by the detector's condition tests: a detector looking for both
+// families, and a check that every tag of a synthetic scene is found exactly
+// once with its family and ID and corners within a bound, and nothing else.
 #ifndef CHROMATAG_TESTS_EXPECT_DETECTIONS_H_
 #define CHROMATAG_TESTS_EXPECT_DETECTIONS_H_
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <string>
 
 #include "chromatag/detector/detector.h"
@@ -13,6 +14,12 @@
 #include "synthetic_scene.h"
 
 namespace chromatag::testing {
+
+inline std::unique_ptr<Detector> BothFamiliesDetector() {
+  DetectorOptions options;
+  options.families = {"16h5", "36h11"};
+  return Detector::Create(options);
+}
 
 inline void ExpectEveryTagFoundOnce(const Detector& detector, const Scene& scene,
                                     double max_corner_px, const std::string& what) {

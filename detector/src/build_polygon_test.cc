@@ -13,6 +13,7 @@ namespace chromatag::internal {
 namespace {
 
 using testing::RotatedSquare;
+using testing::ScanAndBuildPolygon;
 
 // Tag-like colours, as BGR for cv::Mat.
 const cv::Scalar kRed(50, 40, 200), kGreen(70, 160, 40), kBlack(20, 20, 20), kWhite(235, 235, 235);
@@ -60,11 +61,7 @@ double DistanceToOutline(const Quad& quad, cv::Point2d p) {
 void ExpectOuterPolygonOnTheBlackSquare(const cv::Mat& image, cv::Point seed, const Quad& black) {
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Candidate candidate;
-  RejectReason why;
-  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, seed, &candidate, nullptr, &why))
-      << "InitialScan rejected for " << static_cast<int>(why);
-  ASSERT_TRUE(BuildPolygon(view, DetectorOptions{}, &candidate, &why))
-      << "BuildPolygon rejected for " << static_cast<int>(why);
+  ASSERT_TRUE(ScanAndBuildPolygon(view, seed, &candidate));
   const std::vector<cv::Point2f>& outer = candidate.points[kBlackWhite];
   const double drawn_area = QuadArea(black);
   EXPECT_GE(PolygonArea(ClockwiseHull(outer)), 0.95 * drawn_area);

@@ -12,6 +12,7 @@ namespace {
 
 using testing::NearestCorner;
 using testing::RotatedSquare;
+using testing::ScanAndBuildPolygon;
 
 // Tag-like colours, as BGR.
 const cv::Vec3b kRed(50, 40, 200), kGreen(70, 160, 40), kBlack(20, 20, 20), kWhite(235, 235, 235);
@@ -40,13 +41,10 @@ TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
   // On row 100 the red reaches about 12.5 / cos 30 = 14.4 px left of the centre.
   const cv::Point seed(88, 100);
   Candidate candidate;
+  ASSERT_TRUE(ScanAndBuildPolygon(view, seed, &candidate));
   RejectReason why;
-  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, seed, &candidate, nullptr, &why))
-      << "InitialScan rejected for " << static_cast<int>(why);
-  ASSERT_TRUE(BuildPolygon(view, DetectorOptions{}, &candidate, &why))
-      << "BuildPolygon rejected for " << static_cast<int>(why);
   ASSERT_TRUE(PolyToQuad(view, DetectorOptions{}, &candidate, &why))
-      << "PolyToQuad rejected for " << static_cast<int>(why);
+      << "PolyToQuad rejected: " << RejectReasonName(why);
   for (int ring = 0; ring < kNumRings; ++ring) {
     const Quad& fitted = candidate.quads[ring];
     // Clockwise like the truth; only the first corner may differ.

@@ -1,12 +1,14 @@
 // Drawn patterns for the stages' unit tests (detector/src/*_test.cc): tag-like
 // rings with known borders, axis-aligned or turned, hard-edged or
-// antialiased. Test-only.
+// antialiased; and the first stages run on them. Test-only.
 #ifndef CHROMATAG_DETECTOR_SRC_STAGE_TEST_SUPPORT_H_
 #define CHROMATAG_DETECTOR_SRC_STAGE_TEST_SUPPORT_H_
 
 #include <array>
 #include <cmath>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
 
@@ -87,6 +89,18 @@ inline int NearestCorner(const Quad& quad, cv::Point2d p) {
     if (cv::norm(quad[i] - p) < cv::norm(quad[best] - p)) best = i;
   }
   return best;
+}
+
+// InitialScan then BuildPolygon from `seed` with the default options, as
+// Detect runs them; a failure names the stage and its reason.
+inline ::testing::AssertionResult ScanAndBuildPolygon(const ImageView& view, cv::Point seed,
+                                                      Candidate* candidate) {
+  RejectReason why;
+  if (!InitialScan(view, DetectorOptions{}, seed, candidate, nullptr, &why))
+    return ::testing::AssertionFailure() << "InitialScan rejected: " << RejectReasonName(why);
+  if (!BuildPolygon(view, DetectorOptions{}, candidate, &why))
+    return ::testing::AssertionFailure() << "BuildPolygon rejected: " << RejectReasonName(why);
+  return ::testing::AssertionSuccess();
 }
 
 }  // namespace chromatag::internal::testing
