@@ -6,10 +6,7 @@
 #include <utility>
 #include <vector>
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-#endif
-
+#include "coarse_a_avx2.h"
 #include "stages.h"
 
 namespace chromatag::internal {
@@ -72,8 +69,7 @@ int RisesScalar(const RowSampler& s, int first, const int32_t* coarse, int* rise
   return n;
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define CHROMATAG_FIND_ADIFF_AVX2 1
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
 // Eight samples per step: a gather of each sample's 3 bytes (as a 32-bit word;
 // the fourth byte is ignored), the table index from shifts and masks, a
 // gather from the coarse table (padded for the 32-bit reads); then eight
@@ -86,10 +82,7 @@ __attribute__((target("avx2"))) int SampleRowAvx2(const RowSampler& s, int32_t* 
   const int vector_count = s.count - 1;
   const __m256i offsets = _mm256_mullo_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
                                              _mm256_set1_epi32(s.pixel_step));
-  const __m256i mask5 = _mm256_set1_epi32(0x1F);
-  const __m128i shift_r = _mm_cvtsi32_si128(8 * s.r + 3), shift_g = _mm_cvtsi32_si128(11),
-                shift_b = _mm_cvtsi32_si128(8 * s.b + 3);
-  const int* table = reinterpret_cast<const int*>(s.table);
+  const CoarseALookup lookup = MakeCoarseALookup(s.r, s.table);
   const __m256i pick_low =
       _mm256_setr_epi8(0, 1, 2, -1, 12, 13, 14, -1, -1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 2, -1, 12,
                        13, 14, -1, -1, -1, -1, -1, -1, -1, -1, -1);
@@ -118,13 +111,7 @@ __attribute__((target("avx2"))) int SampleRowAvx2(const RowSampler& s, int32_t* 
     } else {
       words = _mm256_i32gather_epi32(base, offsets, 1);
     }
-    const __m256i r5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_r), mask5);
-    const __m256i g5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_g), mask5);
-    const __m256i b5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_b), mask5);
-    const __m256i index =
-        _mm256_or_si256(_mm256_or_si256(_mm256_slli_epi32(r5, 10), _mm256_slli_epi32(g5, 5)), b5);
-    const __m256i entries = _mm256_i32gather_epi32(table, index, 1);
-    __m256i a = _mm256_srai_epi32(_mm256_slli_epi32(entries, 24), 24);
+    __m256i a = CoarseA8(lookup, words);
     if (s.pixel_step == 12) a = _mm256_permutevar8x32_epi32(a, in_order);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(coarse + i), a);
   }
@@ -154,7 +141,7 @@ bool HasAvx2() {
 
 // Fills `coarse` and `rises`; returns the number of rises.
 int SampleRow(const RowSampler& s, int32_t* coarse, int* rises) {
-#ifdef CHROMATAG_FIND_ADIFF_AVX2
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
   if (HasAvx2()) return SampleRowAvx2(s, coarse, rises);
 #endif
   CoarseRowScalar(s, 0, coarse);

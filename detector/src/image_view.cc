@@ -1,15 +1,14 @@
-// The vector path of ImageView::SampleLine (image_view.h): the sub-pixel
-// side searches spend most of their time sampling profiles across edges.
+// The vector paths of ImageView (image_view.h): SampleLine (the sub-pixel
+// side searches spend most of their time sampling profiles across edges)
+// and FirstNotClearlyAbove (the scans' pass over a red region).
 #include "image_view.h"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-#define CHROMATAG_SAMPLE_LINE_AVX2 1
-#endif
+#include "coarse_a_avx2.h"
+
 
 namespace chromatag::internal {
 
-#ifdef CHROMATAG_SAMPLE_LINE_AVX2
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
 namespace {
 
 // The channel of the pixel whose three bytes start each 32-bit lane.
@@ -79,11 +78,8 @@ __attribute__((target("avx2"))) int FirstNotClearlyAboveAvx2Impl(
   // pixel is left to the scalar loop.
   const __m256i last_pixel =
       _mm256_set1_epi32(static_cast<int>(step) * (height - 1) + 3 * (width - 1));
-  const __m256i mask5 = _mm256_set1_epi32(0x1F);
-  const __m128i shift_r = _mm_cvtsi32_si128(8 * r_offset + 3), shift_g = _mm_cvtsi32_si128(11),
-                shift_b = _mm_cvtsi32_si128(8 * (2 - r_offset) + 3);
+  const CoarseALookup lookup = MakeCoarseALookup(r_offset, table);
   const int* base = reinterpret_cast<const int*>(data);
-  const int* entries = reinterpret_cast<const int*>(table);
   int k = first;
   for (; k + 7 <= last; k += 8) {
     const __m256 fk = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(k), lane));
@@ -102,14 +98,7 @@ __attribute__((target("avx2"))) int FirstNotClearlyAboveAvx2Impl(
                             _mm256_cmpgt_epi32(py, _mm256_sub_epi32(vheight, _mm256_set1_epi32(1)))),
             _mm256_cmpeq_epi32(offset, last_pixel)));
     if (!_mm256_testz_si256(outside, outside)) break;
-    const __m256i words = _mm256_i32gather_epi32(base, offset, 1);
-    const __m256i r5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_r), mask5);
-    const __m256i g5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_g), mask5);
-    const __m256i b5 = _mm256_and_si256(_mm256_srl_epi32(words, shift_b), mask5);
-    const __m256i index =
-        _mm256_or_si256(_mm256_or_si256(_mm256_slli_epi32(r5, 10), _mm256_slli_epi32(g5, 5)), b5);
-    const __m256i coarse =
-        _mm256_srai_epi32(_mm256_slli_epi32(_mm256_i32gather_epi32(entries, index, 1), 24), 24);
+    const __m256i coarse = CoarseA8(lookup, _mm256_i32gather_epi32(base, offset, 1));
     const unsigned above_mask = static_cast<unsigned>(
         _mm256_movemask_ps(_mm256_cmp_ps(_mm256_cvtepi32_ps(coarse), vabove, _CMP_GT_OQ)));
     if (above_mask != 0xFFu) return k + __builtin_ctz(~above_mask);
@@ -123,7 +112,7 @@ __attribute__((target("avx2"))) int FirstNotClearlyAboveAvx2Impl(
 int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height,
                              int r_offset, const int8_t* table, float x, float y, float dx,
                              float dy, int first, int last, float above) {
-#ifdef CHROMATAG_SAMPLE_LINE_AVX2
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
   static const bool has_avx2 = __builtin_cpu_supports("avx2");
   if (has_avx2) {
     return FirstNotClearlyAboveAvx2Impl(data, step, width, height, r_offset, table, x, y, dx, dy,
@@ -137,7 +126,7 @@ int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int he
 
 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray, float x, float y,
                    float dx, float dy, int n, float* out) {
-#ifdef CHROMATAG_SAMPLE_LINE_AVX2
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
   static const bool has_avx2 = __builtin_cpu_supports("avx2");
   if (has_avx2 && n >= 8) {
     return SampleLineAvx2Impl(data, step, r_offset, gray, x, y, dx, dy, n, out);

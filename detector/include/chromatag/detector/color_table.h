@@ -74,10 +74,9 @@ class ColorTable {
   // in the caches before a frame's random lookups start. A detector called
   // once per frame, with other work in between (the camera driver, the
   // rest of a robot's pipeline, other detectors), otherwise takes a cache
-  // miss on each first lookup of a line; streamed in order, the 58 KiB
-  // arrive in about a microsecond. Returns a checksum, only so that the reads
-  // are not optimised away.
-  uint32_t Prefetch() const;
+  // miss on each first lookup of a line, one after another; streamed in
+  // order, the 58 KiB arrive with many reads in flight at once.
+  void Prefetch() const;
 
   size_t memory_bytes() const { return sizeof(xyz_) + sizeof(f_) + coarse_a_.size(); }
 
