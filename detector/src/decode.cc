@@ -323,25 +323,22 @@ double BlurMisfit(const TagFamily& family, Code pattern, const std::vector<CellS
   return best;
 }
 
-// The best BlurMisfit of a swapped print (FamilyDecoder::swapped_codes)
-// among those within kMaxSwappedRivalBits of the observed bits.
-double SwappedPrintMisfit(const FamilyDecoder& entry, Code observed,
-                          const std::vector<CellSample>& grid) {
-  double best = std::numeric_limits<double>::infinity();
+// The swapped prints (FamilyDecoder::swapped_codes) within
+// kMaxSwappedRivalBits of the observed bits.
+std::vector<Code> SwappedRivals(const FamilyDecoder& entry, Code observed) {
+  std::vector<Code> rivals;
   for (Code swapped : entry.swapped_codes) {
-    if (HammingDistance(swapped, observed) > kMaxSwappedRivalBits) continue;
-    best = std::min(best, BlurMisfit(*entry.family, swapped, grid));
+    if (HammingDistance(swapped, observed) <= kMaxSwappedRivalBits) rivals.push_back(swapped);
   }
-  return best;
+  return rivals;
 }
 
-// Whether some swapped print lies within kMaxSwappedRivalBits of the
-// observed bits (SwappedPrintMisfit is infinite otherwise).
-bool NearSwappedPrint(const FamilyDecoder& entry, Code observed) {
-  for (Code swapped : entry.swapped_codes) {
-    if (HammingDistance(swapped, observed) <= kMaxSwappedRivalBits) return true;
-  }
-  return false;
+// The best BlurMisfit among `rivals`; infinite if there are none.
+double SwappedPrintMisfit(const TagFamily& family, const std::vector<Code>& rivals,
+                          const std::vector<CellSample>& grid) {
+  double best = std::numeric_limits<double>::infinity();
+  for (Code swapped : rivals) best = std::min(best, BlurMisfit(family, swapped, grid));
+  return best;
 }
 
 bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
@@ -401,12 +398,13 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
     }
     // With no swapped print within kMaxSwappedRivalBits of the read and the
     // margin passed, the blur model has nothing to decide: skip it.
-    if (decoded && (low_margin || NearSwappedPrint(entry, observed))) {
+    const std::vector<Code> rivals = decoded ? SwappedRivals(entry, observed) : std::vector<Code>{};
+    if (decoded && (low_margin || !rivals.empty())) {
       // The blur model uses only the ring's mean: few samples a cell do.
       read_ring(kMinCellSamples);
       const Code code = family.Rotate(family.CodeOf(match.id), match.rotation);
       const double misfit = BlurMisfit(family, code, grid);
-      const double swapped_misfit = SwappedPrintMisfit(entry, observed, grid);
+      const double swapped_misfit = SwappedPrintMisfit(family, rivals, grid);
       // A corrected read has bits the code does not explain: a swapped
       // print that comes near it in fit is the likelier source.
       if (swapped_misfit < kMinSwappedTieRatio * misfit ||

@@ -1,6 +1,5 @@
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <map>
 
 #include <opencv2/imgcodecs.hpp>
@@ -162,7 +161,6 @@ TEST(DecodeTest, BlurredSwappedShadesNeverDecode) {
       ++reasons[why];
     }
   }
-  for (const auto& [why, n] : reasons) std::printf("%s: %d\n", RejectReasonName(why), n);
   EXPECT_GT(reasons[RejectReason::kSwappedPrint], 0);
 }
 
