@@ -95,7 +95,7 @@ enum class RejectReason {
   kLowMargin,           // The shades do not split clearly (decision margin).
   kUnknownCode,         // The bits are no code of the family within the radius.
   kDoubtfulCorrection,  // A corrected bit's cell was clearly the other shade.
-  kSwappedPrint,        // A 16h5 read fits a tag printed with its shades swapped as well.
+  kSwappedPrint,        // A 16h5 read fits a tag printed with its shades swapped about as well.
   // GrowRegion (then Decode's reasons).
   kNoQuietZone,    // Profiles out of the red find no dark ring, then no lighter quiet zone.
   kSquareOpen,     // The dark region around the red leaked: larger than any tag's black square.
