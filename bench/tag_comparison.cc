@@ -301,6 +301,9 @@ int main(int argc, char** argv) {
   info.command = command.str();
   info.label = label;
   info.cpu = CpuModel();
+#ifdef CHROMATAG_BUILD_FLAGS
+  info.build = CHROMATAG_BUILD_FLAGS;
+#endif
   info.load = "load average " + load_before + " before the run, " + LoadAverage() + " after";
   info.dataset = dataset_options;
   info.photos = dataset->photos();

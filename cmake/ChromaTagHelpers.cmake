@@ -2,8 +2,27 @@
 
 set(CHROMATAG_WARNINGS -Wall -Wextra -Wpedantic)
 
+# Code generation. CHROMATAG_NATIVE builds for the CPU that compiles (as
+# llama.cpp's GGML_NATIVE does): the scalar parts of the detector's stages
+# then use the newer instructions too, and the AVX2 kernels inline into their
+# callers (detector_bench medians on an AMD EPYC, family 25 model 17: one-tag
+# frame 79.0 -> 73.8 us, tag-free 24.2 -> 20.7 us, flat 19.0 -> 15.1 us).
+# Packagers building for other machines turn it off; the AVX2 kernels are
+# then chosen at run time, as before.
+# Floating-point contraction stays off either way, so that a native and a
+# portable build give the same detections to the last bit (fused
+# multiply-adds round differently).
+set(CHROMATAG_CODEGEN_FLAGS -ffp-contract=off)
+if(CHROMATAG_NATIVE)
+  include(CheckCXXCompilerFlag)
+  check_cxx_compiler_flag(-march=native CHROMATAG_HAVE_MARCH_NATIVE)
+  if(CHROMATAG_HAVE_MARCH_NATIVE)
+    list(APPEND CHROMATAG_CODEGEN_FLAGS -march=native)
+  endif()
+endif()
+
 function(chromatag_target_defaults target)
-  target_compile_options(${target} PRIVATE ${CHROMATAG_WARNINGS})
+  target_compile_options(${target} PRIVATE ${CHROMATAG_WARNINGS} ${CHROMATAG_CODEGEN_FLAGS})
   if(CHROMATAG_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

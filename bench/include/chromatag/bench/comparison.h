@@ -68,6 +68,7 @@ struct ReportInfo {
   std::string command;  // How the run was started.
   std::string label;    // What was measured (e.g. the commit); may be empty.
   std::string cpu;      // Model name.
+  std::string build;    // Build type and code generation flags; may be empty.
   std::string load;     // The machine's load around the run.
   DatasetOptions dataset;
   std::vector<std::string> photos;
