@@ -30,12 +30,13 @@ BENCH_ARGS ?=
 bench: build
 	@scripts/bench.sh $(BUILD_DIR) $(BENCH_ARGS)
 
-# AddressSanitizer + UndefinedBehaviorSanitizer build and test run.
-# Fontconfig and GLib keep caches until exit: cmake/lsan.supp names them.
+# AddressSanitizer + UndefinedBehaviorSanitizer build and test run, in the
+# portable configuration (CHROMATAG_NATIVE off), so that it is built and tested
+# too. Fontconfig and GLib keep caches until exit: cmake/lsan.supp names them.
 asan: export LSAN_OPTIONS = suppressions=$(CURDIR)/cmake/lsan.supp:print_suppressions=0
 asan:
 	@$(MAKE) --no-print-directory test BUILD_DIR=build-asan BUILD_TYPE=RelWithDebInfo \
-	  CMAKE_FLAGS="-DCHROMATAG_SANITIZE=ON -DCHROMATAG_BUILD_BENCH=OFF"
+	  CMAKE_FLAGS="-DCHROMATAG_SANITIZE=ON -DCHROMATAG_NATIVE=OFF -DCHROMATAG_BUILD_BENCH=OFF"
 
 format:
 	@git ls-files '*.h' '*.cc' | xargs clang-format -i

@@ -17,6 +17,17 @@ constexpr double kLeft = 70, kRight = 170, kTop = 44, kBottom = 60;
 using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
 using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
 
+// A white kWidth x kHeight image and a context drawing on it.
+struct Canvas {
+  Surface surface{cairo_image_surface_create(CAIRO_FORMAT_RGB24, kWidth, kHeight),
+                  &cairo_surface_destroy};
+  Context context{cairo_create(surface.get()), &cairo_destroy};
+  Canvas() {
+    cairo_set_source_rgb(context.get(), 1, 1, 1);
+    cairo_paint(context.get());
+  }
+};
+
 std::string Format(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%g", value);
@@ -84,12 +95,8 @@ std::array<double, 3> ScaleColor(double value) {
 }
 
 bool WriteLinePlot(const LinePlot& plot, const std::string& png_path, std::string* error) {
-  Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, kWidth, kHeight),
-                  &cairo_surface_destroy);
-  Context context(cairo_create(surface.get()), &cairo_destroy);
-  cairo_t* cr = context.get();
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
+  Canvas canvas;
+  cairo_t* cr = canvas.context.get();
   const Frame f{plot.x_min, plot.x_max, plot.y_min, plot.y_max};
 
   // Grid and tick labels.
@@ -145,16 +152,12 @@ bool WriteLinePlot(const LinePlot& plot, const std::string& png_path, std::strin
     Text(cr, series.name, lx + 28, ly, 12, 0.0, 0.5);
   }
   Labels(cr, plot.title, plot.x_label, plot.y_label);
-  return Finish(surface.get(), png_path, error);
+  return Finish(canvas.surface.get(), png_path, error);
 }
 
 bool WriteHeatMap(const HeatMap& map, const std::string& png_path, std::string* error) {
-  Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, kWidth, kHeight),
-                  &cairo_surface_destroy);
-  Context context(cairo_create(surface.get()), &cairo_destroy);
-  cairo_t* cr = context.get();
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
+  Canvas canvas;
+  cairo_t* cr = canvas.context.get();
   if (map.x_edges.size() < 2 || map.y_edges.size() < 2) {
     if (error) *error = "a heat map needs at least one cell";
     return false;
@@ -203,7 +206,7 @@ bool WriteHeatMap(const HeatMap& map, const std::string& png_path, std::string* 
   Text(cr, "0 %", bx + bw + 6, f.Py(f.y0), 11, 0.0, 0.5);
   Text(cr, "grey: no data", bx - 4, f.Py(f.y0) + 20, 10, 0.0, 0.5);
   Labels(cr, map.title, map.x_label, map.y_label);
-  return Finish(surface.get(), png_path, error);
+  return Finish(canvas.surface.get(), png_path, error);
 }
 
 }  // namespace chromatag::bench

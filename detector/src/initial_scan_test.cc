@@ -33,6 +33,17 @@ constexpr float EdgeOffset(int half) { return half + 0.5f; }
 // InitialScan's four final scans run right, down, left, up, in this order.
 const cv::Point2f kAxes[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
 
+// Why InitialScan rejects the seed (a failure is added if it does not).
+RejectReason RejectionOf(const cv::Mat& image, cv::Point seed,
+                         std::vector<RejectedRegion>* rejected) {
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  Candidate candidate;
+  RejectReason why = RejectReason::kPaleRed;
+  EXPECT_FALSE(InitialScan(view, DetectorOptions{}, seed, &candidate, rejected, &why))
+      << "seed " << seed << " accepted";
+  return why;
+}
+
 // Seeded just inside the red's left edge on the centre row, InitialScan
 // converges on the drawn centre and finds each ring's border on each axis.
 TEST(InitialScanTest, FindsTheCentreAndTheRingsOfATagLikePattern) {
@@ -63,11 +74,7 @@ TEST(InitialScanTest, FindsTheCentreAndTheRingsOfATagLikePattern) {
 TEST(InitialScanTest, RejectsASeedOnGreyAsPale) {
   cv::Mat image = RenderRings({200, 200}, 100, 100);
   cv::rectangle(image, {160, 20}, {190, 50}, kGrey, cv::FILLED);
-  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
-  Candidate candidate;
-  RejectReason why;
-  ASSERT_FALSE(InitialScan(view, DetectorOptions{}, {175, 35}, &candidate, nullptr, &why));
-  EXPECT_EQ(why, RejectReason::kPaleRed);
+  EXPECT_EQ(RejectionOf(image, {175, 35}, nullptr), RejectReason::kPaleRed);
 }
 
 // A red square straight on white (a red sign on a wall): with max_green_a
@@ -99,7 +106,6 @@ TEST(InitialScanTest, RejectsRedOnWhiteAtTheFirstScan) {
 TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
   const int cx = 100, cy = 100;
   const cv::Mat image = RenderRings({200, 200}, cx, cy);
-  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   // The drawn red/green border in the eight directions of a centring pass.
   std::array<cv::Point2f, 8> border;
   const float e = EdgeOffset(kRedHalf);
@@ -107,11 +113,8 @@ TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
                                   {-e, 0}, {-e, -e}, {0, -e}, {e, -e}};
   for (int i = 0; i < 8; ++i) border[i] = cv::Point2f(cx, cy) + offsets[i];
   std::vector<RejectedRegion> rejected = {RejectedRegion::Around(border)};
-  Candidate candidate;
-  RejectReason why;
-  ASSERT_FALSE(
-      InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, &candidate, &rejected, &why));
-  EXPECT_EQ(why, RejectReason::kInRejectedRegion);
+  EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 1, cy}, &rejected),
+            RejectReason::kInRejectedRegion);
   EXPECT_EQ(rejected.size(), 1u);
 }
 
@@ -121,19 +124,13 @@ TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
 TEST(InitialScanTest, AddsTheRegionRejectedAfterCentring) {
   const int cx = 100, cy = 100;
   const cv::Mat image = RenderRings({200, 200}, cx, cy, /*with_green=*/true, /*with_black=*/false);
-  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   std::vector<RejectedRegion> rejected;
-  Candidate candidate;
-  RejectReason why;
-  ASSERT_FALSE(
-      InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, &candidate, &rejected, &why));
-  EXPECT_EQ(why, RejectReason::kRingScan);
+  EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 1, cy}, &rejected), RejectReason::kRingScan);
   ASSERT_EQ(rejected.size(), 1u);
   EXPECT_TRUE(rejected[0].Contains(cv::Point2f(cx, cy)));
   // A later seed in the same red is now dropped at once.
-  ASSERT_FALSE(InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 2, cy + 3}, &candidate,
-                           &rejected, &why));
-  EXPECT_EQ(why, RejectReason::kInRejectedRegion);
+  EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3}, &rejected),
+            RejectReason::kInRejectedRegion);
   EXPECT_EQ(rejected.size(), 1u);
 }
 
