@@ -18,6 +18,15 @@ constexpr float kConvergedPx = 0.75f;
 constexpr float kD = 0.70710678f;
 const cv::Point2f kDirections[8] = {{1, 0},  {kD, kD},   {0, 1},  {-kD, kD},
                                     {-1, 0}, {-kD, -kD}, {0, -1}, {kD, -kD}};
+// The order of CentringPass's scans. They are independent, so the order
+// changes only how soon a candidate that fails is dropped: up first, since
+// FindADiff meets a red region on the first sampled row that crosses it, near
+// its top, so the upward scan is short and reaches what borders the red
+// there (a tag's green, something else for most red things); then the other
+// axes, then the diagonals. On the camera set's first 600 frames: 20 % fewer
+// pixels walked and InitialScan 4.7 % faster than in index order, the same
+// detections.
+constexpr int kCentringOrder[8] = {6, 2, 4, 0, 5, 7, 3, 1};
 // Pixels past a red/green run searched for the green's full a* drop.
 constexpr int kGreenLookAhead = 6;
 // The a* drop into a tag's green, as a fraction of ADiffThresh: the palettes'
@@ -49,7 +58,7 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
   const float red_thresh = RedGreenThresh(options, reference_red);
   const float min_drop = kMinGreenDropFraction * static_cast<float>(options.adiff_thresh);
   const float max_green_a = static_cast<float>(options.max_green_a);
-  for (int i = 0; i < 8; ++i) {
+  for (int i : kCentringOrder) {
     // Red -> green only: the a* drop of the full scan, without the rings.
     const cv::Point2f direction = kDirections[i];
     int consecutive = 0, k = 1;
