@@ -122,8 +122,7 @@ TEST(CalibCalibrateTest, MaxGreenAFollowsTheGreensMeasuredA) {
   Margins cast = neutral;
   cast.a_gap = 60.0;
   cast.max_green_a = 6.0;
-  EXPECT_DOUBLE_EQ(DeriveThresholds({neutral}).options.max_green_a,
-                   DetectorOptions{}.max_green_a);
+  EXPECT_DOUBLE_EQ(DeriveThresholds({neutral}).options.max_green_a, DetectorOptions{}.max_green_a);
   // The worst over photos: the cast one.
   EXPECT_DOUBLE_EQ(DeriveThresholds({neutral, cast}).options.max_green_a, 6.0 + 60.0 / 4.0);
   ThresholdOptions careful;

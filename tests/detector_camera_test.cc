@@ -20,9 +20,9 @@
 namespace chromatag {
 namespace {
 
+using testing::BothFamiliesDetector;
 using testing::Demosaic;
 using testing::ExpectEveryTagFoundOnce;
-using testing::BothFamiliesDetector;
 using testing::RenderScene;
 using testing::SceneOptions;
 using testing::SceneTag;

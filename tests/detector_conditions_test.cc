@@ -16,8 +16,8 @@
 namespace chromatag {
 namespace {
 
-using testing::ExpectEveryTagFoundOnce;
 using testing::BothFamiliesDetector;
+using testing::ExpectEveryTagFoundOnce;
 using testing::RenderScene;
 using testing::Scene;
 using testing::SceneOptions;

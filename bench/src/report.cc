@@ -505,10 +505,11 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
   out << (info.label.empty() ? "" : "Measured: " + info.label + "  \n") << "Command: `"
       << info.command << "`  \n"
       << "CPU: " << info.cpu << "; " << info.load << "."
-      << (info.build.empty() ? "" : " Build: " + info.build + ".") << " Detectors on one thread; rendering took "
-      << Fixed(info.times.render_s, 0) << " s, the timed detection loop "
-      << Fixed(info.times.detect_s, 0) << " s, explaining ChromaTag's misses (untimed) "
-      << Fixed(info.times.analysis_s, 0) << " s.\n\n"
+      << (info.build.empty() ? "" : " Build: " + info.build + ".")
+      << " Detectors on one thread; rendering took " << Fixed(info.times.render_s, 0)
+      << " s, the timed detection loop " << Fixed(info.times.detect_s, 0)
+      << " s, explaining ChromaTag's misses (untimed) " << Fixed(info.times.analysis_s, 0)
+      << " s.\n\n"
       << DatasetSection(c) << "\n";
   const std::string targets = TargetsSection(c);
   if (!targets.empty()) out << targets << "\n";

@@ -8,9 +8,6 @@
 namespace chromatag::calib {
 namespace {
 
-// DetectorOptions::max_green_a's upper bound.
-constexpr double kMaxMaxGreenA = 100.0;
-
 constexpr std::array<Shade, 4> kChromatic = {Shade::kRed1, Shade::kRed0, Shade::kGreen1,
                                              Shade::kGreen0};
 
@@ -157,7 +154,7 @@ DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
   // a* plus a share of the red-green gap. Never below the default, which
   // allows for that on the benchmark's casts.
   d.max_green_a = std::clamp(w.max_green_a + w.a_gap / (2.0 * s), DetectorOptions{}.max_green_a,
-                             kMaxMaxGreenA);
+                             kMaxGreenALimit);
 
   PairVerdict a_pair{"reds / greens (a*)", w.a_gap, Verdict::kGood, ""};
   if (w.a_gap / s < o.min_adiff) {

@@ -1,6 +1,8 @@
-// Coarse a* (ColorTable::CoarseA) of eight pixels at once with AVX2, shared
-// by the vector paths of FindADiff and ImageView::FirstNotClearlyAbove.
-// Internal; only for functions compiled with __attribute__((target("avx2"))).
+// What the detector's AVX2 paths share: whether the CPU has AVX2, and the
+// coarse a* (ColorTable::CoarseA) of eight pixels at once, used by FindADiff
+// and ImageView::FirstNotClearlyAbove. Internal; CoarseA8 and
+// MakeCoarseALookup only for functions compiled with
+// __attribute__((target("avx2"))).
 #ifndef CHROMATAG_DETECTOR_SRC_COARSE_A_AVX2_H_
 #define CHROMATAG_DETECTOR_SRC_COARSE_A_AVX2_H_
 
@@ -12,6 +14,13 @@
 #include <cstdint>
 
 namespace chromatag::internal {
+
+// Whether the running CPU has AVX2 (the paths are chosen at run time, so
+// that a portable build runs anywhere).
+inline bool CpuHasAvx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
 
 // The shifts that bring each channel's top five bits down in a pixel's
 // 32-bit word (its three bytes first, in either order), and the table.

@@ -132,17 +132,12 @@ __attribute__((target("avx2"))) int SampleRowAvx2(const RowSampler& s, int32_t* 
   }
   return RisesScalar(s, j, coarse, rises, n);
 }
-
-bool HasAvx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-}
 #endif
 
 // Fills `coarse` and `rises`; returns the number of rises.
 int SampleRow(const RowSampler& s, int32_t* coarse, int* rises) {
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
-  if (HasAvx2()) return SampleRowAvx2(s, coarse, rises);
+  if (CpuHasAvx2()) return SampleRowAvx2(s, coarse, rises);
 #endif
   CoarseRowScalar(s, 0, coarse);
   return RisesScalar(s, 1, coarse, rises, 0);

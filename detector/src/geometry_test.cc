@@ -193,7 +193,8 @@ TEST(GeometryTest, UnitSquareToQuadMatchesGetPerspectiveTransform) {
     for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(quad[i]);
     const cv::Matx33d expected(cv::getPerspectiveTransform(unit, dst));
     const cv::Matx33d h = UnitSquareToQuad(quad);
-    for (int k = 0; k < 9; ++k) EXPECT_NEAR(h.val[k], expected.val[k], 1e-6 * (1 + std::abs(expected.val[k])));
+    for (int k = 0; k < 9; ++k)
+      EXPECT_NEAR(h.val[k], expected.val[k], 1e-6 * (1 + std::abs(expected.val[k])));
   }
   // Three corners in a line: no homography (all zeros, as OpenCV's).
   EXPECT_EQ(UnitSquareToQuad({{{0, 0}, {1, 0}, {2, 0}, {0, 1}}}), cv::Matx33d::zeros());

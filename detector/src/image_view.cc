@@ -5,7 +5,6 @@
 
 #include "coarse_a_avx2.h"
 
-
 namespace chromatag::internal {
 
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
@@ -87,15 +86,18 @@ __attribute__((target("avx2"))) int FirstNotClearlyAboveAvx2Impl(
     const __m256 sy = _mm256_add_ps(_mm256_add_ps(vy, _mm256_mul_ps(fk, vdy)), half);
     __m256i px = _mm256_cvttps_epi32(sx), py = _mm256_cvttps_epi32(sy);
     // Truncation rounds towards zero; one less where that rounded up.
-    px = _mm256_add_epi32(px, _mm256_castps_si256(_mm256_cmp_ps(sx, _mm256_cvtepi32_ps(px), _CMP_LT_OQ)));
-    py = _mm256_add_epi32(py, _mm256_castps_si256(_mm256_cmp_ps(sy, _mm256_cvtepi32_ps(py), _CMP_LT_OQ)));
+    px = _mm256_add_epi32(
+        px, _mm256_castps_si256(_mm256_cmp_ps(sx, _mm256_cvtepi32_ps(px), _CMP_LT_OQ)));
+    py = _mm256_add_epi32(
+        py, _mm256_castps_si256(_mm256_cmp_ps(sy, _mm256_cvtepi32_ps(py), _CMP_LT_OQ)));
     const __m256i offset =
         _mm256_add_epi32(_mm256_mullo_epi32(py, vstep), _mm256_mullo_epi32(px, three));
     const __m256i outside = _mm256_or_si256(
         _mm256_or_si256(_mm256_cmpgt_epi32(zero, px), _mm256_cmpgt_epi32(zero, py)),
         _mm256_or_si256(
-            _mm256_or_si256(_mm256_cmpgt_epi32(px, _mm256_sub_epi32(vwidth, _mm256_set1_epi32(1))),
-                            _mm256_cmpgt_epi32(py, _mm256_sub_epi32(vheight, _mm256_set1_epi32(1)))),
+            _mm256_or_si256(
+                _mm256_cmpgt_epi32(px, _mm256_sub_epi32(vwidth, _mm256_set1_epi32(1))),
+                _mm256_cmpgt_epi32(py, _mm256_sub_epi32(vheight, _mm256_set1_epi32(1)))),
             _mm256_cmpeq_epi32(offset, last_pixel)));
     if (!_mm256_testz_si256(outside, outside)) break;
     const __m256i coarse = CoarseA8(lookup, _mm256_i32gather_epi32(base, offset, 1));
@@ -109,12 +111,11 @@ __attribute__((target("avx2"))) int FirstNotClearlyAboveAvx2Impl(
 }  // namespace
 #endif
 
-int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height,
-                             int r_offset, const int8_t* table, float x, float y, float dx,
-                             float dy, int first, int last, float above) {
+int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height, int r_offset,
+                             const int8_t* table, float x, float y, float dx, float dy, int first,
+                             int last, float above) {
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  if (has_avx2) {
+  if (CpuHasAvx2()) {
     return FirstNotClearlyAboveAvx2Impl(data, step, width, height, r_offset, table, x, y, dx, dy,
                                         first, last, above);
   }
@@ -127,8 +128,7 @@ int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int he
 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray, float x, float y,
                    float dx, float dy, int n, float* out) {
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  if (has_avx2 && n >= 8) {
+  if (CpuHasAvx2() && n >= 8) {
     return SampleLineAvx2Impl(data, step, r_offset, gray, x, y, dx, dy, n, out);
   }
 #endif

@@ -46,9 +46,9 @@ int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray, fl
 // ImageView::FirstNotClearlyAbove's vector path (image_view.cc): returns the
 // first step it could not decide, `first` without AVX2. Every step before it
 // lies inside the frame with a coarse a* above `above`.
-int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height,
-                             int r_offset, const int8_t* table, float x, float y, float dx,
-                             float dy, int first, int last, float above);
+int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height, int r_offset,
+                             const int8_t* table, float x, float y, float dx, float dy, int first,
+                             int last, float above);
 
 class ImageView {
  public:

@@ -42,7 +42,7 @@ bool DetectorOptions::IsValid(std::string* error) const {
     return fail("border_thresh (BorderThresh) must be in (0, 100]");
   }
   if (border_run < 1 || border_run > 16) return fail("border_run (M) must be in [1, 16]");
-  if (!(max_green_a >= -100.0 && max_green_a <= 100.0))
+  if (!(max_green_a >= -kMaxGreenALimit && max_green_a <= kMaxGreenALimit))
     return fail("max_green_a must be in [-100, 100] (a* units)");
   if (!(conv_thresh > 0.0 && conv_thresh < 1.0))
     return fail("conv_thresh (ConvThresh) must be in (0, 1)");

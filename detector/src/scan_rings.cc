@@ -89,7 +89,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
       // Outside a run, eight at a time (the same pixels and tests).
       if (consecutive == 0) {
         const int next = image.FirstNotClearlyAbove(start.x, start.y, direction.x, direction.y, k,
-                                                     max_steps, clearly_inside);
+                                                    max_steps, clearly_inside);
         for (; k < next; ++k) values[k] = kNotRead;
         if (k > max_steps) break;
       }

@@ -38,7 +38,7 @@ struct FrameRecord {
   // thread that runs nothing else); NaN in ChromaTag-only runs, where
   // detectors[kChromaTag].time_us already is that.
   double chromatag_alone_us = std::numeric_limits<double>::quiet_NaN();
-  MissCause chromatag_miss;           // Why ChromaTag missed its tag, if it did.
+  MissCause chromatag_miss;  // Why ChromaTag missed its tag, if it did.
 };
 
 struct RunOptions {

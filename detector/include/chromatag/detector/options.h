@@ -28,6 +28,9 @@ struct CameraIntrinsics {
 // reds come close.
 inline constexpr double kMinTagRedA = 12.0;
 
+// DetectorOptions::max_green_a lies in [-kMaxGreenALimit, kMaxGreenALimit].
+inline constexpr double kMaxGreenALimit = 100.0;
+
 struct DetectorOptions {
   // Families to look for: "16h5", "36h11" or both.
   std::vector<std::string> families = {"16h5"};
