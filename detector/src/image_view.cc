@@ -10,18 +10,6 @@ namespace chromatag::internal {
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
 namespace {
 
-// The channel of the pixel whose three bytes start each 32-bit lane.
-__attribute__((target("avx2"))) inline __m256i Channel(__m256i words, bool gray,
-                                                       __m128i red_shift) {
-  const __m256i byte = _mm256_set1_epi32(0xFF);
-  const __m256i g = _mm256_and_si256(_mm256_srli_epi32(words, 8), byte);
-  if (gray) {
-    return _mm256_add_epi32(_mm256_add_epi32(_mm256_and_si256(words, byte), g),
-                            _mm256_and_si256(_mm256_srli_epi32(words, 16), byte));
-  }
-  return _mm256_sub_epi32(_mm256_and_si256(_mm256_srl_epi32(words, red_shift), byte), g);
-}
-
 // Same arithmetic as ImageView::SampleLineWith, in the same order and
 // without fused multiply-adds, so that both paths give the same floats.
 __attribute__((target("avx2"))) int SampleLineAvx2Impl(const uint8_t* data, size_t step,
@@ -32,30 +20,12 @@ __attribute__((target("avx2"))) int SampleLineAvx2Impl(const uint8_t* data, size
   const __m256 vx = _mm256_set1_ps(x), vy = _mm256_set1_ps(y);
   const __m256 vdx = _mm256_set1_ps(dx), vdy = _mm256_set1_ps(dy);
   const __m256i vstep = _mm256_set1_epi32(static_cast<int>(step));
-  const __m256i three = _mm256_set1_epi32(3);
-  const int* base = reinterpret_cast<const int*>(data);
   int i = 0;
   for (; i + 8 <= n; i += 8) {
     const __m256 fi = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(i), lane));
     const __m256 px = _mm256_add_ps(vx, _mm256_mul_ps(fi, vdx));
     const __m256 py = _mm256_add_ps(vy, _mm256_mul_ps(fi, vdy));
-    const __m256i x0 = _mm256_cvttps_epi32(px), y0 = _mm256_cvttps_epi32(py);
-    const __m256 tx = _mm256_sub_ps(px, _mm256_cvtepi32_ps(x0));
-    const __m256 ty = _mm256_sub_ps(py, _mm256_cvtepi32_ps(y0));
-    const __m256i p =
-        _mm256_add_epi32(_mm256_mullo_epi32(y0, vstep), _mm256_mullo_epi32(x0, three));
-    const __m256i q = _mm256_add_epi32(p, vstep);
-    const __m256i c00 = Channel(_mm256_i32gather_epi32(base, p, 1), gray, red_shift);
-    const __m256i c01 =
-        Channel(_mm256_i32gather_epi32(base, _mm256_add_epi32(p, three), 1), gray, red_shift);
-    const __m256i c10 = Channel(_mm256_i32gather_epi32(base, q, 1), gray, red_shift);
-    const __m256i c11 =
-        Channel(_mm256_i32gather_epi32(base, _mm256_add_epi32(q, three), 1), gray, red_shift);
-    const __m256 top = _mm256_add_ps(
-        _mm256_cvtepi32_ps(c00), _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(c01, c00)), tx));
-    const __m256 bottom = _mm256_add_ps(
-        _mm256_cvtepi32_ps(c10), _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(c11, c10)), tx));
-    _mm256_storeu_ps(out + i, _mm256_add_ps(top, _mm256_mul_ps(_mm256_sub_ps(bottom, top), ty)));
+    _mm256_storeu_ps(out + i, BilinearEdgeChannel8(data, vstep, px, py, gray, red_shift));
   }
   return i;
 }

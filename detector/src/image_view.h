@@ -69,6 +69,8 @@ class ImageView {
   uint8_t G(const uint8_t* p) const { return p[1]; }
   uint8_t B(const uint8_t* p) const { return p[b_]; }
   int r_offset() const { return r_; }
+  const uint8_t* data() const { return data_; }
+  size_t step() const { return step_; }
   int b_offset() const { return b_; }
   const ColorTable& table() const { return *table_; }
 

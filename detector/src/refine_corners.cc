@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 
+#include "coarse_a_avx2.h"
 #include "stages.h"
 
 namespace chromatag::internal {
@@ -17,6 +18,7 @@ namespace {
 
 constexpr float kProfileStep = 0.5f;  // Pixels between profile samples.
 constexpr int kMaxProfileSteps = 8;   // Samples either side: 4 px.
+constexpr int kMinProfiles = 5;       // Per side, however short.
 
 struct Line {
   cv::Point2d point;
@@ -60,6 +62,8 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
   return true;
 }
 
+}  // namespace
+
 // The edge point on the profile across the side at `middle`, searched within
 // `half` pixels either way: the steepest part of the profile is taken as
 // roughly the edge, the two levels are read half a cell either side of it,
@@ -68,8 +72,10 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
 // the plateaus when the line is still a pixel or two off (on small cells),
 // so one pass already lands on the edge.
 bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
-               cv::Point2d middle, cv::Point2d outward, double half, double level_offset,
-               float min_contrast, cv::Point2d* edge) {
+               const ProfileSpec& spec, cv::Point2d outward, float min_contrast,
+               cv::Point2d* edge) {
+  const cv::Point2d middle = spec.middle;
+  const double half = spec.half, level_offset = spec.level_offset;
   const int steps = std::min(kMaxProfileSteps, static_cast<int>(std::ceil(half / kProfileStep)));
   const int n = 2 * steps + 1;
   const float mx = static_cast<float>(middle.x), my = static_cast<float>(middle.y);
@@ -116,7 +122,228 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
   return true;
 }
 
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
+namespace {
+
+// EdgePoint for up to eight profiles of one side at once, one per lane: the
+// same floats, comparisons and choices as EdgePoint for each, so the same
+// edge points. Profiles cut short by the frame, or whose reads would pass
+// the frame's last byte, are left to EdgePoint. `channel` is kGray or
+// kRedMinusGreen, and the frame's byte offsets fit in 32 bits. On the
+// camera set, side refinement took about a third less time than with
+// EdgePoint profile by profile: the per-profile bookkeeping, the sampling
+// and the two level reads are shared across the lanes.
+__attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
+                                                 const ChannelWeights& channel, int polarity,
+                                                 const ProfileSpec* spec, int count,
+                                                 cv::Point2d outward, float min_contrast,
+                                                 ProfileEdge* out) {
+  const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
+  const float ox = static_cast<float>(outward.x) * kProfileStep,
+              oy = static_cast<float>(outward.y) * kProfileStep;
+  const float w1 = static_cast<float>(image.width() - 1);
+  const float h1 = static_cast<float>(image.height() - 1);
+  // Per lane: the profile's first sample, its length and half-length. Lanes
+  // not in the vector path read a safe pixel and are ignored.
+  alignas(32) float start_x[8], start_y[8];
+  alignas(32) int length[8], steps[8];
+  bool in_vector[8];
+  int longest = 0;
+  for (int l = 0; l < 8; ++l) {
+    in_vector[l] = false;
+    start_x[l] = start_y[l] = 1.f;
+    length[l] = steps[l] = 0;
+    if (l >= count) continue;
+    out[l].found = false;
+    const int s =
+        std::min(kMaxProfileSteps, static_cast<int>(std::ceil(spec[l].half / kProfileStep)));
+    const int n = 2 * s + 1;
+    const float first = static_cast<float>(-s);
+    const float x = static_cast<float>(spec[l].middle.x) + first * ox;
+    const float y = static_cast<float>(spec[l].middle.y) + first * oy;
+    const float last_x = x + static_cast<float>(n - 1) * ox;
+    const float last_y = y + static_cast<float>(n - 1) * oy;
+    // ImageView::SampleLine's frame test: where it fails, so does EdgePoint.
+    if (!(x >= 0.f && y >= 0.f && last_x >= 0.f && last_y >= 0.f && x < w1 && y < h1 &&
+          last_x < w1 && last_y < h1)) {
+      continue;
+    }
+    // A 32-bit read at each pixel reaches a byte past it (SampleLine's test).
+    if (!(std::max(x, last_x) < static_cast<float>(image.width() - 2) ||
+          std::max(y, last_y) < static_cast<float>(image.height() - 2))) {
+      out[l].found =
+          EdgePoint(image, channel, polarity, spec[l], outward, min_contrast, &out[l].edge);
+      continue;
+    }
+    in_vector[l] = true;
+    start_x[l] = x;
+    start_y[l] = y;
+    length[l] = n;
+    steps[l] = s;
+    longest = std::max(longest, n);
+  }
+  if (longest == 0) return;
+
+  const __m256i step = _mm256_set1_epi32(static_cast<int>(image.step()));
+  const __m128i red_shift = _mm_cvtsi32_si128(8 * image.r_offset());
+  const __m256 vx = _mm256_load_ps(start_x), vy = _mm256_load_ps(start_y);
+  const __m256 vox = _mm256_set1_ps(ox), voy = _mm256_set1_ps(oy);
+  const __m256i vlength = _mm256_load_si256(reinterpret_cast<const __m256i*>(length));
+  auto below_length = [&](int i) {  // Lanes whose profile has a sample i.
+    return _mm256_castsi256_ps(_mm256_cmpgt_epi32(vlength, _mm256_set1_epi32(i)));
+  };
+  __m256 profile[2 * kMaxProfileSteps + 1];
+  for (int k = 0; k < longest; ++k) {
+    const __m256 fk = _mm256_set1_ps(static_cast<float>(k));
+    const __m256 inside = below_length(k);
+    // Past a lane's own end, its first sample is read again (and ignored).
+    const __m256 px = _mm256_blendv_ps(vx, _mm256_add_ps(vx, _mm256_mul_ps(fk, vox)), inside);
+    const __m256 py = _mm256_blendv_ps(vy, _mm256_add_ps(vy, _mm256_mul_ps(fk, voy)), inside);
+    profile[k] = BilinearEdgeChannel8(image.data(), step, px, py, gray, red_shift);
+  }
+
+  // The steepest change the right way round; the first of equals.
+  const __m256 vpolarity = _mm256_set1_ps(static_cast<float>(polarity));
+  __m256 steepest_change = _mm256_set1_ps(-1.f);
+  __m256 steepest = _mm256_castsi256_ps(_mm256_set1_epi32(1));
+  for (int i = 1; i + 1 < longest; ++i) {
+    const __m256 change = _mm256_mul_ps(vpolarity, _mm256_sub_ps(profile[i + 1], profile[i - 1]));
+    const __m256 steeper =
+        _mm256_and_ps(below_length(i + 1), _mm256_cmp_ps(change, steepest_change, _CMP_GT_OQ));
+    steepest_change = _mm256_blendv_ps(steepest_change, change, steeper);
+    steepest = _mm256_blendv_ps(steepest, _mm256_castsi256_ps(_mm256_set1_epi32(i)), steeper);
+  }
+  alignas(32) float change_lane[8];
+  alignas(32) int steepest_lane[8];
+  _mm256_store_ps(change_lane, steepest_change);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(steepest_lane), _mm256_castps_si256(steepest));
+
+  // The two levels, half a cell either side of the steepest change.
+  alignas(32) float in_x[8], in_y[8], out_x[8], out_y[8], mid[8];
+  alignas(32) double centre[8];
+  bool read_levels[8], has_mid[8];
+  for (int l = 0; l < 8; ++l) {
+    read_levels[l] = has_mid[l] = false;
+    in_x[l] = in_y[l] = out_x[l] = out_y[l] = 1.f;
+    mid[l] = 0.f;
+    centre[l] = 0.0;
+    if (!in_vector[l] || !(change_lane[l] > 0.f)) continue;
+    centre[l] = (steepest_lane[l] - steps[l]) * kProfileStep;
+    const cv::Point2d in = spec[l].middle + (centre[l] - spec[l].level_offset) * outward;
+    const cv::Point2d out = spec[l].middle + (centre[l] + spec[l].level_offset) * outward;
+    const float ix = static_cast<float>(in.x), iy = static_cast<float>(in.y);
+    const float ux = static_cast<float>(out.x), uy = static_cast<float>(out.y);
+    // ImageView::Sample's frame test; the frame's last pixel is read by
+    // Sample itself (a 32-bit read there would pass the frame's end).
+    enum { kOutside, kVector, kScalar };
+    auto where = [&](float x, float y) {
+      if (!(x >= 0.f && y >= 0.f)) return kOutside;
+      const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+      if (x0 + 1 >= image.width() || y0 + 1 >= image.height()) return kOutside;
+      return x0 + 2 == image.width() && y0 + 2 == image.height() ? kScalar : kVector;
+    };
+    const int in_at = where(ix, iy), out_at = where(ux, uy);
+    if (in_at == kOutside || out_at == kOutside) continue;
+    if (in_at == kScalar || out_at == kScalar) {
+      float inside = 0, outside = 0;
+      image.Sample(ix, iy, channel, &inside);
+      image.Sample(ux, uy, channel, &outside);
+      if (std::abs(outside - inside) < min_contrast) continue;
+      mid[l] = 0.5f * (inside + outside);
+      has_mid[l] = true;
+      continue;
+    }
+    in_x[l] = ix, in_y[l] = iy, out_x[l] = ux, out_y[l] = uy;
+    read_levels[l] = true;
+  }
+  alignas(32) float inside[8], outside[8];
+  _mm256_store_ps(inside, BilinearEdgeChannel8(image.data(), step, _mm256_load_ps(in_x),
+                                               _mm256_load_ps(in_y), gray, red_shift));
+  _mm256_store_ps(outside, BilinearEdgeChannel8(image.data(), step, _mm256_load_ps(out_x),
+                                                _mm256_load_ps(out_y), gray, red_shift));
+  for (int l = 0; l < 8; ++l) {
+    if (!read_levels[l] || std::abs(outside[l] - inside[l]) < min_contrast) continue;
+    mid[l] = 0.5f * (inside[l] + outside[l]);
+    has_mid[l] = true;
+  }
+
+  // The crossing of the halfway level nearest the steepest change, compared
+  // in double as EdgePoint does; lanes without a level pair never cross.
+  const __m256 vmid = _mm256_load_ps(mid);
+  const __m256 vsteps =
+      _mm256_cvtepi32_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(steps)));
+  const __m256 vprofile_step = _mm256_set1_ps(kProfileStep);
+  alignas(32) int may_cross[8];
+  for (int l = 0; l < 8; ++l) may_cross[l] = has_mid[l] ? -1 : 0;
+  const __m256 vmay_cross =
+      _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(may_cross)));
+  const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFFLL));
+  __m256d centre_half[2] = {_mm256_load_pd(centre), _mm256_load_pd(centre + 4)};
+  __m256d best[2], best_distance[2];
+  for (int h = 0; h < 2; ++h) {
+    best[h] = _mm256_set1_pd(1e300);
+    best_distance[h] = _mm256_and_pd(_mm256_sub_pd(best[h], centre_half[h]), abs_mask);
+  }
+  for (int i = 1; i < longest; ++i) {
+    const __m256 previous = profile[i - 1], v = profile[i];
+    const __m256 straddles =
+        _mm256_cmp_ps(_mm256_mul_ps(_mm256_sub_ps(previous, vmid), _mm256_sub_ps(v, vmid)),
+                      _mm256_setzero_ps(), _CMP_LE_OQ);
+    const __m256 crosses =
+        _mm256_and_ps(_mm256_and_ps(vmay_cross, below_length(i)),
+                      _mm256_and_ps(straddles, _mm256_cmp_ps(previous, v, _CMP_NEQ_UQ)));
+    if (_mm256_testz_ps(crosses, crosses)) continue;
+    const __m256 at = _mm256_add_ps(
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(static_cast<float>(i - 1)), vsteps),
+                      vprofile_step),
+        _mm256_div_ps(_mm256_mul_ps(vprofile_step, _mm256_sub_ps(vmid, previous)),
+                      _mm256_sub_ps(v, previous)));
+    const __m128 at_half[2] = {_mm256_castps256_ps128(at), _mm256_extractf128_ps(at, 1)};
+    const __m128i crosses_half[2] = {_mm256_castsi256_si128(_mm256_castps_si256(crosses)),
+                                     _mm256_extracti128_si256(_mm256_castps_si256(crosses), 1)};
+    for (int h = 0; h < 2; ++h) {
+      const __m256d at_d = _mm256_cvtps_pd(at_half[h]);
+      const __m256d distance = _mm256_and_pd(_mm256_sub_pd(at_d, centre_half[h]), abs_mask);
+      const __m256d nearer =
+          _mm256_and_pd(_mm256_castsi256_pd(_mm256_cvtepi32_epi64(crosses_half[h])),
+                        _mm256_cmp_pd(distance, best_distance[h], _CMP_LT_OQ));
+      best[h] = _mm256_blendv_pd(best[h], at_d, nearer);
+      best_distance[h] = _mm256_blendv_pd(best_distance[h], distance, nearer);
+    }
+  }
+  alignas(32) double best_lane[8];
+  _mm256_store_pd(best_lane, best[0]);
+  _mm256_store_pd(best_lane + 4, best[1]);
+  for (int l = 0; l < 8; ++l) {
+    if (!has_mid[l] || best_lane[l] > 1e299) continue;
+    out[l].found = true;
+    out[l].edge = spec[l].middle + best_lane[l] * outward;
+  }
+}
+
 }  // namespace
+#endif
+
+void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polarity,
+                const ProfileSpec* spec, int count, cv::Point2d outward, float min_contrast,
+                ProfileEdge* out) {
+  int done = 0;
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
+  const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
+  const bool red_minus_green = channel.r == 1 && channel.g == -1 && channel.b == 0;
+  if (CpuHasAvx2() && (gray || red_minus_green) &&
+      image.step() * static_cast<size_t>(image.height()) < (size_t{1} << 31)) {
+    for (; done < count; done += 8) {
+      EdgePoints8(image, channel, polarity, spec + done, std::min(8, count - done), outward,
+                  min_contrast, out + done);
+    }
+  }
+#endif
+  for (; done < count; ++done) {
+    out[done].found =
+        EdgePoint(image, channel, polarity, spec[done], outward, min_contrast, &out[done].edge);
+  }
+}
 
 bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
   const ChannelWeights& channel = search.channel;
@@ -128,6 +355,10 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
   for (int i = 0; i < 4; ++i) mean_length += 0.25 * cv::norm((*quad)[(i + 1) % 4] - (*quad)[i]);
   std::array<Line, 4> sides;
   thread_local std::vector<cv::Point2d> points;
+  thread_local std::vector<ProfileSpec> spec;
+  thread_local std::vector<ProfileEdge> edges;
+  spec.resize(std::max(kMinProfiles, max_samples));
+  edges.resize(spec.size());
   for (int i = 0; i < 4; ++i) {
     const cv::Point2d p = (*quad)[i], q = (*quad)[(i + 1) % 4];
     const double length = cv::norm(q - p);
@@ -144,19 +375,19 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
     };
     const double cell_p = cell_at((*quad)[(i + 3) % 4], p);
     const double cell_q = cell_at((*quad)[(i + 2) % 4], q);
-    const int samples = std::clamp(static_cast<int>(length / 2.0), 5, max_samples);
-    points.clear();
+    const int samples =
+        std::max(kMinProfiles, std::min(static_cast<int>(length / 2.0), max_samples));
     for (int j = 0; j < samples; ++j) {
       // Keep clear of the corners, where the neighbouring side interferes.
       const double t = 0.12 + 0.76 * j / (samples - 1);
       const double local_cell = cell_p + t * (cell_q - cell_p);
-      const double level_offset = 0.5 * local_cell;
-      const double half = std::clamp(0.5 * local_cell, 1.0, max_half);
-      cv::Point2d edge;
-      if (EdgePoint(image, channel, search.polarity, p + t * (q - p), outward, half, level_offset,
-                    min_contrast, &edge)) {
-        points.push_back(edge);
-      }
+      spec[j] = {p + t * (q - p), std::clamp(0.5 * local_cell, 1.0, max_half), 0.5 * local_cell};
+    }
+    EdgePoints(image, channel, search.polarity, spec.data(), samples, outward, min_contrast,
+               edges.data());
+    points.clear();
+    for (int j = 0; j < samples; ++j) {
+      if (edges[j].found) points.push_back(edges[j].edge);
     }
     if (points.size() < 4) return false;
     if (!FitLine(&points, &sides[i])) return false;
