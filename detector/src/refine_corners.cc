@@ -125,6 +125,11 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
 namespace {
 
+// The lanes whose profile has a sample i (`length` samples each).
+__attribute__((target("avx2"))) inline __m256 BelowLength(__m256i length, int i) {
+  return _mm256_castsi256_ps(_mm256_cmpgt_epi32(length, _mm256_set1_epi32(i)));
+}
+
 // EdgePoint for up to eight profiles of one side at once, one per lane: the
 // same floats, comparisons and choices as EdgePoint for each, so the same
 // edge points. Profiles cut short by the frame, or whose reads would pass
@@ -189,13 +194,10 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
   const __m256 vx = _mm256_load_ps(start_x), vy = _mm256_load_ps(start_y);
   const __m256 vox = _mm256_set1_ps(ox), voy = _mm256_set1_ps(oy);
   const __m256i vlength = _mm256_load_si256(reinterpret_cast<const __m256i*>(length));
-  auto below_length = [&](int i) {  // Lanes whose profile has a sample i.
-    return _mm256_castsi256_ps(_mm256_cmpgt_epi32(vlength, _mm256_set1_epi32(i)));
-  };
   __m256 profile[2 * kMaxProfileSteps + 1];
   for (int k = 0; k < longest; ++k) {
     const __m256 fk = _mm256_set1_ps(static_cast<float>(k));
-    const __m256 inside = below_length(k);
+    const __m256 inside = BelowLength(vlength, k);
     // Past a lane's own end, its first sample is read again (and ignored).
     const __m256 px = _mm256_blendv_ps(vx, _mm256_add_ps(vx, _mm256_mul_ps(fk, vox)), inside);
     const __m256 py = _mm256_blendv_ps(vy, _mm256_add_ps(vy, _mm256_mul_ps(fk, voy)), inside);
@@ -209,7 +211,7 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
   for (int i = 1; i + 1 < longest; ++i) {
     const __m256 change = _mm256_mul_ps(vpolarity, _mm256_sub_ps(profile[i + 1], profile[i - 1]));
     const __m256 steeper =
-        _mm256_and_ps(below_length(i + 1), _mm256_cmp_ps(change, steepest_change, _CMP_GT_OQ));
+        _mm256_and_ps(BelowLength(vlength, i + 1), _mm256_cmp_ps(change, steepest_change, _CMP_GT_OQ));
     steepest_change = _mm256_blendv_ps(steepest_change, change, steeper);
     steepest = _mm256_blendv_ps(steepest, _mm256_castsi256_ps(_mm256_set1_epi32(i)), steeper);
   }
@@ -290,7 +292,7 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
         _mm256_cmp_ps(_mm256_mul_ps(_mm256_sub_ps(previous, vmid), _mm256_sub_ps(v, vmid)),
                       _mm256_setzero_ps(), _CMP_LE_OQ);
     const __m256 crosses =
-        _mm256_and_ps(_mm256_and_ps(vmay_cross, below_length(i)),
+        _mm256_and_ps(_mm256_and_ps(vmay_cross, BelowLength(vlength, i)),
                       _mm256_and_ps(straddles, _mm256_cmp_ps(previous, v, _CMP_NEQ_UQ)));
     if (_mm256_testz_ps(crosses, crosses)) continue;
     const __m256 at = _mm256_add_ps(
