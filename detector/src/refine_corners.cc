@@ -72,9 +72,8 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
 // the plateaus when the line is still a pixel or two off (on small cells),
 // so one pass already lands on the edge.
 bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
-               const ProfileSpec& spec, cv::Point2d outward, float min_contrast,
-               cv::Point2d* edge) {
-  const cv::Point2d middle = spec.middle;
+               const ProfileSpec& spec, float min_contrast, cv::Point2d* edge) {
+  const cv::Point2d middle = spec.middle, outward = spec.outward;
   const double half = spec.half, level_offset = spec.level_offset;
   const int steps = std::min(kMaxProfileSteps, static_cast<int>(std::ceil(half / kProfileStep)));
   const int n = 2 * steps + 1;
@@ -141,25 +140,25 @@ __attribute__((target("avx2"))) inline __m256 BelowLength(__m256i length, int i)
 __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
                                                  const ChannelWeights& channel, int polarity,
                                                  const ProfileSpec* spec, int count,
-                                                 cv::Point2d outward, float min_contrast,
-                                                 ProfileEdge* out) {
+                                                 float min_contrast, ProfileEdge* out) {
   const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
-  const float ox = static_cast<float>(outward.x) * kProfileStep,
-              oy = static_cast<float>(outward.y) * kProfileStep;
   const float w1 = static_cast<float>(image.width() - 1);
   const float h1 = static_cast<float>(image.height() - 1);
   // Per lane: the profile's first sample, its length and half-length. Lanes
   // not in the vector path read a safe pixel and are ignored.
-  alignas(32) float start_x[8], start_y[8];
+  alignas(32) float start_x[8], start_y[8], step_x[8], step_y[8];
   alignas(32) int length[8], steps[8];
   bool in_vector[8];
   int longest = 0;
   for (int l = 0; l < 8; ++l) {
     in_vector[l] = false;
     start_x[l] = start_y[l] = 1.f;
+    step_x[l] = step_y[l] = 0.f;
     length[l] = steps[l] = 0;
     if (l >= count) continue;
     out[l].found = false;
+    const float ox = static_cast<float>(spec[l].outward.x) * kProfileStep,
+                oy = static_cast<float>(spec[l].outward.y) * kProfileStep;
     const int s =
         std::min(kMaxProfileSteps, static_cast<int>(std::ceil(spec[l].half / kProfileStep)));
     const int n = 2 * s + 1;
@@ -176,13 +175,14 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
     // A 32-bit read at each pixel reaches a byte past it (SampleLine's test).
     if (!(std::max(x, last_x) < static_cast<float>(image.width() - 2) ||
           std::max(y, last_y) < static_cast<float>(image.height() - 2))) {
-      out[l].found =
-          EdgePoint(image, channel, polarity, spec[l], outward, min_contrast, &out[l].edge);
+      out[l].found = EdgePoint(image, channel, polarity, spec[l], min_contrast, &out[l].edge);
       continue;
     }
     in_vector[l] = true;
     start_x[l] = x;
     start_y[l] = y;
+    step_x[l] = ox;
+    step_y[l] = oy;
     length[l] = n;
     steps[l] = s;
     longest = std::max(longest, n);
@@ -192,7 +192,7 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
   const __m256i step = _mm256_set1_epi32(static_cast<int>(image.step()));
   const __m128i red_shift = _mm_cvtsi32_si128(8 * image.r_offset());
   const __m256 vx = _mm256_load_ps(start_x), vy = _mm256_load_ps(start_y);
-  const __m256 vox = _mm256_set1_ps(ox), voy = _mm256_set1_ps(oy);
+  const __m256 vox = _mm256_load_ps(step_x), voy = _mm256_load_ps(step_y);
   const __m256i vlength = _mm256_load_si256(reinterpret_cast<const __m256i*>(length));
   __m256 profile[2 * kMaxProfileSteps + 1];
   for (int k = 0; k < longest; ++k) {
@@ -210,8 +210,8 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
   __m256 steepest = _mm256_castsi256_ps(_mm256_set1_epi32(1));
   for (int i = 1; i + 1 < longest; ++i) {
     const __m256 change = _mm256_mul_ps(vpolarity, _mm256_sub_ps(profile[i + 1], profile[i - 1]));
-    const __m256 steeper =
-        _mm256_and_ps(BelowLength(vlength, i + 1), _mm256_cmp_ps(change, steepest_change, _CMP_GT_OQ));
+    const __m256 steeper = _mm256_and_ps(BelowLength(vlength, i + 1),
+                                         _mm256_cmp_ps(change, steepest_change, _CMP_GT_OQ));
     steepest_change = _mm256_blendv_ps(steepest_change, change, steeper);
     steepest = _mm256_blendv_ps(steepest, _mm256_castsi256_ps(_mm256_set1_epi32(i)), steeper);
   }
@@ -231,8 +231,8 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
     centre[l] = 0.0;
     if (!in_vector[l] || !(change_lane[l] > 0.f)) continue;
     centre[l] = (steepest_lane[l] - steps[l]) * kProfileStep;
-    const cv::Point2d in = spec[l].middle + (centre[l] - spec[l].level_offset) * outward;
-    const cv::Point2d out = spec[l].middle + (centre[l] + spec[l].level_offset) * outward;
+    const cv::Point2d in = spec[l].middle + (centre[l] - spec[l].level_offset) * spec[l].outward;
+    const cv::Point2d out = spec[l].middle + (centre[l] + spec[l].level_offset) * spec[l].outward;
     const float ix = static_cast<float>(in.x), iy = static_cast<float>(in.y);
     const float ux = static_cast<float>(out.x), uy = static_cast<float>(out.y);
     // ImageView::Sample's frame test; the frame's last pixel is read by
@@ -319,7 +319,7 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
   for (int l = 0; l < 8; ++l) {
     if (!has_mid[l] || best_lane[l] > 1e299) continue;
     out[l].found = true;
-    out[l].edge = spec[l].middle + best_lane[l] * outward;
+    out[l].edge = spec[l].middle + best_lane[l] * spec[l].outward;
   }
 }
 
@@ -327,8 +327,7 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
 #endif
 
 void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polarity,
-                const ProfileSpec* spec, int count, cv::Point2d outward, float min_contrast,
-                ProfileEdge* out) {
+                const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out) {
   int done = 0;
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
   const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
@@ -336,14 +335,14 @@ void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polar
   if (CpuHasAvx2() && (gray || red_minus_green) &&
       image.step() * static_cast<size_t>(image.height()) < (size_t{1} << 31)) {
     for (; done < count; done += 8) {
-      EdgePoints8(image, channel, polarity, spec + done, std::min(8, count - done), outward,
-                  min_contrast, out + done);
+      EdgePoints8(image, channel, polarity, spec + done, std::min(8, count - done), min_contrast,
+                  out + done);
     }
   }
 #endif
   for (; done < count; ++done) {
     out[done].found =
-        EdgePoint(image, channel, polarity, spec[done], outward, min_contrast, &out[done].edge);
+        EdgePoint(image, channel, polarity, spec[done], min_contrast, &out[done].edge);
   }
 }
 
@@ -359,8 +358,11 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
   thread_local std::vector<cv::Point2d> points;
   thread_local std::vector<ProfileSpec> spec;
   thread_local std::vector<ProfileEdge> edges;
-  spec.resize(std::max(kMinProfiles, max_samples));
+  // The four sides' profiles are read in one batch (EdgePoints fills its
+  // lanes across sides), then a line is fitted per side.
+  spec.resize(4 * std::max(kMinProfiles, max_samples));
   edges.resize(spec.size());
+  std::array<int, 5> first{};  // Side i's profiles: [first[i], first[i + 1]).
   for (int i = 0; i < 4; ++i) {
     const cv::Point2d p = (*quad)[i], q = (*quad)[(i + 1) % 4];
     const double length = cv::norm(q - p);
@@ -379,16 +381,19 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
     const double cell_q = cell_at((*quad)[(i + 2) % 4], q);
     const int samples =
         std::max(kMinProfiles, std::min(static_cast<int>(length / 2.0), max_samples));
+    first[i + 1] = first[i] + samples;
     for (int j = 0; j < samples; ++j) {
       // Keep clear of the corners, where the neighbouring side interferes.
       const double t = 0.12 + 0.76 * j / (samples - 1);
       const double local_cell = cell_p + t * (cell_q - cell_p);
-      spec[j] = {p + t * (q - p), std::clamp(0.5 * local_cell, 1.0, max_half), 0.5 * local_cell};
+      spec[first[i] + j] = {p + t * (q - p), outward, std::clamp(0.5 * local_cell, 1.0, max_half),
+                            0.5 * local_cell};
     }
-    EdgePoints(image, channel, search.polarity, spec.data(), samples, outward, min_contrast,
-               edges.data());
+  }
+  EdgePoints(image, channel, search.polarity, spec.data(), first[4], min_contrast, edges.data());
+  for (int i = 0; i < 4; ++i) {
     points.clear();
-    for (int j = 0; j < samples; ++j) {
+    for (int j = first[i]; j < first[i + 1]; ++j) {
       if (edges[j].found) points.push_back(edges[j].edge);
     }
     if (points.size() < 4) return false;

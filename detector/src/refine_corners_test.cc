@@ -146,18 +146,21 @@ TEST(EdgePointsTest, MatchesEdgePointProfileByProfile) {
     for (PixelOrder order : {PixelOrder::kBgr, PixelOrder::kRgb}) {
       const ImageView view(*frame, order, ColorTable::Get());
       for (int trial = 0; trial < 2000; ++trial) {
-        const double a = angle(rng);
-        const cv::Point2d outward(std::cos(a), std::sin(a));
+        // Each profile in its own direction, as a quad's four sides are
+        // read in one batch.
         const int count = 1 + trial % 20;
         std::vector<ProfileSpec> spec(count);
-        for (ProfileSpec& s : spec) s = {{px(rng), py(rng)}, half(rng), offset(rng)};
+        for (ProfileSpec& s : spec) {
+          const double a = angle(rng);
+          s = {{px(rng), py(rng)}, {std::cos(a), std::sin(a)}, half(rng), offset(rng)};
+        }
         for (const ChannelWeights& channel : {kGray, kRedMinusGreen}) {
           for (int polarity : {kRisesOutwards, kFallsOutwards}) {
             std::vector<ProfileEdge> out(count);
-            EdgePoints(view, channel, polarity, spec.data(), count, outward, 12.f, out.data());
+            EdgePoints(view, channel, polarity, spec.data(), count, 12.f, out.data());
             for (int j = 0; j < count; ++j) {
               cv::Point2d edge;
-              const bool ok = EdgePoint(view, channel, polarity, spec[j], outward, 12.f, &edge);
+              const bool ok = EdgePoint(view, channel, polarity, spec[j], 12.f, &edge);
               ASSERT_EQ(out[j].found, ok) << "trial " << trial << " profile " << j;
               ++compared;
               if (!ok) continue;

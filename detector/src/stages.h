@@ -188,10 +188,12 @@ struct SideSearch {
 };
 
 // One profile across a side (refine_corners.cc): centred on `middle`,
-// searched `half` pixels either way along the side's outward normal, the two
-// levels read `level_offset` either side of the steepest change.
+// searched `half` pixels either way along `outward` (the side's outward unit
+// normal), the two levels read `level_offset` either side of the steepest
+// change.
 struct ProfileSpec {
   cv::Point2d middle;
+  cv::Point2d outward;
   double half = 0;
   double level_offset = 0;
 };
@@ -204,12 +206,11 @@ struct ProfileEdge {
 // if the profile leaves the frame, has no such change, or the levels differ
 // by less than `min_contrast`.
 bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
-               const ProfileSpec& spec, cv::Point2d outward, float min_contrast, cv::Point2d* edge);
-// EdgePoint for each of `count` profiles of one side, into out[0 .. count);
-// eight at a time where the CPU has AVX2, with the same results.
+               const ProfileSpec& spec, float min_contrast, cv::Point2d* edge);
+// EdgePoint for each of `count` profiles, into out[0 .. count); eight at a
+// time where the CPU has AVX2, with the same results.
 void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polarity,
-                const ProfileSpec* spec, int count, cv::Point2d outward, float min_contrast,
-                ProfileEdge* out);
+                const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out);
 
 // Moves the sides of `quad` onto the edge of `search.channel` nearest to
 // them: sub-pixel edge points on short profiles across each side, a robust
