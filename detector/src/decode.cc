@@ -121,12 +121,6 @@ struct CellSample {
   float b = 0;
 };
 
-// Sums of R, G and B over the pixels nearest to the points of a cell's grid
-// (ReadCell), and how many there were; points outside the frame are skipped.
-struct PixelSums {
-  int r = 0, g = 0, b = 0, n = 0;
-};
-
 // The grid's point k = j * samples + i: centre + s_i du + t_j dv, with s_i
 // and t_j = `spread`[i] and `spread`[j] (from -1 to 1).
 struct CellGrid {
@@ -226,6 +220,32 @@ __attribute__((target("avx2"))) int AddGridPointsAvx2(const ImageView& image, co
 }
 #endif
 
+}  // namespace
+
+PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du, cv::Point2d dv,
+                      int samples, bool scalar) {
+  CellGrid grid;
+  grid.centre = centre;
+  grid.du = du;
+  grid.dv = dv;
+  grid.samples = std::clamp(samples, 2, static_cast<int>(grid.spread.size()));
+  for (int i = 0; i < grid.samples; ++i) grid.spread[i] = 2.0 * i / (grid.samples - 1) - 1.0;
+  PixelSums sums;
+  const int count = grid.samples * grid.samples;
+  int k = 0;
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
+  if (!scalar && CpuHasAvx2() &&
+      image.step() * static_cast<size_t>(image.height()) < (size_t{1} << 31)) {
+    k = AddGridPointsAvx2(image, grid, count, &sums);
+  }
+#endif
+  (void)scalar;
+  for (; k < count; ++k) AddGridPoint(image, grid, k, &sums);
+  return sums;
+}
+
+namespace {
+
 // The cell's grid follows the local affine approximation of the homography
 // at its centre: exact enough over half a cell, and two projections a cell
 // instead of one a sample.
@@ -233,20 +253,10 @@ CellSample ReadCell(const ImageView& image, const cv::Matx33d& image_from_tag, i
                     int col, int samples) {
   const double u = (col + 1.5) / cells, v = (row + 1.5) / cells;
   const double reach = kCellSampleReach / cells;
-  CellGrid grid;
-  grid.centre = ApplyHomography(image_from_tag, u, v);
-  grid.du = ApplyHomography(image_from_tag, u + reach, v) - grid.centre;
-  grid.dv = ApplyHomography(image_from_tag, u, v + reach) - grid.centre;
-  grid.samples = samples;
-  for (int i = 0; i < samples; ++i) grid.spread[i] = 2.0 * i / (samples - 1) - 1.0;
-  PixelSums sums;
-  const int count = samples * samples;
-  int k = 0;
-#ifdef CHROMATAG_HAVE_AVX2_PATHS
-  if (CpuHasAvx2() && image.step() * static_cast<size_t>(image.height()) < (size_t{1} << 31))
-    k = AddGridPointsAvx2(image, grid, count, &sums);
-#endif
-  for (; k < count; ++k) AddGridPoint(image, grid, k, &sums);
+  const cv::Point2d centre = ApplyHomography(image_from_tag, u, v);
+  const cv::Point2d du = ApplyHomography(image_from_tag, u + reach, v) - centre;
+  const cv::Point2d dv = ApplyHomography(image_from_tag, u, v + reach) - centre;
+  const PixelSums sums = SumCellGrid(image, centre, du, dv, samples);
   const int n = sums.n;
   if (n == 0) return {};
   const LabF lab = image.table().Lab(static_cast<uint8_t>((sums.r + n / 2) / n),

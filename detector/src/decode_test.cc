@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <random>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -178,6 +179,37 @@ TEST(DecodeTest, RingsOutOfProportionFitNoFamily) {
   RejectReason why;
   EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why));
   EXPECT_EQ(why, RejectReason::kNoFamilyFits);
+}
+
+// SumCellGrid (eight points at a time with AVX2 where it can) gives exactly
+// the scalar sums: grids anywhere in the frame, turned and sheared, partly
+// or wholly outside it, and over its last pixel, in either channel order.
+TEST(SumCellGridTest, MatchesTheScalarSums) {
+  cv::Mat image(47, 71, CV_8UC3);
+  cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(256));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> px(-4.0, 75.0), py(-4.0, 51.0), d(-3.0, 3.0);
+  int partly_outside = 0, over_last_pixel = 0;
+  for (PixelOrder order : {PixelOrder::kBgr, PixelOrder::kRgb}) {
+    const ImageView view(image, order, ColorTable::Get());
+    for (int trial = 0; trial < 4000; ++trial) {
+      cv::Point2d centre(px(rng), py(rng));
+      if (trial % 10 == 0) centre = {70.0 + d(rng) / 3, 46.0 + d(rng) / 3};  // The last pixel.
+      const cv::Point2d du(d(rng), d(rng)), dv(d(rng), d(rng));
+      const int samples = 2 + trial % 7;
+      const PixelSums fast = SumCellGrid(view, centre, du, dv, samples);
+      const PixelSums slow = SumCellGrid(view, centre, du, dv, samples, /*scalar=*/true);
+      ASSERT_EQ(fast.n, slow.n) << "trial " << trial;
+      ASSERT_EQ(fast.r, slow.r) << "trial " << trial;
+      ASSERT_EQ(fast.g, slow.g) << "trial " << trial;
+      ASSERT_EQ(fast.b, slow.b) << "trial " << trial;
+      partly_outside += slow.n > 0 && slow.n < samples * samples;
+      // The grid reaches the frame's last pixel: its colour is in the sums.
+      over_last_pixel += trial % 10 == 0 && slow.n > 0;
+    }
+  }
+  EXPECT_GT(partly_outside, 500);
+  EXPECT_GT(over_last_pixel, 200);
 }
 
 }  // namespace

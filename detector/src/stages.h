@@ -218,6 +218,17 @@ void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polar
 // has too few edge points, a corner jumps or the result is not convex.
 bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad);
 
+// Decode reads each cell as the mean colour of a samples x samples grid of
+// pixels: the ones nearest to centre + s du + t dv, s and t evenly from -1 to
+// 1 (samples from 2 to 8). SumCellGrid sums their R, G and B and counts them,
+// points outside the frame skipped; eight points at a time where the CPU has
+// AVX2 (unless `scalar`), with the same sums.
+struct PixelSums {
+  int r = 0, g = 0, b = 0, n = 0;
+};
+PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du, cv::Point2d dv,
+                      int samples, bool scalar = false);
+
 // 5. Decode: picks the family whose ring proportions match, reads every
 // payload cell in b*, splits each colour at its own midpoint, looks the code
 // up over all rotations and fills the detection in the decoded orientation.
