@@ -58,7 +58,15 @@ cv::Point2f PolygonCentroid(const cv::Point2f* polygon, size_t n) {
 bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
                     cv::Point2d* at) {
   const double det = d1.x * d2.y - d1.y * d2.x;
-  if (std::abs(det) < 1e-12 * (cv::norm(d1) * cv::norm(d2) + 1e-300)) return false;
+  // Parallel within 1e-12 of the directions' lengths. The L1 lengths bound
+  // the L2 ones from above, so a determinant past their bound is past this
+  // one too: the square roots are taken only near the limit (BuildPolygon
+  // calls this for every hull edge on every scan).
+  const double l1 = (std::abs(d1.x) + std::abs(d1.y)) * (std::abs(d2.x) + std::abs(d2.y));
+  if (!(std::abs(det) >= 1e-12 * (l1 + 1e-300)) &&
+      std::abs(det) < 1e-12 * (cv::norm(d1) * cv::norm(d2) + 1e-300)) {
+    return false;
+  }
   const cv::Point2d w = p2 - p1;
   const double s = (w.x * d2.y - w.y * d2.x) / det;
   *at = p1 + s * d1;
