@@ -64,27 +64,52 @@ __attribute__((target("avx2"))) inline __m256i EdgeChannel8(__m256i words, bool 
   return _mm256_sub_epi32(_mm256_and_si256(_mm256_srl_epi32(words, red_shift), byte), g);
 }
 
+// The low 32 bits of x's 64-bit words and of y's: x0 x1 y0 y1 | x2 x3 y2 y3.
+__attribute__((target("avx2"))) inline __m256i LowHalves(__m256i x, __m256i y) {
+  return _mm256_castps_si256(
+      _mm256_shuffle_ps(_mm256_castsi256_ps(x), _mm256_castsi256_ps(y), 0x88));
+}
+
+// The bytes at `offsets` (eight 32-bit lanes) and the three bytes after
+// them's, as two sets of 32-bit lanes: each lane's pixel and the next pixel
+// in its row. Two 64-bit gathers of four, instead of two 32-bit gathers of
+// eight. Each read reaches two bytes past the next pixel.
+__attribute__((target("avx2"))) inline void GatherPixelPairs8(const uint8_t* data, __m256i offsets,
+                                                              __m256i* left, __m256i* right) {
+  // Lanes 0, 1, 4, 5 and 2, 3, 6, 7: _mm256_shuffle_ps(a, b, 0x88) then
+  // puts the low halves of a's and b's 64-bit words back in lane order.
+  const __m128i first = _mm256_castsi256_si128(
+      _mm256_permutevar8x32_epi32(offsets, _mm256_setr_epi32(0, 1, 4, 5, 0, 0, 0, 0)));
+  const __m128i second = _mm256_castsi256_si128(
+      _mm256_permutevar8x32_epi32(offsets, _mm256_setr_epi32(2, 3, 6, 7, 0, 0, 0, 0)));
+  const auto* base = reinterpret_cast<const long long*>(data);
+  const __m256i a = _mm256_i32gather_epi64(base, first, 1);
+  const __m256i b = _mm256_i32gather_epi64(base, second, 1);
+  *left = LowHalves(a, b);
+  *right = LowHalves(_mm256_srli_epi64(a, 24), _mm256_srli_epi64(b, 24));
+}
+
 // ImageView::Sample of the edge channel at eight points (pixel centres at
 // integers), in the same arithmetic and order, without fused multiply-adds,
 // so that the floats are the same. The caller guarantees that each point's
-// four pixels lie inside the frame and that a 32-bit read at each does too.
+// four pixels lie inside the frame and that a read of two bytes past the
+// lower right one does too.
 __attribute__((target("avx2"))) inline __m256 BilinearEdgeChannel8(const uint8_t* data,
                                                                    __m256i step, __m256 px,
                                                                    __m256 py, bool gray,
                                                                    __m128i red_shift) {
   const __m256i three = _mm256_set1_epi32(3);
-  const int* base = reinterpret_cast<const int*>(data);
   const __m256i x0 = _mm256_cvttps_epi32(px), y0 = _mm256_cvttps_epi32(py);
   const __m256 tx = _mm256_sub_ps(px, _mm256_cvtepi32_ps(x0));
   const __m256 ty = _mm256_sub_ps(py, _mm256_cvtepi32_ps(y0));
   const __m256i p = _mm256_add_epi32(_mm256_mullo_epi32(y0, step), _mm256_mullo_epi32(x0, three));
-  const __m256i q = _mm256_add_epi32(p, step);
-  const __m256i c00 = EdgeChannel8(_mm256_i32gather_epi32(base, p, 1), gray, red_shift);
-  const __m256i c01 =
-      EdgeChannel8(_mm256_i32gather_epi32(base, _mm256_add_epi32(p, three), 1), gray, red_shift);
-  const __m256i c10 = EdgeChannel8(_mm256_i32gather_epi32(base, q, 1), gray, red_shift);
-  const __m256i c11 =
-      EdgeChannel8(_mm256_i32gather_epi32(base, _mm256_add_epi32(q, three), 1), gray, red_shift);
+  __m256i w00, w01, w10, w11;
+  GatherPixelPairs8(data, p, &w00, &w01);
+  GatherPixelPairs8(data, _mm256_add_epi32(p, step), &w10, &w11);
+  const __m256i c00 = EdgeChannel8(w00, gray, red_shift);
+  const __m256i c01 = EdgeChannel8(w01, gray, red_shift);
+  const __m256i c10 = EdgeChannel8(w10, gray, red_shift);
+  const __m256i c11 = EdgeChannel8(w11, gray, red_shift);
   const __m256 top = _mm256_add_ps(
       _mm256_cvtepi32_ps(c00), _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(c01, c00)), tx));
   const __m256 bottom = _mm256_add_ps(

@@ -38,8 +38,8 @@ inline constexpr ChannelWeights kRedMinusGreen{1, -1, 0};  // Red/green.
 // ImageView::SampleLine's vector path (image_view.cc): the first multiple of
 // eight of the n samples, for the gray (R + G + B) or the R - G channel;
 // returns how many it did (0 without AVX2). The caller guarantees that each
-// sample's four pixels lie inside the frame and that a 32-bit read at each
-// of them does too.
+// sample's four pixels lie inside the frame and that a read of two bytes
+// past the lower right one does too (BilinearEdgeChannel8).
 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray, float x, float y,
                    float dx, float dy, int n, float* out);
 
@@ -172,9 +172,10 @@ class ImageView {
     const bool gray = w.r == 1 && w.g == 1 && w.b == 1;
     const bool red_minus_green = w.r == 1 && w.g == -1 && w.b == 0;
     int done = 0;
-    // Eight samples at a time with AVX2 where the 32-bit reads it makes (a
-    // byte past each pixel) stay inside the frame: clear of the last two
-    // columns, or of the last two rows. Its byte offsets are 32-bit.
+    // Eight samples at a time with AVX2 where the reads it makes (two bytes
+    // past each sample's lower right pixel) stay inside the frame: clear of
+    // the last two columns, or of the last two rows. Its byte offsets are
+    // 32-bit.
     if ((gray || red_minus_green) && step_ * static_cast<size_t>(height_) < (size_t{1} << 31) &&
         (std::max(x, last_x) < static_cast<float>(width_ - 2) ||
          std::max(y, last_y) < static_cast<float>(height_ - 2))) {

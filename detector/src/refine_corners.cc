@@ -172,7 +172,8 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
           last_x < w1 && last_y < h1)) {
       continue;
     }
-    // A 32-bit read at each pixel reaches a byte past it (SampleLine's test).
+    // The vector reads reach two bytes past each sample's lower right pixel
+    // (SampleLine's test).
     if (!(std::max(x, last_x) < static_cast<float>(image.width() - 2) ||
           std::max(y, last_y) < static_cast<float>(image.height() - 2))) {
       out[l].found = EdgePoint(image, channel, polarity, spec[l], min_contrast, &out[l].edge);
@@ -235,8 +236,9 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
     const cv::Point2d out = spec[l].middle + (centre[l] + spec[l].level_offset) * spec[l].outward;
     const float ix = static_cast<float>(in.x), iy = static_cast<float>(in.y);
     const float ux = static_cast<float>(out.x), uy = static_cast<float>(out.y);
-    // ImageView::Sample's frame test; the frame's last pixel is read by
-    // Sample itself (a 32-bit read there would pass the frame's end).
+    // ImageView::Sample's frame test; a sample whose lower right pixel is
+    // the frame's last is read by Sample itself (the vector reads reach two
+    // bytes past it, beyond the frame's end).
     enum { kOutside, kVector, kScalar };
     auto where = [&](float x, float y) {
       if (!(x >= 0.f && y >= 0.f)) return kOutside;
