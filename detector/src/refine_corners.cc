@@ -129,9 +129,9 @@ __attribute__((target("avx2"))) inline __m256 BelowLength(__m256i length, int i)
   return _mm256_castsi256_ps(_mm256_cmpgt_epi32(length, _mm256_set1_epi32(i)));
 }
 
-// EdgePoint for up to eight profiles of one side at once, one per lane: the
-// same floats, comparisons and choices as EdgePoint for each, so the same
-// edge points. Profiles cut short by the frame, or whose reads would pass
+// EdgePoint for up to eight profiles at once, one per lane (each with its
+// own position, direction and window): the same floats, comparisons and
+// choices as EdgePoint for each, so the same edge points. Profiles cut short by the frame, or whose reads would pass
 // the frame's last byte, are left to EdgePoint. `channel` is kGray or
 // kRedMinusGreen, and the frame's byte offsets fit in 32 bits. On the
 // camera set, side refinement took about a third less time than with
