@@ -55,24 +55,6 @@ cv::Point2f PolygonCentroid(const cv::Point2f* polygon, size_t n) {
   return {static_cast<float>(ox + cx / (3.0 * a2)), static_cast<float>(oy + cy / (3.0 * a2))};
 }
 
-bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
-                    cv::Point2d* at) {
-  const double det = d1.x * d2.y - d1.y * d2.x;
-  // Parallel within 1e-12 of the directions' lengths. The L1 lengths bound
-  // the L2 ones from above, so a determinant past their bound is past this
-  // one too: the square roots are taken only near the limit (BuildPolygon
-  // calls this for every hull edge on every scan).
-  const double l1 = (std::abs(d1.x) + std::abs(d1.y)) * (std::abs(d2.x) + std::abs(d2.y));
-  if (!(std::abs(det) >= 1e-12 * (l1 + 1e-300)) &&
-      std::abs(det) < 1e-12 * (cv::norm(d1) * cv::norm(d2) + 1e-300)) {
-    return false;
-  }
-  const cv::Point2d w = p2 - p1;
-  const double s = (w.x * d2.y - w.y * d2.x) / det;
-  *at = p1 + s * d1;
-  return true;
-}
-
 void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* hull) {
   // Andrew's monotone chain. A turn with a positive cross product is
   // clockwise on screen (y down); collinear and repeated points are dropped.
@@ -143,11 +125,6 @@ cv::Matx33d UnitSquareToQuad(const Quad& quad) {
   return cv::Matx33d(x1 - x0 + g * x1, x3 - x0 + h * x3, x0,  //
                      y1 - y0 + g * y1, y3 - y0 + h * y3, y0,  //
                      g, h, 1.0);
-}
-
-cv::Point2d ApplyHomography(const cv::Matx33d& h, double x, double y) {
-  const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
-  return {p[0] / p[2], p[1] / p[2]};
 }
 
 }  // namespace chromatag::internal

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -245,17 +246,40 @@ template <size_t N>
 cv::Point2f PolygonCentroid(const std::array<cv::Point2f, N>& polygon) {
   return PolygonCentroid(polygon.data(), N);
 }
-bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
-                    cv::Point2d* at);
+// Where the lines p1 + s d1 and p2 + t d2 meet; false if they are parallel
+// within 1e-12 of the directions' lengths. Inline: BuildPolygon calls it for
+// every hull edge on every scan, and across a call the points' coordinates
+// went through memory (stalls that cost more than the arithmetic).
+inline bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::Point2d d2,
+                           cv::Point2d* at) {
+  const double det = d1.x * d2.y - d1.y * d2.x;
+  // Parallel within 1e-12 of the directions' lengths. The L1 lengths bound
+  // the L2 ones from above, so a determinant past their bound is past this
+  // one too: the square roots are taken only near the limit (BuildPolygon
+  // calls this for every hull edge on every scan).
+  const double l1 = (std::abs(d1.x) + std::abs(d1.y)) * (std::abs(d2.x) + std::abs(d2.y));
+  if (!(std::abs(det) >= 1e-12 * (l1 + 1e-300)) &&
+      std::abs(det) < 1e-12 * (cv::norm(d1) * cv::norm(d2) + 1e-300)) {
+    return false;
+  }
+  const cv::Point2d w = p2 - p1;
+  const double s = (w.x * d2.y - w.y * d2.x) / det;
+  *at = p1 + s * d1;
+  return true;
+}
 bool IsConvexClockwise(const Quad& quad);
 // The convex hull of `points`, clockwise on screen (y down), without
 // collinear points; into *hull (reused) or returned.
 void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* hull);
 std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points);
 // The homography from the unit square ((0,0), (1,0), (1,1), (0,1)) to `quad`,
-// and a point through a homography.
+// and a point through a homography (inline, as IntersectLines: Decode maps
+// three points a cell).
 cv::Matx33d UnitSquareToQuad(const Quad& quad);
-cv::Point2d ApplyHomography(const cv::Matx33d& h, double x, double y);
+inline cv::Point2d ApplyHomography(const cv::Matx33d& h, double x, double y) {
+  const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
+  return {p[0] / p[2], p[1] / p[2]};
+}
 
 }  // namespace chromatag::internal
 
