@@ -6,7 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "coarse_a_avx2.h"
+#include "avx2_kernels.h"
 #include "stages.h"
 
 namespace chromatag::internal {
@@ -143,13 +143,8 @@ void AddGridPoint(const ImageView& image, const CellGrid& grid, int k, PixelSums
 
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
 // RoundToInt(static_cast<float>(v)) of eight doubles, `lo` the first four.
-__attribute__((target("avx2"))) inline __m256i RoundToInt8(__m256d lo, __m256d hi) {
-  const __m256 v = _mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo));
-  const __m256 shifted = _mm256_add_ps(v, _mm256_set1_ps(0.5f));
-  const __m256i truncated = _mm256_cvttps_epi32(shifted);
-  // One less where truncation rounded up (negative values).
-  return _mm256_add_epi32(truncated, _mm256_castps_si256(_mm256_cmp_ps(
-                                         shifted, _mm256_cvtepi32_ps(truncated), _CMP_LT_OQ)));
+__attribute__((target("avx2"))) inline __m256i RoundDoublesToInt8(__m256d lo, __m256d hi) {
+  return RoundToInt8(_mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo)));
 }
 
 // AddGridPoint for the points [0, returned), eight at a time: the same
@@ -183,7 +178,7 @@ __attribute__((target("avx2"))) int AddGridPointsAvx2(const ImageView& image, co
       x[h] = _mm256_add_pd(_mm256_add_pd(cx, _mm256_mul_pd(sv, dux)), _mm256_mul_pd(tv, dvx));
       y[h] = _mm256_add_pd(_mm256_add_pd(cy, _mm256_mul_pd(sv, duy)), _mm256_mul_pd(tv, dvy));
     }
-    const __m256i px = RoundToInt8(x[0], x[1]), py = RoundToInt8(y[0], y[1]);
+    const __m256i px = RoundDoublesToInt8(x[0], x[1]), py = RoundDoublesToInt8(y[0], y[1]);
     const __m256i outside = _mm256_or_si256(
         _mm256_or_si256(_mm256_cmpgt_epi32(zero, px), _mm256_cmpgt_epi32(zero, py)),
         _mm256_or_si256(_mm256_cmpgt_epi32(px, last_x), _mm256_cmpgt_epi32(py, last_y)));
@@ -234,8 +229,7 @@ PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du
   const int count = grid.samples * grid.samples;
   int k = 0;
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
-  if (!scalar && CpuHasAvx2() &&
-      image.step() * static_cast<size_t>(image.height()) < (size_t{1} << 31)) {
+  if (!scalar && CpuHasAvx2() && image.OffsetsFit32()) {
     k = AddGridPointsAvx2(image, grid, count, &sums);
   }
 #endif

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "coarse_a_avx2.h"
+#include "avx2_kernels.h"
 #include "stages.h"
 
 namespace chromatag::internal {

@@ -3,7 +3,7 @@
 // and FirstNotClearlyAbove (the scans' pass over a red region).
 #include "image_view.h"
 
-#include "coarse_a_avx2.h"
+#include "avx2_kernels.h"
 
 namespace chromatag::internal {
 
@@ -38,7 +38,7 @@ __attribute__((target("avx2"))) int FirstNotClearlyAboveAvx2Impl(
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 vx = _mm256_set1_ps(x), vy = _mm256_set1_ps(y);
   const __m256 vdx = _mm256_set1_ps(dx), vdy = _mm256_set1_ps(dy);
-  const __m256 half = _mm256_set1_ps(0.5f), vabove = _mm256_set1_ps(above);
+  const __m256 vabove = _mm256_set1_ps(above);
   const __m256i vstep = _mm256_set1_epi32(static_cast<int>(step));
   const __m256i three = _mm256_set1_epi32(3);
   const __m256i zero = _mm256_setzero_si256();
@@ -52,14 +52,8 @@ __attribute__((target("avx2"))) int FirstNotClearlyAboveAvx2Impl(
   int k = first;
   for (; k + 7 <= last; k += 8) {
     const __m256 fk = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(k), lane));
-    const __m256 sx = _mm256_add_ps(_mm256_add_ps(vx, _mm256_mul_ps(fk, vdx)), half);
-    const __m256 sy = _mm256_add_ps(_mm256_add_ps(vy, _mm256_mul_ps(fk, vdy)), half);
-    __m256i px = _mm256_cvttps_epi32(sx), py = _mm256_cvttps_epi32(sy);
-    // Truncation rounds towards zero; one less where that rounded up.
-    px = _mm256_add_epi32(
-        px, _mm256_castps_si256(_mm256_cmp_ps(sx, _mm256_cvtepi32_ps(px), _CMP_LT_OQ)));
-    py = _mm256_add_epi32(
-        py, _mm256_castps_si256(_mm256_cmp_ps(sy, _mm256_cvtepi32_ps(py), _CMP_LT_OQ)));
+    const __m256i px = RoundToInt8(_mm256_add_ps(vx, _mm256_mul_ps(fk, vdx)));
+    const __m256i py = RoundToInt8(_mm256_add_ps(vy, _mm256_mul_ps(fk, vdy)));
     const __m256i offset =
         _mm256_add_epi32(_mm256_mullo_epi32(py, vstep), _mm256_mullo_epi32(px, three));
     const __m256i outside = _mm256_or_si256(

@@ -99,7 +99,7 @@ class ImageView {
     for (const int scalar_end = std::min(last, first + kScalarSteps - 1); k <= scalar_end; ++k) {
       if (stops(k)) return k;
     }
-    if (last - k >= 7 && step_ * static_cast<size_t>(height_) < (size_t{1} << 31)) {
+    if (last - k >= 7 && OffsetsFit32()) {
       k = FirstNotClearlyAboveAvx2(data_, step_, width_, height_, r_, table_->coarse_a_table(), x,
                                    y, dx, dy, k, last, above);
     }
@@ -134,13 +134,37 @@ class ImageView {
     return n ? sum / n : 0.f;
   }
 
+  // Whether Sample can read (x, y): its four pixels lie inside the frame
+  // (false for NaN).
+  bool CanSample(float x, float y) const {
+    if (!(x >= 0.f && y >= 0.f)) return false;
+    return static_cast<int>(x) + 1 < width_ && static_cast<int>(y) + 1 < height_;
+  }
+  // Whether Sample can read every point of the segment from (x, y) to
+  // (last_x, last_y): both ends strictly inside [0, width - 1) x
+  // [0, height - 1), hence every point between them (false for NaN).
+  bool SegmentInside(float x, float y, float last_x, float last_y) const {
+    const float w1 = static_cast<float>(width_ - 1), h1 = static_cast<float>(height_ - 1);
+    return x >= 0.f && y >= 0.f && last_x >= 0.f && last_y >= 0.f && x < w1 && y < h1 &&
+           last_x < w1 && last_y < h1;
+  }
+  // For a readable segment (or point, last = first): whether the AVX2
+  // bilinear reads along it (BilinearEdgeChannel8, two bytes past each
+  // sample's lower right pixel) stay inside the frame: clear of the last two
+  // columns, or of the last two rows.
+  bool VectorReadsInside(float x, float y, float last_x, float last_y) const {
+    return std::max(x, last_x) < static_cast<float>(width_ - 2) ||
+           std::max(y, last_y) < static_cast<float>(height_ - 2);
+  }
+  // Whether every byte offset into the frame fits the AVX2 paths' 32 bits.
+  bool OffsetsFit32() const { return step_ * static_cast<size_t>(height_) < (size_t{1} << 31); }
+
   // Bilinear sample of a channel at sub-pixel (x, y) (pixel centres at
   // integers). False outside the frame. Single precision: exact to a
   // thousandth of a pixel on frames up to 8k wide.
   bool Sample(float x, float y, const ChannelWeights& w, float* value) const {
-    if (!(x >= 0.f && y >= 0.f)) return false;  // Also rejects NaN.
+    if (!CanSample(x, y)) return false;
     const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    if (x0 + 1 >= width_ || y0 + 1 >= height_) return false;
     const float tx = x - static_cast<float>(x0), ty = y - static_cast<float>(y0);
     const uint8_t* p = Pixel(x0, y0);
     const uint8_t* q = p + step_;
@@ -162,23 +186,13 @@ class ImageView {
                   float* out) const {
     const float last_x = x + static_cast<float>(n - 1) * dx;
     const float last_y = y + static_cast<float>(n - 1) * dy;
-    const float w1 = static_cast<float>(width_ - 1), h1 = static_cast<float>(height_ - 1);
-    // Strictly inside [0, width - 1) x [0, height - 1): both ends, hence
-    // every point between them (also rejects NaN).
-    if (!(x >= 0.f && y >= 0.f && last_x >= 0.f && last_y >= 0.f && x < w1 && y < h1 &&
-          last_x < w1 && last_y < h1)) {
-      return false;
-    }
+    if (!SegmentInside(x, y, last_x, last_y)) return false;
     const bool gray = w.r == 1 && w.g == 1 && w.b == 1;
     const bool red_minus_green = w.r == 1 && w.g == -1 && w.b == 0;
     int done = 0;
-    // Eight samples at a time with AVX2 where the reads it makes (two bytes
-    // past each sample's lower right pixel) stay inside the frame: clear of
-    // the last two columns, or of the last two rows. Its byte offsets are
-    // 32-bit.
-    if ((gray || red_minus_green) && step_ * static_cast<size_t>(height_) < (size_t{1} << 31) &&
-        (std::max(x, last_x) < static_cast<float>(width_ - 2) ||
-         std::max(y, last_y) < static_cast<float>(height_ - 2))) {
+    // Eight samples at a time with AVX2 where its reads stay inside the
+    // frame and its byte offsets fit in 32 bits.
+    if ((gray || red_minus_green) && OffsetsFit32() && VectorReadsInside(x, y, last_x, last_y)) {
       done = SampleLineAvx2(data_, step_, r_, gray, x, y, dx, dy, n, out);
     }
     if (gray) {

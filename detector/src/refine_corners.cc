@@ -10,7 +10,7 @@
 #include <array>
 #include <cmath>
 
-#include "coarse_a_avx2.h"
+#include "avx2_kernels.h"
 #include "stages.h"
 
 namespace chromatag::internal {
@@ -131,8 +131,8 @@ __attribute__((target("avx2"))) inline __m256 BelowLength(__m256i length, int i)
 
 // EdgePoint for up to eight profiles at once, one per lane (each with its
 // own position, direction and window): the same floats, comparisons and
-// choices as EdgePoint for each, so the same edge points. Profiles cut short by the frame, or whose reads would pass
-// the frame's last byte, are left to EdgePoint. `channel` is kGray or
+// choices as EdgePoint for each, so the same edge points. Profiles cut short by the frame, or whose
+// reads would pass the frame's last byte, are left to EdgePoint. `channel` is kGray or
 // kRedMinusGreen, and the frame's byte offsets fit in 32 bits. On the
 // camera set, side refinement took about a third less time than with
 // EdgePoint profile by profile: the per-profile bookkeeping, the sampling
@@ -142,8 +142,6 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
                                                  const ProfileSpec* spec, int count,
                                                  float min_contrast, ProfileEdge* out) {
   const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
-  const float w1 = static_cast<float>(image.width() - 1);
-  const float h1 = static_cast<float>(image.height() - 1);
   // Per lane: the profile's first sample, its length and half-length. Lanes
   // not in the vector path read a safe pixel and are ignored.
   alignas(32) float start_x[8], start_y[8], step_x[8], step_y[8];
@@ -167,15 +165,9 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
     const float y = static_cast<float>(spec[l].middle.y) + first * oy;
     const float last_x = x + static_cast<float>(n - 1) * ox;
     const float last_y = y + static_cast<float>(n - 1) * oy;
-    // ImageView::SampleLine's frame test: where it fails, so does EdgePoint.
-    if (!(x >= 0.f && y >= 0.f && last_x >= 0.f && last_y >= 0.f && x < w1 && y < h1 &&
-          last_x < w1 && last_y < h1)) {
-      continue;
-    }
-    // The vector reads reach two bytes past each sample's lower right pixel
-    // (SampleLine's test).
-    if (!(std::max(x, last_x) < static_cast<float>(image.width() - 2) ||
-          std::max(y, last_y) < static_cast<float>(image.height() - 2))) {
+    // Where ImageView::SampleLine fails, so does EdgePoint.
+    if (!image.SegmentInside(x, y, last_x, last_y)) continue;
+    if (!image.VectorReadsInside(x, y, last_x, last_y)) {
       out[l].found = EdgePoint(image, channel, polarity, spec[l], min_contrast, &out[l].edge);
       continue;
     }
@@ -236,19 +228,11 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
     const cv::Point2d out = spec[l].middle + (centre[l] + spec[l].level_offset) * spec[l].outward;
     const float ix = static_cast<float>(in.x), iy = static_cast<float>(in.y);
     const float ux = static_cast<float>(out.x), uy = static_cast<float>(out.y);
-    // ImageView::Sample's frame test; a sample whose lower right pixel is
-    // the frame's last is read by Sample itself (the vector reads reach two
-    // bytes past it, beyond the frame's end).
-    enum { kOutside, kVector, kScalar };
-    auto where = [&](float x, float y) {
-      if (!(x >= 0.f && y >= 0.f)) return kOutside;
-      const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-      if (x0 + 1 >= image.width() || y0 + 1 >= image.height()) return kOutside;
-      return x0 + 2 == image.width() && y0 + 2 == image.height() ? kScalar : kVector;
-    };
-    const int in_at = where(ix, iy), out_at = where(ux, uy);
-    if (in_at == kOutside || out_at == kOutside) continue;
-    if (in_at == kScalar || out_at == kScalar) {
+    // Where ImageView::Sample fails, so does EdgePoint; a level whose vector
+    // read would pass the frame's end (its lower right pixel is the frame's
+    // last) is read by Sample itself.
+    if (!image.CanSample(ix, iy) || !image.CanSample(ux, uy)) continue;
+    if (!image.VectorReadsInside(ix, iy, ix, iy) || !image.VectorReadsInside(ux, uy, ux, uy)) {
       float inside = 0, outside = 0;
       image.Sample(ix, iy, channel, &inside);
       image.Sample(ux, uy, channel, &outside);
@@ -334,8 +318,7 @@ void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polar
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
   const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
   const bool red_minus_green = channel.r == 1 && channel.g == -1 && channel.b == 0;
-  if (CpuHasAvx2() && (gray || red_minus_green) &&
-      image.step() * static_cast<size_t>(image.height()) < (size_t{1} << 31)) {
+  if (CpuHasAvx2() && (gray || red_minus_green) && image.OffsetsFit32()) {
     for (; done < count; done += 8) {
       EdgePoints8(image, channel, polarity, spec + done, std::min(8, count - done), min_contrast,
                   out + done);

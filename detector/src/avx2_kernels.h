@@ -1,11 +1,11 @@
-// What the detector's AVX2 paths share: whether the CPU has AVX2, the
-// coarse a* (ColorTable::CoarseA) of eight pixels at once, used by FindADiff
-// and ImageView::FirstNotClearlyAbove, and the edge channels of eight pixels,
-// used by the side profiles (ImageView::SampleLine, refine_corners.cc). Internal; CoarseA8 and
-// MakeCoarseALookup only for functions compiled with
-// __attribute__((target("avx2"))).
-#ifndef CHROMATAG_DETECTOR_SRC_COARSE_A_AVX2_H_
-#define CHROMATAG_DETECTOR_SRC_COARSE_A_AVX2_H_
+// The pieces the detector's AVX2 paths share: whether the CPU has AVX2,
+// RoundToInt of eight floats, the coarse a* (ColorTable::CoarseA) of eight
+// pixels (FindADiff, ImageView::FirstNotClearlyAbove), and the bilinear edge
+// channel at eight points (ImageView::SampleLine, the side profiles of
+// refine_corners.cc). Internal; everything but CpuHasAvx2 only for functions
+// compiled with __attribute__((target("avx2"))).
+#ifndef CHROMATAG_DETECTOR_SRC_AVX2_KERNELS_H_
+#define CHROMATAG_DETECTOR_SRC_AVX2_KERNELS_H_
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define CHROMATAG_HAVE_AVX2_PATHS 1
@@ -21,6 +21,15 @@ namespace chromatag::internal {
 inline bool CpuHasAvx2() {
   static const bool has = __builtin_cpu_supports("avx2");
   return has;
+}
+
+// RoundToInt (image_view.h) of eight floats: nearest, halves up.
+__attribute__((target("avx2"))) inline __m256i RoundToInt8(__m256 v) {
+  const __m256 shifted = _mm256_add_ps(v, _mm256_set1_ps(0.5f));
+  const __m256i truncated = _mm256_cvttps_epi32(shifted);
+  // Truncation rounds towards zero; one less where that rounded up.
+  return _mm256_add_epi32(truncated, _mm256_castps_si256(_mm256_cmp_ps(
+                                         shifted, _mm256_cvtepi32_ps(truncated), _CMP_LT_OQ)));
 }
 
 // The shifts that bring each channel's top five bits down in a pixel's
@@ -120,4 +129,4 @@ __attribute__((target("avx2"))) inline __m256 BilinearEdgeChannel8(const uint8_t
 }  // namespace chromatag::internal
 
 #endif
-#endif  // CHROMATAG_DETECTOR_SRC_COARSE_A_AVX2_H_
+#endif  // CHROMATAG_DETECTOR_SRC_AVX2_KERNELS_H_
