@@ -401,6 +401,55 @@ TEST(DetectorSceneTest, NoDetectionsOnTagFreePhotographs) {
   EXPECT_GE(photos, 12);
 }
 
+// The fast path (quads from InitialScan's eight scans) and BuildPolygon's
+// greedy scans find the same tags with the same IDs over sizes, turns and
+// tilts, with corners within a fifth of a pixel of each other (and of the
+// truth as the sweep above asks); the fast path takes most of them.
+TEST(DetectorSceneTest, FastPathFindsWhatBuildPolygonFinds) {
+  auto fast = MakeDetector();
+  DetectorOptions options;
+  options.families = {"16h5", "36h11"};
+  options.quads_from_scans = false;
+  auto slow = Detector::Create(options);
+  ASSERT_TRUE(slow);
+  int views = 0, fast_found = 0;
+  for (const std::string name : {"16h5", "36h11"}) {
+    for (double size : {32., 64., 160.}) {
+      for (double tilt : {0., 45., 60.}) {
+        for (double rotation : {0., 22.5, 45., 100.}) {
+          const int cells = name == "16h5" ? 6 : 8;
+          if (size / cells * std::cos(tilt * M_PI / 180) < 3.5) continue;
+          SceneTag tag;
+          tag.family = name;
+          tag.id = name == "16h5" ? 7 : 101;
+          tag.black_square_px = size;
+          tag.rotation_deg = rotation;
+          tag.tilt_deg = tilt;
+          tag.tilt_axis_deg = rotation * 0.7 + 10;
+          const int side = std::max(120, static_cast<int>(size * 1.9));
+          tag.centre = {side / 2.0 + 0.3, side / 2.0 - 0.2};
+          SceneOptions scene_options;
+          scene_options.width = scene_options.height = side;
+          const Scene scene = RenderScene({tag}, scene_options);
+          const DetectionResult a = fast->Detect(scene.bgr), b = slow->Detect(scene.bgr);
+          const std::string view = name + " size " + std::to_string(size) + " tilt " +
+                                   std::to_string(tilt) + " rotation " + std::to_string(rotation);
+          ASSERT_EQ(a.detections.size(), 1u) << view;
+          ASSERT_EQ(b.detections.size(), 1u) << view;
+          EXPECT_EQ(b.summary.fast_path_detections, 0) << view;
+          EXPECT_EQ(a.detections[0].id, b.detections[0].id) << view;
+          EXPECT_LT(MaxCornerError(a.detections[0].corners, b.detections[0].corners), 0.2) << view;
+          EXPECT_LT(MaxCornerError(a.detections[0].corners, scene.truth[0].corners), 1.0) << view;
+          ++views;
+          fast_found += a.summary.fast_path_detections;
+        }
+      }
+    }
+  }
+  EXPECT_GE(views, 60);
+  EXPECT_GE(fast_found, views * 3 / 4) << fast_found << " of " << views << " by the fast path";
+}
+
 // RGB order, an ROI with a row stride, and the caller's pixels untouched.
 TEST(DetectorSceneTest, HandlesRgbOrderAndRoisWithoutWritingToTheImage) {
   auto detector = MakeDetector();
@@ -425,12 +474,16 @@ TEST(DetectorSceneTest, HandlesRgbOrderAndRoisWithoutWritingToTheImage) {
   // Read as BGR, the RGB frame swaps red and blue: no tag.
   EXPECT_TRUE(detector->Detect(rgb, PixelOrder::kBgr).detections.empty());
 
+  // In the ROI FindADiff samples other rows, so the candidate starts from
+  // another seed and centre, and the sub-pixel sides from other quads. They
+  // stop once the corners move less than half a pixel, so where they stop
+  // depends on where they started by up to about a tenth of a pixel.
   const cv::Rect roi(53, 31, 300, 250);
   const DetectionResult in_roi = detector->Detect(scene.bgr(roi));
   ASSERT_EQ(in_roi.detections.size(), 1u);
   for (int i = 0; i < 4; ++i) {
-    EXPECT_NEAR(in_roi.detections[0].corners[i].x + roi.x, bgr.detections[0].corners[i].x, 0.02);
-    EXPECT_NEAR(in_roi.detections[0].corners[i].y + roi.y, bgr.detections[0].corners[i].y, 0.02);
+    EXPECT_NEAR(in_roi.detections[0].corners[i].x + roi.x, bgr.detections[0].corners[i].x, 0.1);
+    EXPECT_NEAR(in_roi.detections[0].corners[i].y + roi.y, bgr.detections[0].corners[i].y, 0.1);
   }
 }
 

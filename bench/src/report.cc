@@ -177,16 +177,21 @@ std::string FailureTable(const Context& c) {
   std::array<double, 2> seeds{};
   std::array<std::array<double, kNumStages>, 2> rejected{};
   std::array<int, 2> frames{};
+  double fast = 0, detections = 0;
   for (const auto& r : c.records) {
     const int g = r.truth.has_tags ? 0 : 1;
     ++frames[g];
     seeds[g] += r.chromatag_summary.seeds;
+    fast += r.chromatag_summary.fast_path_detections;
+    detections += r.detectors[kChromaTag].num_found;
     for (int s = 0; s < kNumStages; ++s) rejected[g][s] += r.chromatag_summary.rejected[s];
   }
   Table a;
   a.push_back({"candidates (seeds handed to InitialScan)",
                Fixed(frames[0] ? seeds[0] / frames[0] : kNaN, 2),
                Fixed(frames[1] ? seeds[1] / frames[1] : kNaN, 2), ""});
+  a.push_back({"detections by the fast path (quads from InitialScan's scans, no BuildPolygon)", "",
+               "", Percent(fast, detections) + " of detections"});
   for (int s = 0; s < kNumStages; ++s) {
     a.push_back({"rejected by " + std::string(StageName(static_cast<Stage>(s))),
                  Fixed(frames[0] ? rejected[0][s] / frames[0] : kNaN, 2),

@@ -208,12 +208,16 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   scratch.rejected.clear();
   DetectorSummary& summary = result->summary;
 
-  // Runs one stage, adding its time and counting a rejection.
+  // Runs one stage, adding its time; run_stage also counts a rejection.
   RejectReason why = RejectReason::kPaleRed;
-  auto run_stage = [&summary](Stage stage, auto&& body) {
+  auto timed = [&summary](Stage stage, auto&& body) {
     const Clock::time_point start = Clock::now();
     const bool passed = body();
     summary.stage_time_us[static_cast<int>(stage)] += MicrosecondsSince(start);
+    return passed;
+  };
+  auto run_stage = [&summary, &timed](Stage stage, auto&& body) {
+    const bool passed = timed(stage, body);
     if (!passed) ++summary.rejected[static_cast<int>(stage)];
     return passed;
   };
@@ -227,18 +231,42 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       ++summary.seeds;
       internal::Candidate& candidate = scratch.candidate;
       Detection detection;
+      // After InitialScan, the fast path (QuadsFromScans) and, for a
+      // candidate it cannot finish, the paper's way through BuildPolygon.
+      // The fast path's time goes to the stages it stands in for; what it
+      // abandons is not a rejection, since the slow path takes it up.
+      auto fast_path = [&] {
+        if (!options.quads_from_scans || !options.refine_corners) return false;
+        RejectReason ignored;
+        const bool found =
+            timed(Stage::kBuildPolygon,
+                  [&] { return internal::QuadsFromScans(view, options, &candidate); }) &&
+            timed(
+                Stage::kPolyToQuad,
+                [&] { return internal::NestedAndRefined(view, options, &candidate, &ignored); }) &&
+            timed(Stage::kDecode, [&] {
+              return internal::Decode(view, options, impl_->families, candidate, &detection,
+                                      &ignored);
+            });
+        if (found) ++summary.fast_path_detections;
+        return found;
+      };
+      auto slow_path = [&] {
+        return run_stage(Stage::kBuildPolygon,
+                         [&] { return internal::BuildPolygon(view, options, &candidate, &why); }) &&
+               run_stage(Stage::kPolyToQuad,
+                         [&] { return internal::PolyToQuad(view, options, &candidate, &why); }) &&
+               run_stage(Stage::kDecode, [&] {
+                 return internal::Decode(view, options, impl_->families, candidate, &detection,
+                                         &why);
+               });
+      };
       if (!run_stage(Stage::kInitialScan,
                      [&] {
                        return internal::InitialScan(view, options, seed, &candidate,
                                                     &scratch.rejected, &why);
                      }) ||
-          !run_stage(Stage::kBuildPolygon,
-                     [&] { return internal::BuildPolygon(view, options, &candidate, &why); }) ||
-          !run_stage(Stage::kPolyToQuad,
-                     [&] { return internal::PolyToQuad(view, options, &candidate, &why); }) ||
-          !run_stage(Stage::kDecode, [&] {
-            return internal::Decode(view, options, impl_->families, candidate, &detection, &why);
-          })) {
+          !(fast_path() || slow_path())) {
         RejectedCandidate rejection;
         if (options.report_rejected) rejection = Rejection(candidate, seed, why);
         const bool after_scan = StageOf(why) != Stage::kInitialScan;

@@ -11,13 +11,6 @@ namespace {
 constexpr int kMaxCentreIterations = 8;
 constexpr float kConvergedPx = 0.75f;
 
-// Right, down, left, up (the paper's four scans), then the diagonals; in
-// clockwise order on screen.
-// Unit steps, so that every scan samples a ring as densely (M pixels must fit
-// in a ring whatever the direction).
-constexpr float kD = 0.70710678f;
-const cv::Point2f kDirections[8] = {{1, 0},  {kD, kD},   {0, 1},  {-kD, kD},
-                                    {-1, 0}, {-kD, -kD}, {0, -1}, {kD, -kD}};
 // The order of CentringPass's scans. They are independent, so the order
 // changes only how soon a candidate that fails is dropped: up first, since
 // FindADiff meets a red region on the first sampled row that crosses it, near
@@ -60,7 +53,7 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
   const float max_green_a = static_cast<float>(options.max_green_a);
   for (int i : kCentringOrder) {
     // Red -> green only: the a* drop of the full scan, without the rings.
-    const cv::Point2f direction = kDirections[i];
+    const cv::Point2f direction = kScanDirections[i];
     int consecutive = 0, k = 1;
     float deepest_a = reference_red;
     const float clearly_inside =
@@ -250,7 +243,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     if (iteration == 0 && !converged) {
       for (int i = 0; i < 8; i += 2) {
         RingHits hits;
-        if (!ScanRings(image, options, centre, kDirections[i], reference_red, &hits))
+        if (!ScanRings(image, options, centre, kScanDirections[i], reference_red, &hits))
           return reject(RejectReason::kRingScan);
       }
     }
@@ -265,7 +258,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // centre seed the candidate's polygons.
   candidate->scan_directions.clear();
   for (int i = 0; i < 8; i += 2) {
-    const cv::Point2f direction = kDirections[i];
+    const cv::Point2f direction = kScanDirections[i];
     RingHits hits;
     if (!ScanRings(image, options, centre, direction, reference_red, &hits))
       return reject(RejectReason::kRingScan);

@@ -142,6 +142,11 @@ bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidat
       return false;
     }
   }
+  return NestedAndRefined(image, options, candidate, why);
+}
+
+bool NestedAndRefined(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+                      RejectReason* why) {
   // Nested, each ring smaller than the one outside it.
   const double outer = QuadArea(candidate->quads[kBlackWhite]);
   const double green = QuadArea(candidate->quads[kGreenBlack]);

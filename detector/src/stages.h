@@ -46,6 +46,16 @@ struct Candidate {
   std::array<cv::Point2f, 8> red_border;
 };
 
+// The eight directions InitialScan and QuadsFromScans scan in from a
+// candidate's centre, clockwise on screen from "right": the axes (right,
+// down, left, up; the paper's four scans) at even indices, the diagonals
+// between them. Unit steps, so that every scan samples a ring as densely (M
+// pixels must fit in a ring whatever the direction).
+inline constexpr float kDiagonalStep = 0.70710678f;
+inline const cv::Point2f kScanDirections[8] = {
+    {1, 0},  {kDiagonalStep, kDiagonalStep},   {0, 1},  {-kDiagonalStep, kDiagonalStep},
+    {-1, 0}, {-kDiagonalStep, -kDiagonalStep}, {0, -1}, {kDiagonalStep, -kDiagonalStep}};
+
 // An accepted detection's area, which FindADiff skips.
 struct DetectedArea {
   Quad quad;  // The outer quad grown by one cell (the quiet zone).
@@ -138,6 +148,20 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
 // RefineQuads for sub-pixel corners.
 bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
                 RejectReason* why);
+
+// PolyToQuad's second half: false (and *why) unless the three quads are
+// nested, each inside the next; then (if enabled) RefineQuads.
+bool NestedAndRefined(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+                      RejectReason* why);
+
+// The fast path from InitialScan to the sub-pixel sides
+// (quad_from_scans.cc): the four diagonal scans through the rings added to
+// InitialScan's four axis ones, and each ring's quad from its eight border
+// points, grouped into sides where the edge direction turns. False when
+// that does not give four sides per ring; the candidate's points and scan
+// directions are left as they were (only its quads are written), so that
+// BuildPolygon can take over.
+bool QuadsFromScans(const ImageView& image, const DetectorOptions& options, Candidate* candidate);
 
 // The second path (grow_region.cc). WorthGrowing: whether a candidate the
 // stages above lost (for `why`) is one the second path can rescue: its red

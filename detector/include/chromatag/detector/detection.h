@@ -66,6 +66,9 @@ struct DetectorSummary {
   // the coarse prefilter let through but the accurate a* did not confirm.
   std::array<int, kNumStages> rejected{};
   int seeds = 0;  // Candidates handed to InitialScan.
+  // Candidates the fast path (DetectorOptions::quads_from_scans) took from
+  // InitialScan to a detection, without BuildPolygon.
+  int fast_path_detections = 0;
   double total_time_us = 0.0;
   double pose_time_us = 0.0;  // Included in Decode's time.
 };

@@ -81,6 +81,15 @@ struct DetectorOptions {
   // the clustered polygon, about a pixel off; useful only to measure the gain.
   bool refine_corners = true;
 
+  // The fast path from InitialScan to the sub-pixel sides: the four
+  // diagonal ring scans added to InitialScan's four axis ones, and each
+  // ring's quad from those eight border points, the side of each point told
+  // by its edge direction. A candidate it cannot finish (no four sides, or a
+  // later stage fails) goes on through BuildPolygon's greedy scans as
+  // before. Used only with refine_corners (its quads are a start for the
+  // sub-pixel sides, not corners to report). Off gives the paper's way alone.
+  bool quads_from_scans = true;
+
   // The second path (Stage::kGrowRegion): a candidate whose red is enclosed
   // by green but which the ring scans or a later stage lose has its black
   // square grown on a grid of pixels and its rings fitted on their edges.
