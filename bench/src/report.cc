@@ -191,7 +191,7 @@ std::string FailureTable(const Context& c) {
                Fixed(frames[0] ? seeds[0] / frames[0] : kNaN, 2),
                Fixed(frames[1] ? seeds[1] / frames[1] : kNaN, 2), ""});
   a.push_back({"detections by the fast path (quads from InitialScan's scans, no BuildPolygon)", "",
-               "", Percent(fast, detections) + " of detections"});
+               "", Percent(fast, detections) + " % of detections"});
   for (int s = 0; s < kNumStages; ++s) {
     a.push_back({"rejected by " + std::string(StageName(static_cast<Stage>(s))),
                  Fixed(frames[0] ? rejected[0][s] / frames[0] : kNaN, 2),

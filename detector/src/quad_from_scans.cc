@@ -68,49 +68,161 @@ struct Line {
   }
 };
 
-// Total least squares line through the points whose bits are set in `mask`
-// (at least two): through their mean, along the major axis of their
-// scatter (the 2 x 2 eigenvector in closed form; no trigonometry, as this
-// runs for every run of points of every ring).
-Line FitLine(const std::array<cv::Point2d, kNumScans>& points, unsigned mask) {
-  cv::Point2d mean(0, 0);
-  int n = 0;
-  for (int k = 0; k < kNumScans; ++k) {
-    if (mask >> k & 1u) {
-      mean += points[k];
-      ++n;
-    }
-  }
-  mean *= 1.0 / n;
-  double sxx = 0, sxy = 0, syy = 0;
-  for (int k = 0; k < kNumScans; ++k) {
-    if (!(mask >> k & 1u)) continue;
-    const cv::Point2d d = points[k] - mean;
-    sxx += d.x * d.x;
-    sxy += d.x * d.y;
-    syy += d.y * d.y;
-  }
-  const double half_difference = 0.5 * (sxx - syy);
-  const double largest =
-      0.5 * (sxx + syy) + std::sqrt(half_difference * half_difference + sxy * sxy);
-  // (largest - syy, sxy) and (sxy, largest - sxx) both lie along the axis;
-  // the longer is the better conditioned.
-  cv::Point2d axis(largest - syy, sxy);
-  const cv::Point2d other(sxy, largest - sxx);
-  if (other.dot(other) > axis.dot(axis)) axis = other;
-  const double length = cv::norm(axis);
-  if (!(length > 0)) return {mean, {1, 0}};
-  return {mean, axis * (1.0 / length)};
-}
-
 // A run of consecutive border points taken as one side.
 struct Arc {
-  bool valid = false;
+  enum State { kUnknown, kValid, kInvalid } state = kUnknown;
   Line line;
   // How far its points' edges are from running across it: the sum of the
-  // sines of their angles (a lone point's is 0 by construction).
+  // sines of their angles (for a lone point, kLonePenalty instead).
   double misfit = 0;
 };
+
+// One ring's border points, their edge directions, and the runs of them
+// (arcs), each worked out when first asked for.
+class RingPoints {
+ public:
+  RingPoints(const ImageView& image, const ChannelWeights& channel, cv::Point2f centre,
+             const std::array<cv::Point2f, kNumScans>& scanned) {
+    for (int k = 0; k < kNumScans; ++k) {
+      points_[k] = cv::Point2d(scanned[k]);
+      has_normal_[k] = EdgeNormal(image, channel, scanned[k], centre, &normal_[k]);
+    }
+    // The ring's size sets the tolerance: ScanRings' points are within about
+    // a pixel of the border, more on large blurred tags.
+    double size = 0;
+    for (int k = 0; k < kNumScans / 2; ++k)
+      size = std::max(size, cv::norm(points_[k] - points_[k + kNumScans / 2]));
+    tolerance_ = kOnLinePx + kOnLineShare * size;
+    // Sums over the points twice round (runs wrap), about the first point
+    // (small numbers): a run's least-squares line in constant time.
+    sums_[0] = {};
+    for (int i = 0; i < 2 * kNumScans; ++i) {
+      const cv::Point2d d = points_[i % kNumScans] - points_[0];
+      sums_[i + 1] = {sums_[i][0] + d.x, sums_[i][1] + d.y, sums_[i][2] + d.x * d.x,
+                      sums_[i][3] + d.x * d.y, sums_[i][4] + d.y * d.y};
+    }
+  }
+
+  const cv::Point2d& point(int k) const { return points_[k % kNumScans]; }
+  double tolerance() const { return tolerance_; }
+
+  // The run of `length` points from `first`, or nullptr if it cannot be a
+  // side: its points off its line, or (but for its ends, which may sit at
+  // corners) with edges that do not run across it, or none that does.
+  const Arc* Run(int first, int length) {
+    Arc& arc = arcs_[first][length - 1];
+    if (arc.state == Arc::kUnknown) arc.state = Evaluate(first, length, &arc);
+    return arc.state == Arc::kValid ? &arc : nullptr;
+  }
+
+  // The total least squares line through the run of `length` points from
+  // `first`: through their mean, along the major axis of their scatter (the
+  // 2 x 2 eigenvector in closed form), pointing from the first to the last.
+  bool Fit(int first, int length, Line* line) const {
+    first %= kNumScans;
+    const auto& hi = sums_[first + length];
+    const auto& lo = sums_[first];
+    const double n = length;
+    const double mx = (hi[0] - lo[0]) / n, my = (hi[1] - lo[1]) / n;
+    const double sxx = hi[2] - lo[2] - n * mx * mx, sxy = hi[3] - lo[3] - n * mx * my,
+                 syy = hi[4] - lo[4] - n * my * my;
+    const double half_difference = 0.5 * (sxx - syy);
+    const double largest =
+        0.5 * (sxx + syy) + std::sqrt(half_difference * half_difference + sxy * sxy);
+    // (largest - syy, sxy) and (sxy, largest - sxx) both lie along the
+    // axis; the longer is the better conditioned.
+    cv::Point2d axis(largest - syy, sxy);
+    const cv::Point2d other(sxy, largest - sxx);
+    if (other.dot(other) > axis.dot(axis)) axis = other;
+    const double axis_length = std::sqrt(axis.dot(axis));
+    if (!(axis_length > 0)) return false;
+    axis *= 1.0 / axis_length;
+    if (axis.dot(point(first + length - 1) - points_[first]) < 0) axis = -axis;
+    *line = {points_[0] + cv::Point2d(mx, my), axis};
+    return true;
+  }
+
+ private:
+  bool Across(int k, const Line& line) const {
+    return has_normal_[k] && std::abs(normal_[k].dot(line.direction)) < kMaxEdgeAngleSin;
+  }
+
+  Arc::State Evaluate(int first, int length, Arc* arc) const {
+    if (length == 1) {
+      if (!has_normal_[first]) return Arc::kInvalid;
+      arc->line = {points_[first], {-normal_[first].y, normal_[first].x}};
+      arc->misfit = kLonePenalty;
+      return Arc::kValid;
+    }
+    const cv::Point2d span = point(first + length - 1) - points_[first];
+    if (!(span.dot(span) > kMinPairPx * kMinPairPx)) return Arc::kInvalid;
+    if (!Fit(first, length, &arc->line)) return Arc::kInvalid;
+    const cv::Point2d axis = arc->line.direction;
+    bool any_across = false;
+    for (int j = 0; j < length; ++j) {
+      const int k = (first + j) % kNumScans;
+      if (!(arc->line.Distance(points_[k]) < tolerance_)) return Arc::kInvalid;
+      const bool across = Across(k, arc->line);
+      if (!across && j > 0 && j < length - 1) return Arc::kInvalid;
+      any_across |= across;
+      arc->misfit += has_normal_[k] ? std::abs(normal_[k].dot(axis)) : 1.0;
+    }
+    return any_across ? Arc::kValid : Arc::kInvalid;
+  }
+
+  std::array<cv::Point2d, kNumScans> points_;
+  std::array<cv::Point2d, kNumScans> normal_;
+  std::array<bool, kNumScans> has_normal_;
+  double tolerance_ = 0;
+  std::array<std::array<double, 5>, 2 * kNumScans + 1> sums_;
+  std::array<std::array<Arc, kMaxRun>, kNumScans> arcs_;
+};
+
+// Four cuts c0 < c1 < c2 < c3 among the eight points: side s is the run
+// from cut s up to cut s + 1 (round to c0 + 8 for the last).
+using Cuts = std::array<int, kSides>;
+
+int RunLength(const Cuts& cut, int s) {
+  return s + 1 < kSides ? cut[s + 1] - cut[s] : cut[0] + kNumScans - cut[s];
+}
+
+// The quad of a split, and its misfit; false if it cannot be one (or its
+// misfit is not under `worst_misfit`): a run that
+// cannot be a side, sides that turn too little at a corner, a quad that is
+// not convex, or a point beyond its side's corners.
+bool SplitQuad(RingPoints& ring, const Cuts& cut, double worst_misfit, double* misfit,
+               std::array<Line, kSides>* sides, Quad* quad) {
+  *misfit = 0;
+  for (int s = 0; s < kSides; ++s) {
+    const int length = RunLength(cut, s);
+    if (length > kMaxRun) return false;
+    const Arc* arc = ring.Run(cut[s], length);
+    if (!arc) return false;
+    (*sides)[s] = arc->line;
+    *misfit += arc->misfit;
+    if (!(*misfit < worst_misfit)) return false;
+  }
+  for (int s = 0; s < kSides; ++s) {
+    const Line& u = (*sides)[(s + kSides - 1) % kSides];
+    const Line& v = (*sides)[s];
+    if (!(std::abs(u.direction.x * v.direction.y - u.direction.y * v.direction.x) >
+          kMinCornerTurnSin) ||
+        !IntersectLines(u.point, u.direction, v.point, v.direction, &(*quad)[s]))
+      return false;
+  }
+  if (!IsConvexClockwise(*quad)) return false;
+  const double slack = kCornerSlackPx + ring.tolerance();
+  for (int s = 0; s < kSides; ++s) {
+    const cv::Point2d p = (*quad)[s], q = (*quad)[(s + 1) % kSides];
+    const double length = cv::norm(q - p);
+    const cv::Point2d along = (q - p) * (1.0 / length);
+    for (int j = 0; j < RunLength(cut, s); ++j) {
+      const double t = (ring.point(cut[s] + j) - p).dot(along);
+      if (t < -slack || t > length + slack) return false;
+    }
+  }
+  return true;
+}
 
 // One ring's quad from its eight border points (clockwise, one per scan):
 // the points split into four runs of consecutive points, one per side, each
@@ -119,131 +231,53 @@ struct Arc {
 // (its ends may sit at corners, where the edge turns) must show an edge
 // across it. Eight points on a square alone fit two quads when neither has
 // a point near a corner (the true one, and the one through the chords that
-// cut its corners): the edge directions tell them apart. Of the splits that
-// make a convex quad with each point between its side's corners, the one
-// whose points' edges run across their sides best, a lone point counting as
-// kLonePenalty (its side's direction is its edge's alone).
-bool RingQuad(const ImageView& image, const ChannelWeights& channel, cv::Point2f centre,
-              const std::array<cv::Point2f, kNumScans>& scanned, Quad* quad) {
-  std::array<cv::Point2d, kNumScans> points;
-  std::array<cv::Point2d, kNumScans> normal;
-  std::array<bool, kNumScans> has_normal;
-  for (int k = 0; k < kNumScans; ++k) {
-    points[k] = cv::Point2d(scanned[k]);
-    has_normal[k] = EdgeNormal(image, channel, scanned[k], centre, &normal[k]);
-  }
-  // The ring's size sets the tolerance: ScanRings' points are within about
-  // a pixel of the border, more on large blurred tags.
-  double size = 0;
-  for (int k = 0; k < kNumScans / 2; ++k)
-    size = std::max(size, cv::norm(points[k] - points[k + kNumScans / 2]));
-  const double tolerance = kOnLinePx + kOnLineShare * size;
-  auto across = [&](int k, const Line& line) {
-    return has_normal[k] && std::abs(normal[k].dot(line.direction)) < kMaxEdgeAngleSin;
-  };
-  // arcs[first][length - 1]: the run of `length` points from `first`.
-  std::array<std::array<Arc, kMaxRun>, kNumScans> arcs;
-  for (int first = 0; first < kNumScans; ++first) {
-    for (int length = 1; length <= kMaxRun; ++length) {
-      Arc& arc = arcs[first][length - 1];
-      if (length == 1) {
-        if (!has_normal[first]) continue;
-        arc.line = {points[first], {-normal[first].y, normal[first].x}};
-        arc.valid = true;
-        continue;
-      }
-      unsigned mask = 0;
-      for (int j = 0; j < length; ++j) mask |= 1u << ((first + j) % kNumScans);
-      const cv::Point2d span = points[(first + length - 1) % kNumScans] - points[first];
-      if (!(cv::norm(span) > kMinPairPx)) continue;
-      arc.line = FitLine(points, mask);
-      if (arc.line.direction.dot(span) < 0) arc.line.direction = -arc.line.direction;
-      bool on_line = true, any_across = false, inside_across = true;
-      for (int j = 0; j < length; ++j) {
-        const int k = (first + j) % kNumScans;
-        on_line &= arc.line.Distance(points[k]) < tolerance;
-        arc.misfit += has_normal[k] ? std::abs(normal[k].dot(arc.line.direction)) : 1.0;
-        any_across |= across(k, arc.line);
-        if (j > 0 && j < length - 1) inside_across &= across(k, arc.line);
-      }
-      arc.valid = on_line && any_across && inside_across;
-    }
-  }
-  double best_misfit = 1e300;
-  std::array<int, kSides> best_cut{};
-  // Four cuts c0 < c1 < c2 < c3: side s runs from cut s to cut s + 1.
-  std::array<int, kSides> cut;
-  for (cut[0] = 0; cut[0] < kNumScans; ++cut[0]) {
-    for (cut[1] = cut[0] + 1; cut[1] < kNumScans; ++cut[1]) {
-      for (cut[2] = cut[1] + 1; cut[2] < kNumScans; ++cut[2]) {
-        for (cut[3] = cut[2] + 1; cut[3] < kNumScans; ++cut[3]) {
-          std::array<const Arc*, kSides> sides;
-          int lone = 0;
-          double misfit = 0;
-          bool fits = true;
-          for (int s = 0; s < kSides && fits; ++s) {
-            const int length = s + 1 < kSides ? cut[s + 1] - cut[s] : cut[0] + kNumScans - cut[s];
-            fits = length <= kMaxRun && arcs[cut[s]][length - 1].valid;
-            if (!fits) break;
-            sides[s] = &arcs[cut[s]][length - 1];
-            lone += length == 1;
-            misfit += sides[s]->misfit;
-          }
-          misfit += kLonePenalty * lone;
-          if (!fits || misfit >= best_misfit) continue;
-          // Corner s where side s - 1 meets side s; each point between its
-          // side's corners.
-          Quad candidate;
-          for (int s = 0; s < kSides && fits; ++s) {
-            const Line& u = sides[(s + kSides - 1) % kSides]->line;
-            const Line& v = sides[s]->line;
-            fits = std::abs(u.direction.x * v.direction.y - u.direction.y * v.direction.x) >
-                       kMinCornerTurnSin &&
-                   IntersectLines(u.point, u.direction, v.point, v.direction, &candidate[s]);
-          }
-          if (!fits || !IsConvexClockwise(candidate)) continue;
-          for (int s = 0; s < kSides && fits; ++s) {
-            const cv::Point2d p = candidate[s], q = candidate[(s + 1) % kSides];
-            const double length = cv::norm(q - p);
-            const cv::Point2d along = (q - p) * (1.0 / length);
-            const int end = s + 1 < kSides ? cut[s + 1] : cut[0] + kNumScans;
-            for (int k = cut[s]; k < end && fits; ++k) {
-              const double t = (points[k % kNumScans] - p).dot(along);
-              fits = t > -kCornerSlackPx - tolerance && t < length + kCornerSlackPx + tolerance;
+// cut its corners): the edge directions tell them apart. `hint` (the outer
+// ring's split, which the inner rings' scans mostly share) is taken if it
+// makes a quad; otherwise, of the splits that do, the one whose points'
+// edges run across their sides best.
+bool RingQuad(RingPoints& ring, const Cuts* hint, Cuts* used, Quad* quad) {
+  double misfit = 0;
+  std::array<Line, kSides> sides;
+  Quad candidate;
+  bool found = hint && SplitQuad(ring, *hint, 1e300, &misfit, &sides, &candidate);
+  Cuts cut = hint ? *hint : Cuts{};
+  if (!found) {
+    double best = 1e300;
+    Cuts c;
+    for (c[0] = 0; c[0] < kNumScans; ++c[0]) {
+      for (c[1] = c[0] + 1; c[1] < kNumScans; ++c[1]) {
+        for (c[2] = c[1] + 1; c[2] < kNumScans; ++c[2]) {
+          for (c[3] = c[2] + 1; c[3] < kNumScans; ++c[3]) {
+            if (SplitQuad(ring, c, best, &misfit, &sides, &candidate)) {
+              best = misfit;
+              cut = c;
             }
           }
-          if (!fits) continue;
-          best_misfit = misfit;
-          best_cut = cut;
         }
       }
     }
+    if (!(best < 1e300)) return false;
+    SplitQuad(ring, cut, 1e300, &misfit, &sides, &candidate);
   }
-  if (!(best_misfit < 1e300)) return false;
   // A run's end at a corner lies on the next side too: each side of two or
-  // more points refitted through the points on its line, its neighbours'
-  // ends included.
-  std::array<Line, kSides> sides;
+  // more points refitted through its run and the neighbouring runs' ends
+  // that lie on it.
   for (int s = 0; s < kSides; ++s) {
-    const int first = best_cut[s];
-    const int length = s + 1 < kSides ? best_cut[s + 1] - first : best_cut[0] + kNumScans - first;
-    sides[s] = arcs[first][length - 1].line;
+    int first = cut[s] + kNumScans, length = RunLength(cut, s);
     if (length == 1) continue;
-    unsigned mask = 0;
-    for (int j = -1; j <= length; ++j) {
-      const int k = (first + j + kNumScans) % kNumScans;
-      if (sides[s].Distance(points[k]) < tolerance) mask |= 1u << k;
-    }
-    sides[s] = FitLine(points, mask);
+    if (sides[s].Distance(ring.point(first - 1)) < ring.tolerance()) --first, ++length;
+    if (sides[s].Distance(ring.point(first + length)) < ring.tolerance()) ++length;
+    Line refitted;
+    if (length < kNumScans && ring.Fit(first, length, &refitted)) sides[s] = refitted;
   }
-  Quad refitted;
   for (int s = 0; s < kSides; ++s) {
     const Line& u = sides[(s + kSides - 1) % kSides];
     const Line& v = sides[s];
-    if (!IntersectLines(u.point, u.direction, v.point, v.direction, &refitted[s])) return false;
+    if (!IntersectLines(u.point, u.direction, v.point, v.direction, &candidate[s])) return false;
   }
-  if (!IsConvexClockwise(refitted)) return false;
-  *quad = refitted;
+  if (!IsConvexClockwise(candidate)) return false;
+  *used = cut;
+  *quad = candidate;
   return true;
 }
 
@@ -264,10 +298,17 @@ bool QuadsFromScans(const ImageView& image, const DetectorOptions& options, Cand
       return false;
     for (int ring = 0; ring < kNumRings; ++ring) points[ring][k] = hits.border[ring];
   }
+  // The outer ring first: its edges are the strongest, and its split is the
+  // inner rings' first guess.
   const ChannelWeights channels[kNumRings] = {kRedMinusGreen, kGray, kGray};
-  for (int ring = 0; ring < kNumRings; ++ring) {
-    if (!RingQuad(image, channels[ring], candidate->centre, points[ring], &candidate->quads[ring]))
+  Cuts outer_cut;
+  for (int ring : {kBlackWhite, kGreenBlack, kRedGreen}) {
+    RingPoints ring_points(image, channels[ring], candidate->centre, points[ring]);
+    Cuts used;
+    if (!RingQuad(ring_points, ring == kBlackWhite ? nullptr : &outer_cut, &used,
+                  &candidate->quads[ring]))
       return false;
+    if (ring == kBlackWhite) outer_cut = used;
   }
   return true;
 }
