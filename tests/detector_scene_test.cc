@@ -87,6 +87,24 @@ TEST(DetectorSceneTest, EveryKeptIdOfBothFamiliesDecodesInItsOrientation) {
   EXPECT_EQ(checked, 28 + 587);
 }
 
+// One tag of `size` px, turned by `rotation` and tilted by `tilt` degrees
+// (about an axis that turns with it), a little off the centre of a frame
+// with room for it: the views of the sweeps below.
+Scene OneTagView(const std::string& family, int id, double size, double tilt, double rotation) {
+  SceneTag tag;
+  tag.family = family;
+  tag.id = id;
+  tag.black_square_px = size;
+  tag.rotation_deg = rotation;
+  tag.tilt_deg = tilt;
+  tag.tilt_axis_deg = rotation * 0.7 + 10;
+  const int side = std::max(120, static_cast<int>(size * 1.9));
+  tag.centre = {side / 2.0 + 0.3, side / 2.0 - 0.2};
+  SceneOptions options;
+  options.width = options.height = side;
+  return RenderScene({tag}, options);
+}
+
 struct Pose3 {
   double size_px, tilt_deg, rotation_deg;
 };
@@ -109,18 +127,7 @@ TEST(DetectorSceneTest, UnblurredCornersAreSubPixelOverSizesRotationsAndTilts) {
             ++skipped;
             continue;
           }
-          SceneTag tag;
-          tag.family = name;
-          tag.id = name == "16h5" ? 3 : 42;
-          tag.black_square_px = size;
-          tag.rotation_deg = rotation;
-          tag.tilt_deg = tilt;
-          tag.tilt_axis_deg = rotation * 0.7 + 10;
-          const int side = std::max(120, static_cast<int>(size * 1.9));
-          tag.centre = {side / 2.0 + 0.3, side / 2.0 - 0.2};
-          SceneOptions options;
-          options.width = options.height = side;
-          const Scene scene = RenderScene({tag}, options);
+          const Scene scene = OneTagView(name, name == "16h5" ? 3 : 42, size, tilt, rotation);
           const DetectionResult result = detector->Detect(scene.bgr);
           ASSERT_EQ(result.detections.size(), 1u)
               << name << " size " << size << " tilt " << tilt << " rotation " << rotation;
@@ -419,18 +426,7 @@ TEST(DetectorSceneTest, FastPathFindsWhatBuildPolygonFinds) {
         for (double rotation : {0., 22.5, 45., 100.}) {
           const int cells = name == "16h5" ? 6 : 8;
           if (size / cells * std::cos(tilt * M_PI / 180) < 3.5) continue;
-          SceneTag tag;
-          tag.family = name;
-          tag.id = name == "16h5" ? 7 : 101;
-          tag.black_square_px = size;
-          tag.rotation_deg = rotation;
-          tag.tilt_deg = tilt;
-          tag.tilt_axis_deg = rotation * 0.7 + 10;
-          const int side = std::max(120, static_cast<int>(size * 1.9));
-          tag.centre = {side / 2.0 + 0.3, side / 2.0 - 0.2};
-          SceneOptions scene_options;
-          scene_options.width = scene_options.height = side;
-          const Scene scene = RenderScene({tag}, scene_options);
+          const Scene scene = OneTagView(name, name == "16h5" ? 7 : 101, size, tilt, rotation);
           const DetectionResult a = fast->Detect(scene.bgr), b = slow->Detect(scene.bgr);
           const std::string view = name + " size " + std::to_string(size) + " tilt " +
                                    std::to_string(tilt) + " rotation " + std::to_string(rotation);

@@ -16,6 +16,13 @@ using testing::RotatedSquare;
 // The rings' outlines: half-sides of red 12.5, green 24.5 and black 36.5 px.
 constexpr double kOutlineHalf[kNumRings] = {12.5, 24.5, 36.5};
 
+// The three rings' quads filled with tag-like colours on white, antialiased,
+// in a 200 x 200 frame.
+cv::Mat RenderRingQuads(const std::array<Quad, kNumRings>& rings) {
+  return testing::RenderQuadsAntialiased({200, 200}, {rings.begin(), rings.end()},
+                                         {kTestRed, kTestGreen, kTestBlack}, kTestWhite);
+}
+
 // The largest distance from a corner of `truth` to the matching corner of
 // `quad` (both clockwise; only the first corner may differ).
 double MaxCornerDistance(const Quad& quad, const Quad& truth) {
@@ -36,8 +43,7 @@ TEST(QuadsFromScansTest, GivesEachRingsDrawnQuadAtAnyTurn) {
     std::array<Quad, kNumRings> truth;
     for (int ring = 0; ring < kNumRings; ++ring)
       truth[ring] = RotatedSquare(centre, kOutlineHalf[ring], degrees);
-    const cv::Mat image = testing::RenderQuadsAntialiased(
-        {200, 200}, {truth.begin(), truth.end()}, {kTestRed, kTestGreen, kTestBlack}, kTestWhite);
+    const cv::Mat image = RenderRingQuads(truth);
     const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
     Candidate candidate;
     RejectReason why;
@@ -67,20 +73,18 @@ TEST(QuadsFromScansTest, DeclinesWhenAScanMissesASide) {
   // A quad whose short upper side (seen from the centre between 80 and 50
   // degrees anticlockwise of "right") lies between the up and the up-right
   // scans.
-  auto kite = [&](double scale) {
+  auto kite = [&](double radius) {
     Quad quad;
-    const double angles[4] = {-80.0, -50.0, 90.0, 180.0};
-    const double radii[4] = {40.0, 40.0, 40.0, 40.0};
+    const double degrees[4] = {-80.0, -50.0, 90.0, 180.0};
     for (int i = 0; i < 4; ++i) {
-      const double a = angles[i] * CV_PI / 180;
-      quad[i] = centre + scale * radii[i] * cv::Point2d(std::cos(a), std::sin(a));
+      const double a = degrees[i] * CV_PI / 180;
+      quad[i] = centre + radius * cv::Point2d(std::cos(a), std::sin(a));
     }
     return quad;
   };
-  const std::array<Quad, kNumRings> truth = {kite(12.5 / 36.5), kite(24.5 / 36.5), kite(1.0)};
+  const std::array<Quad, kNumRings> truth = {kite(14.0), kite(27.0), kite(40.0)};
   ASSERT_TRUE(IsConvexClockwise(truth[kBlackWhite]));
-  const cv::Mat image = testing::RenderQuadsAntialiased(
-      {200, 200}, {truth.begin(), truth.end()}, {kTestRed, kTestGreen, kTestBlack}, kTestWhite);
+  const cv::Mat image = RenderRingQuads(truth);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Candidate candidate;
   RejectReason why;
