@@ -13,6 +13,7 @@
 #include "chromatag/bench/dataset.h"
 #include "chromatag/bench/metrics.h"
 #include "chromatag/bench/miss_analysis.h"
+#include "chromatag/bench/pair_timing.h"
 #include "chromatag/bench/plot.h"
 #include "chromatag/families/family.h"
 
@@ -587,6 +588,59 @@ TEST(PlotTest, WritesReadablePngs) {
   EXPECT_TRUE(seen);
   EXPECT_FALSE(WriteLinePlot(plot, dir + "/no/such/folder/line.png", &error));
   EXPECT_NE(error.find("no/such/folder"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace chromatag::bench
+
+namespace chromatag::bench {
+namespace {
+
+TEST(PairTimingTest, SummarisesEachGroupAndBothOrders) {
+  std::vector<PairedFrame> frames = {
+      {true, 100, 90, 1, 1, true}, {true, 110, 95, 1, 1, false}, {true, 120, 130, 1, 0, true},
+      {false, 20, 21, 0, 0, true}, {false, 22, 25, 0, 0, false},
+  };
+  const PairedMedians tags = SummarisePairs(frames, true);
+  EXPECT_EQ(tags.frames, 3);
+  EXPECT_DOUBLE_EQ(tags.a_us, 110);
+  EXPECT_DOUBLE_EQ(tags.b_us, 95);
+  EXPECT_DOUBLE_EQ(tags.b_minus_a_us, -10);        // Of -10, -15 and +10.
+  EXPECT_DOUBLE_EQ(tags.b_minus_a_a_first_us, 0);  // Of -10 and +10.
+  EXPECT_DOUBLE_EQ(tags.b_minus_a_b_first_us, -15);
+  EXPECT_EQ(tags.a_found, 3);
+  EXPECT_EQ(tags.b_found, 2);
+  const PairedMedians free = SummarisePairs(frames, false);
+  EXPECT_EQ(free.frames, 2);
+  EXPECT_DOUBLE_EQ(free.b_minus_a_us, 2);
+  EXPECT_TRUE(std::isnan(SummarisePairs({}, true).a_us));
+}
+
+// Both settings run on every frame, taking turns at going first; with the
+// fast path off, the detector finds the same tags.
+TEST(PairTimingTest, TimesBothSettingsOnEveryFrame) {
+  DatasetOptions options = DatasetOptions::ForKind(DatasetKind::kCamera);
+  options.num_frames = 6;
+  const auto dataset = Dataset::Create(options);
+  ASSERT_TRUE(dataset);
+  DetectorOptions a;
+  a.families = {"16h5", "36h11"};
+  DetectorOptions b = a;
+  b.quads_from_scans = false;
+  auto apriltag = MakeAprilTagDetector(a.families);
+  auto aruco = MakeArucoDetector(a.families);
+  const std::vector<PairedFrame> pairs = RunPairedTiming(*dataset, a, b, *apriltag, *aruco, 2);
+  ASSERT_EQ(pairs.size(), 6u);
+  int found = 0;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    EXPECT_GT(pairs[i].a_us, 0.0);
+    EXPECT_GT(pairs[i].b_us, 0.0);
+    EXPECT_EQ(pairs[i].a_first, i % 2 == 0);
+    EXPECT_EQ(pairs[i].has_tags, dataset->Truth(static_cast<int>(i)).has_tags);
+    EXPECT_EQ(pairs[i].a_found, pairs[i].b_found) << "frame " << i;
+    found += pairs[i].a_found;
+  }
+  EXPECT_GT(found, 0);
 }
 
 }  // namespace

@@ -14,7 +14,9 @@ double Seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
-std::vector<Frame> RenderChunk(const Dataset& dataset, int first, int count, int threads) {
+}  // namespace
+
+std::vector<Frame> RenderFrames(const Dataset& dataset, int first, int count, int threads) {
   std::vector<Frame> frames(count);
   std::atomic<int> next{0};
   auto work = [&] {
@@ -27,11 +29,7 @@ std::vector<Frame> RenderChunk(const Dataset& dataset, int first, int count, int
   return frames;
 }
 
-// Reads every byte of the frame so that it sits in the caches when the timed
-// call starts, whichever detector goes first (a chunk of frames is larger
-// than the last-level cache). This is the paper's repeated-frame condition;
-// a frame fresh from the camera would add a memory fetch for any detector.
-uint64_t Touch(const cv::Mat& image) {
+uint64_t TouchFrame(const cv::Mat& image) {
   uint64_t sum = 0;
   for (int y = 0; y < image.rows; ++y) {
     const uint8_t* row = image.ptr<uint8_t>(y);
@@ -39,8 +37,6 @@ uint64_t Touch(const cv::Mat& image) {
   }
   return sum;
 }
-
-}  // namespace
 
 std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
                                        TagDetector* apriltag, TagDetector* aruco,
@@ -57,7 +53,7 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
     const int count = std::min(options.chunk_frames, total - first);
     const auto render_start = Clock::now();
     const std::vector<Frame> frames =
-        RenderChunk(dataset, first, count, std::max(1, options.render_threads));
+        RenderFrames(dataset, first, count, std::max(1, options.render_threads));
     const auto detect_start = Clock::now();
     local.render_s += Seconds(render_start, detect_start);
     if (!warmed_up) {  // First calls allocate; keep them out of the timings.
@@ -74,7 +70,7 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       for (int turn = 0; turn < kNumDetectors; ++turn) {
         const int d = (first + i + turn) % kNumDetectors;
         if (!detectors[d]) continue;
-        touched += Touch(frame.bgr);
+        touched += TouchFrame(frame.bgr);
         const auto start = Clock::now();
         detectors[d]->Detect(frame.bgr, &found);
         const auto end = Clock::now();
@@ -95,7 +91,7 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
     // ChromaTag again on the chunk, with nothing else in between.
     if (apriltag || aruco) {
       for (int i = 0; i < count; ++i) {
-        touched += Touch(frames[i].bgr);
+        touched += TouchFrame(frames[i].bgr);
         const auto start = Clock::now();
         chromatag.Detect(frames[i].bgr, &found);
         records[first + i].chromatag_alone_us =

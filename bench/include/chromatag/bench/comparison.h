@@ -64,6 +64,16 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
                                        const RunOptions& options, RunTimes* times,
                                        const std::function<void(int, int)>& progress = {});
 
+// Frames [first, first + count) of `dataset`, rendered on `threads` threads.
+std::vector<Frame> RenderFrames(const Dataset& dataset, int first, int count, int threads);
+
+// Reads every byte of the frame, so that it sits in the caches when a timed
+// call starts, whichever detector goes first (a chunk of frames is larger
+// than the last-level cache): the paper's repeated-frame condition; a frame
+// fresh from the camera would add a memory fetch for any detector. Returns
+// a sum, for the caller to keep (else the reads may be optimised away).
+uint64_t TouchFrame(const cv::Mat& image);
+
 struct ReportInfo {
   std::string command;  // How the run was started.
   std::string label;    // What was measured (e.g. the commit); may be empty.

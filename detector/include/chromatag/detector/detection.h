@@ -60,10 +60,13 @@ const char* StageName(Stage stage);  // "FindADiff", ..., "GrowRegion"
 
 struct DetectorSummary {
   // Wall time spent in each stage, microseconds. FindADiff is the frame's
-  // time minus the other stages (its loop encloses them).
+  // time minus the other stages (its loop encloses them). The fast path's
+  // quads count as BuildPolygon, its sub-pixel sides as PolyToQuad and its
+  // reads as Decode.
   std::array<double, kNumStages> stage_time_us{};
   // Candidates abandoned by each stage. FindADiff counts seeds whose rise
   // the coarse prefilter let through but the accurate a* did not confirm.
+  // What the fast path abandons is not counted: the stages take it up.
   std::array<int, kNumStages> rejected{};
   int seeds = 0;  // Candidates handed to InitialScan.
   // Candidates the fast path (DetectorOptions::quads_from_scans) took from

@@ -1,0 +1,85 @@
+// ChromaTag's time with its default options and with one of them switched
+// off, paired frame by frame after AprilTag 3 and ArUco (pair_timing.h): how
+// much a part of the detector costs or saves under the comparison's
+// conditions, free of the machine's drift between runs.
+//
+//   pair_timing [--set camera|classic] [--frames N] [--seed S] --off OPTION
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <opencv2/core/utility.hpp>
+#include <string>
+#include <thread>
+
+#include "chromatag/bench/competitors.h"
+#include "chromatag/bench/dataset.h"
+#include "chromatag/bench/pair_timing.h"
+
+using namespace chromatag;
+using namespace chromatag::bench;
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "ChromaTag's time with its defaults and with one option off, paired frame by frame "
+      "after AprilTag 3 and ArUco"};
+  std::string set = "camera", off;
+  int frames = 1500;
+  uint64_t seed = 1;
+  app.add_option("--set", set, "data set (as tag_comparison)")
+      ->check(CLI::IsMember({"classic", "camera"}))
+      ->capture_default_str();
+  app.add_option("--frames", frames, "frames to render and time")
+      ->check(CLI::Range(2, 1'000'000))
+      ->capture_default_str();
+  app.add_option("--seed", seed, "data set seed")->capture_default_str();
+  app.add_option("--off", off, "the DetectorOptions switch that the second setting turns off")
+      ->required()
+      ->check(CLI::IsMember({"quads_from_scans", "grow_regions", "refine_corners"}));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help.
+    std::cerr << "pair_timing: error: " << e.what() << " (see pair_timing --help)\n";
+    return 2;
+  }
+  const DatasetKind kind = *ParseDatasetKind(set);
+  DatasetOptions dataset_options = DatasetOptions::ForKind(kind);
+  dataset_options.num_frames = frames;
+  dataset_options.seed = seed;
+  const std::vector<std::string> families = kind == DatasetKind::kCamera
+                                                ? std::vector<std::string>{"16h5", "36h11"}
+                                                : std::vector<std::string>{"16h5"};
+  DetectorOptions a;
+  a.families = families;
+  DetectorOptions b = a;
+  (off == "quads_from_scans" ? b.quads_from_scans
+   : off == "grow_regions"   ? b.grow_regions
+                             : b.refine_corners) = false;
+
+  cv::setNumThreads(1);  // Every detector on this thread, as in tag_comparison.
+  std::string error;
+  const auto dataset = Dataset::Create(dataset_options, &error);
+  auto apriltag = dataset ? MakeAprilTagDetector(families, &error) : nullptr;
+  auto aruco = apriltag ? MakeArucoDetector(families, &error) : nullptr;
+  if (!aruco) {
+    std::cerr << "pair_timing: " << error << "\n";
+    return 1;
+  }
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const auto pairs = RunPairedTiming(*dataset, a, b, *apriltag, *aruco, threads);
+  std::printf(
+      "pair_timing --set %s --frames %d --seed %llu: defaults (A) against %s off (B), "
+      "medians in us\n\n",
+      set.c_str(), frames, static_cast<unsigned long long>(seed), off.c_str());
+  std::printf(
+      "| frames | n | A | B | B - A, paired | B - A, A timed first | B - A, B timed first | "
+      "detections A / B |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (bool with_tags : {true, false}) {
+    const PairedMedians m = SummarisePairs(pairs, with_tags);
+    std::printf("| %s | %d | %.1f | %.1f | %+.1f | %+.1f | %+.1f | %d / %d |\n",
+                with_tags ? "with tags" : "tag-free", m.frames, m.a_us, m.b_us, m.b_minus_a_us,
+                m.b_minus_a_a_first_us, m.b_minus_a_b_first_us, m.a_found, m.b_found);
+  }
+  return 0;
+}
