@@ -127,4 +127,20 @@ cv::Matx33d UnitSquareToQuad(const Quad& quad) {
                      g, h, 1.0);
 }
 
+cv::Point2d MajorAxis(double sxx, double sxy, double syy) {
+  const double half_difference = 0.5 * (sxx - syy);
+  const double largest =
+      0.5 * (sxx + syy) + std::sqrt(half_difference * half_difference + sxy * sxy);
+  // (largest - syy, sxy) and (sxy, largest - sxx) both lie along the axis;
+  // the longer is the better conditioned.
+  cv::Point2d axis(largest - syy, sxy);
+  const cv::Point2d other(sxy, largest - sxx);
+  if (other.dot(other) > axis.dot(axis)) axis = other;
+  const double length = std::sqrt(axis.dot(axis));
+  if (!(length > 0)) return {1, 0};
+  axis *= 1.0 / length;
+  if (axis.x < 0 || (axis.x == 0 && axis.y < 0)) axis = -axis;
+  return axis;
+}
+
 }  // namespace chromatag::internal

@@ -202,3 +202,32 @@ TEST(GeometryTest, UnitSquareToQuadMatchesGetPerspectiveTransform) {
 
 }  // namespace
 }  // namespace chromatag::internal
+
+namespace chromatag::internal {
+namespace {
+
+// The closed form agrees with the angle formula 0.5 atan2(2 sxy, sxx - syy)
+// on random scatters, points into x >= 0, and falls back to (1, 0).
+TEST(GeometryTest, MajorAxisMatchesTheAngleFormula) {
+  cv::RNG rng(11);
+  for (int i = 0; i < 2000; ++i) {
+    const double sxx = rng.uniform(0.0, 50.0), syy = rng.uniform(0.0, 50.0);
+    const double limit = std::sqrt(sxx * syy);  // A scatter matrix is positive semidefinite.
+    const double sxy = rng.uniform(-limit, limit);
+    const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+    const cv::Point2d expected(std::cos(angle), std::sin(angle));
+    const cv::Point2d axis = MajorAxis(sxx, sxy, syy);
+    EXPECT_NEAR(cv::norm(axis), 1.0, 1e-12);
+    EXPECT_GE(axis.x, 0.0);
+    // Up to the sign when the axis is vertical, where both formulas may
+    // pick either end.
+    EXPECT_LT(std::min(cv::norm(axis - expected), cv::norm(axis + expected)), 1e-9)
+        << sxx << " " << sxy << " " << syy;
+  }
+  EXPECT_EQ(MajorAxis(0, 0, 0), cv::Point2d(1, 0));
+  EXPECT_EQ(MajorAxis(0, 0, 4), cv::Point2d(0, 1));
+  EXPECT_EQ(MajorAxis(4, 0, 0), cv::Point2d(1, 0));
+}
+
+}  // namespace
+}  // namespace chromatag::internal

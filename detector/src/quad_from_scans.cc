@@ -126,17 +126,8 @@ class RingPoints {
     const double mx = (hi[0] - lo[0]) / n, my = (hi[1] - lo[1]) / n;
     const double sxx = hi[2] - lo[2] - n * mx * mx, sxy = hi[3] - lo[3] - n * mx * my,
                  syy = hi[4] - lo[4] - n * my * my;
-    const double half_difference = 0.5 * (sxx - syy);
-    const double largest =
-        0.5 * (sxx + syy) + std::sqrt(half_difference * half_difference + sxy * sxy);
-    // (largest - syy, sxy) and (sxy, largest - sxx) both lie along the
-    // axis; the longer is the better conditioned.
-    cv::Point2d axis(largest - syy, sxy);
-    const cv::Point2d other(sxy, largest - sxx);
-    if (other.dot(other) > axis.dot(axis)) axis = other;
-    const double axis_length = std::sqrt(axis.dot(axis));
-    if (!(axis_length > 0)) return false;
-    axis *= 1.0 / axis_length;
+    if (!(sxx + syy > 0)) return false;
+    cv::Point2d axis = MajorAxis(sxx, sxy, syy);
     if (axis.dot(point(first + length - 1) - points_[first]) < 0) axis = -axis;
     *line = {points_[0] + cv::Point2d(mx, my), axis};
     return true;

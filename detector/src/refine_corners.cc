@@ -43,9 +43,8 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
       sxy += d.x * d.y;
       syy += d.y * d.y;
     }
-    const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
     line->point = c;
-    line->direction = {std::cos(angle), std::sin(angle)};
+    line->direction = MajorAxis(sxx, sxy, syy);
     if (pass == 1) break;
     const cv::Point2d normal(-line->direction.y, line->direction.x);
     residual.clear();

@@ -292,6 +292,11 @@ inline bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::P
   return true;
 }
 bool IsConvexClockwise(const Quad& quad);
+// The unit direction of the major axis of a scatter with second moments
+// sxx, sxy, syy about its mean (the total least squares line's direction),
+// x >= 0 (y > 0 when x = 0); in closed form, no trigonometry. (1, 0) for a
+// scatter with no spread.
+cv::Point2d MajorAxis(double sxx, double sxy, double syy);
 // The convex hull of `points`, clockwise on screen (y down), without
 // collinear points; into *hull (reused) or returned.
 void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* hull);
