@@ -11,23 +11,13 @@ namespace {
 
 constexpr int kSides = 4;
 
-double AngleDistance(double a, double b) {
-  const double d = std::fmod(std::abs(a - b), 2 * CV_PI);
-  return std::min(d, 2 * CV_PI - d);
-}
-
-struct Line {
-  cv::Point2d point;
-  cv::Point2d direction;
-};
-
 // Weighted total least squares through the endpoints of a side's edges, each
 // endpoint weighted by half its edge's length so that the short edges cutting
 // the corners barely count. The paper draws the line at the cluster's mean
 // angle through its outer-most point; a fit is less sensitive to one noisy
 // point, and the sub-pixel refinement follows anyway.
 Line FitSide(const std::vector<cv::Point2f>& hull, const std::vector<int>& label, int side,
-             double mean_angle) {
+             cv::Point2d along) {
   double w_sum = 0, mx = 0, my = 0;
   const size_t n = hull.size();
   auto each_endpoint = [&](auto&& visit) {
@@ -52,10 +42,10 @@ Line FitSide(const std::vector<cv::Point2f>& hull, const std::vector<int>& label
     sxy += w * d.x * d.y;
     syy += w * d.y * d.y;
   });
-  double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  cv::Point2d direction = MajorAxis(sxx, sxy, syy);
   // Keep the clockwise sense of the cluster.
-  if (AngleDistance(angle, mean_angle) > CV_PI / 2) angle += CV_PI;
-  return {centroid, {std::cos(angle), std::sin(angle)}};
+  if (direction.dot(along) < 0) direction = -direction;
+  return {centroid, direction};
 }
 
 // The four corners of a convex hull (clockwise), as indices into it: vertices
@@ -122,16 +112,9 @@ bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
     for (int i = corners[k]; i != corners[(k + 1) % kSides]; i = (i + 1) % n) label[i] = k;
   }
   for (int k = 0; k < kSides; ++k) {
-    const cv::Point2f along = hull[corners[(k + 1) % kSides]] - hull[corners[k]];
-    sides[k] = FitSide(hull, label, k, std::atan2(along.y, along.x));
+    sides[k] = FitSide(hull, label, k, hull[corners[(k + 1) % kSides]] - hull[corners[k]]);
   }
-  for (int s = 0; s < kSides; ++s) {
-    const Line& a = sides[s];
-    const Line& b = sides[(s + 1) % kSides];
-    if (!IntersectLines(a.point, a.direction, b.point, b.direction, &(*quad)[(s + 1) % kSides]))
-      return false;
-  }
-  return IsConvexClockwise(*quad);
+  return QuadFromSides(sides, quad) && IsConvexClockwise(*quad);
 }
 
 bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,

@@ -59,15 +59,6 @@ bool EdgeNormal(const ImageView& image, const ChannelWeights& channel, cv::Point
   return true;
 }
 
-struct Line {
-  cv::Point2d point;
-  cv::Point2d direction;  // Unit.
-  double Distance(const cv::Point2d& p) const {
-    const cv::Point2d d = p - point;
-    return std::abs(d.x * direction.y - d.y * direction.x);
-  }
-};
-
 // A run of consecutive border points taken as one side.
 struct Arc {
   enum State { kUnknown, kValid, kInvalid } state = kUnknown;
@@ -194,14 +185,10 @@ bool SplitQuad(RingPoints& ring, const Cuts& cut, double worst_misfit, double* m
     if (!(*misfit < worst_misfit)) return false;
   }
   for (int s = 0; s < kSides; ++s) {
-    const Line& u = (*sides)[(s + kSides - 1) % kSides];
-    const Line& v = (*sides)[s];
-    if (!(std::abs(u.direction.x * v.direction.y - u.direction.y * v.direction.x) >
-          kMinCornerTurnSin) ||
-        !IntersectLines(u.point, u.direction, v.point, v.direction, &(*quad)[s]))
-      return false;
+    const cv::Point2d u = (*sides)[(s + kSides - 1) % kSides].direction, v = (*sides)[s].direction;
+    if (!(std::abs(u.x * v.y - u.y * v.x) > kMinCornerTurnSin)) return false;
   }
-  if (!IsConvexClockwise(*quad)) return false;
+  if (!QuadFromSides(*sides, quad) || !IsConvexClockwise(*quad)) return false;
   const double slack = kCornerSlackPx + ring.tolerance();
   for (int s = 0; s < kSides; ++s) {
     const cv::Point2d p = (*quad)[s], q = (*quad)[(s + 1) % kSides];
@@ -228,7 +215,7 @@ bool SplitQuad(RingPoints& ring, const Cuts& cut, double worst_misfit, double* m
 // edges run across their sides best.
 bool RingQuad(RingPoints& ring, const Cuts* hint, Cuts* used, Quad* quad) {
   double misfit = 0;
-  std::array<Line, kSides> sides;
+  std::array<Line, kSides> sides, tried;
   Quad candidate;
   bool found = hint && SplitQuad(ring, *hint, 1e300, &misfit, &sides, &candidate);
   Cuts cut = hint ? *hint : Cuts{};
@@ -239,16 +226,16 @@ bool RingQuad(RingPoints& ring, const Cuts* hint, Cuts* used, Quad* quad) {
       for (c[1] = c[0] + 1; c[1] < kNumScans; ++c[1]) {
         for (c[2] = c[1] + 1; c[2] < kNumScans; ++c[2]) {
           for (c[3] = c[2] + 1; c[3] < kNumScans; ++c[3]) {
-            if (SplitQuad(ring, c, best, &misfit, &sides, &candidate)) {
+            if (SplitQuad(ring, c, best, &misfit, &tried, &candidate)) {
               best = misfit;
               cut = c;
+              sides = tried;
             }
           }
         }
       }
     }
     if (!(best < 1e300)) return false;
-    SplitQuad(ring, cut, 1e300, &misfit, &sides, &candidate);
   }
   // A run's end at a corner lies on the next side too: each side of two or
   // more points refitted through its run and the neighbouring runs' ends
@@ -261,12 +248,7 @@ bool RingQuad(RingPoints& ring, const Cuts* hint, Cuts* used, Quad* quad) {
     Line refitted;
     if (length < kNumScans && ring.Fit(first, length, &refitted)) sides[s] = refitted;
   }
-  for (int s = 0; s < kSides; ++s) {
-    const Line& u = sides[(s + kSides - 1) % kSides];
-    const Line& v = sides[s];
-    if (!IntersectLines(u.point, u.direction, v.point, v.direction, &candidate[s])) return false;
-  }
-  if (!IsConvexClockwise(candidate)) return false;
+  if (!QuadFromSides(sides, &candidate) || !IsConvexClockwise(candidate)) return false;
   *used = cut;
   *quad = candidate;
   return true;

@@ -20,11 +20,6 @@ constexpr float kProfileStep = 0.5f;  // Pixels between profile samples.
 constexpr int kMaxProfileSteps = 8;   // Samples either side: 4 px.
 constexpr int kMinProfiles = 5;       // Per side, however short.
 
-struct Line {
-  cv::Point2d point;
-  cv::Point2d direction;
-};
-
 // Total least squares line through `points`, then once more without points
 // farther than three median residuals (at least half a pixel) from it.
 // Works in place (the kept points are moved to the front): it runs for every
@@ -384,10 +379,8 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
     if (!FitLine(&points, &sides[i])) return false;
   }
   Quad refined;
+  if (!QuadFromSides(sides, &refined)) return false;
   for (int i = 0; i < 4; ++i) {
-    const Line& a = sides[(i + 3) % 4];
-    const Line& b = sides[i];
-    if (!IntersectLines(a.point, a.direction, b.point, b.direction, &refined[i])) return false;
     // The refinement moves corners by the scans' error, about a pixel; a large
     // move means a side locked onto another edge.
     if (cv::norm(refined[i] - (*quad)[i]) > std::max(2.0, search.max_move_cells * cell)) {

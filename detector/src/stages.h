@@ -157,8 +157,9 @@ bool NestedAndRefined(const ImageView& image, const DetectorOptions& options, Ca
 // The fast path from InitialScan to the sub-pixel sides
 // (quad_from_scans.cc): the four diagonal scans through the rings added to
 // InitialScan's four axis ones, and each ring's quad from its eight border
-// points, grouped into sides where the edge direction turns. False when
-// that does not give four sides per ring; the candidate's points and scan
+// points, split into four runs of consecutive points, one per side, whose
+// edge directions run across their sides. False when no split gives a quad
+// for every ring; the candidate's points and scan
 // directions are left as they were (only its quads are written), so that
 // BuildPolygon can take over.
 bool QuadsFromScans(const ImageView& image, const DetectorOptions& options, Candidate* candidate);
@@ -292,6 +293,25 @@ inline bool IntersectLines(cv::Point2d p1, cv::Point2d d1, cv::Point2d p2, cv::P
   return true;
 }
 bool IsConvexClockwise(const Quad& quad);
+// A line through `point` along `direction` (unit where Distance is used).
+struct Line {
+  cv::Point2d point;
+  cv::Point2d direction;
+  double Distance(const cv::Point2d& p) const {
+    const cv::Point2d d = p - point;
+    return std::abs(d.x * direction.y - d.y * direction.x);
+  }
+};
+// The quad whose side i is sides[i]: corner i where side i - 1 meets side i.
+// False if two neighbouring sides are parallel.
+inline bool QuadFromSides(const std::array<Line, 4>& sides, Quad* quad) {
+  for (int i = 0; i < 4; ++i) {
+    const Line& a = sides[(i + 3) % 4];
+    const Line& b = sides[i];
+    if (!IntersectLines(a.point, a.direction, b.point, b.direction, &(*quad)[i])) return false;
+  }
+  return true;
+}
 // The unit direction of the major axis of a scatter with second moments
 // sxx, sxy, syy about its mean (the total least squares line's direction),
 // x >= 0 (y > 0 when x = 0); in closed form, no trigonometry. (1, 0) for a
