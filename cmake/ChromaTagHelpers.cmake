@@ -33,19 +33,30 @@ function(chromatag_target_defaults target)
   endif()
 endfunction()
 
-# chromatag_add_library(NAME families SRCS a.cc b.cc
+# chromatag_add_library(NAME families SRCS a.cc b.cc [INTERNAL]
 #                       PUBLIC_LINK_LIBS ... PRIVATE_LINK_LIBS ...)
 # defines the target chromatag_<NAME> and its alias ChromaTag::<NAME>, with
-# <NAME>/include as its public include folder.
+# <NAME>/include as its public include folder. INTERNAL libraries (the
+# benchmark's) are not installed.
 function(chromatag_add_library)
-  cmake_parse_arguments(ARG "" "NAME" "SRCS;PUBLIC_LINK_LIBS;PRIVATE_LINK_LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "INTERNAL" "NAME" "SRCS;PUBLIC_LINK_LIBS;PRIVATE_LINK_LIBS" ${ARGN})
   set(target chromatag_${ARG_NAME})
   add_library(${target} STATIC ${ARG_SRCS})
   add_library(ChromaTag::${ARG_NAME} ALIAS ${target})
-  target_include_directories(${target} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+                                              $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_LINK_LIBS} PRIVATE ${ARG_PRIVATE_LINK_LIBS})
-  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  # Position-independent, so that the Python module can link the same archives.
+  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON EXPORT_NAME ${ARG_NAME})
   chromatag_target_defaults(${target})
+  if(ARG_INTERNAL)
+    return()
+  endif()
+  # Installed as ChromaTag::<NAME> (cmake/ChromaTagPackage.cmake).
+  install(TARGETS ${target} EXPORT ChromaTagTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.h")
+  set_property(GLOBAL APPEND PROPERTY CHROMATAG_LIBRARIES ${target})
 endfunction()
 
 # chromatag_add_test(NAME families_test SRCS a_test.cc LINK_LIBS ...)
