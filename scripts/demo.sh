@@ -14,4 +14,4 @@ echo
 "$chromatag" verify "$sheet"
 echo
 echo "Print $sheet at 100 % (no fit to page) and check the scale bar;"
-echo "${sheet%.pdf}.json records where each tag is on the page."
+echo "${sheet}.json records where each tag is on the page."

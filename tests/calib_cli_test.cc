@@ -42,7 +42,7 @@ class CalibCliTest : public ::testing::Test {
         RunCommand(kCli, {"calib-sheet", "-o", dir_ + "/calib.pdf", "--sheet-id", "4711"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::string error;
-    auto layout = ReadCalibSidecar(dir_ + "/calib.json", &error);
+    auto layout = ReadCalibSidecar(dir_ + "/calib.pdf.json", &error);
     ASSERT_TRUE(layout) << error;
     layout_ = new CalibSheetLayout(*layout);
   }
@@ -64,7 +64,7 @@ class CalibCliTest : public ::testing::Test {
   static CommandResult Calibrate(const std::vector<std::string>& photos, const std::string& out) {
     std::vector<std::string> args = {"calibrate"};
     args.insert(args.end(), photos.begin(), photos.end());
-    args.insert(args.end(), {"--sheet", dir_ + "/calib.json", "-o", out});
+    args.insert(args.end(), {"--sheet", dir_ + "/calib.pdf.json", "-o", out});
     return RunCommand(kCli, args);
   }
 
@@ -155,7 +155,7 @@ TEST_F(CalibCliTest, DetectWithTheCalibratedConfigFindsWashedOutTags) {
       RunCommand(kCli, {"detect", "--json", "--config", out + "/detector.json", tag});
   EXPECT_EQ(tuned.exit_code, 0) << tuned.err;
   EXPECT_NE(tuned.out.find("\"id\":7"), std::string::npos) << tuned.out;
-  const CommandResult bad = RunCommand(kCli, {"detect", "--config", dir_ + "/calib.json", tag});
+  const CommandResult bad = RunCommand(kCli, {"detect", "--config", dir_ + "/calib.pdf.json", tag});
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_EQ(testing::CountLines(bad.err), 1) << bad.err;
 }

@@ -39,7 +39,7 @@ TEST(CliDetectTest, JsonLinesMatchTheSidecar) {
   EXPECT_EQ(frame["width"], 1240);  // A4 at 150 dpi.
   EXPECT_EQ(frame["height"], 1754);
   EXPECT_GE(frame["time_us"].get<double>(), 0.0);
-  const auto sidecar = nlohmann::json::parse(ReadFile(dir + "/sheet.json"));
+  const auto sidecar = nlohmann::json::parse(ReadFile(dir + "/sheet.png.json"));
   ASSERT_EQ(frame["detections"].size(), 2u);
   const double px_per_mm = 150.0 / 25.4;
   for (const auto& detection : frame["detections"]) {

@@ -48,7 +48,7 @@ TEST(CliGenerateTest, WritesPdfAndSidecarByteIdenticallyTwice) {
   EXPECT_NE(first.out.find("Wrote 5 16h5 tags of 40 mm on 1 a4 page"), std::string::npos)
       << first.out;
   const std::string pdf = ReadFile(dir + "/tags.pdf");
-  const std::string sidecar = ReadFile(dir + "/tags.json");
+  const std::string sidecar = ReadFile(dir + "/tags.pdf.json");
   ASSERT_EQ(pdf.rfind("%PDF-", 0), 0u);
   const auto json = nlohmann::json::parse(sidecar);
   EXPECT_EQ(json["schema"], "chromatag-layout");
@@ -57,7 +57,23 @@ TEST(CliGenerateTest, WritesPdfAndSidecarByteIdenticallyTwice) {
   const auto second = Chromatag(args);
   ASSERT_EQ(second.exit_code, 0) << second.err;
   EXPECT_EQ(ReadFile(dir + "/tags.pdf"), pdf);
-  EXPECT_EQ(ReadFile(dir + "/tags.json"), sidecar);
+  EXPECT_EQ(ReadFile(dir + "/tags.pdf.json"), sidecar);
+}
+
+// Issue 11: --format png -o x.pdf wrote a PNG named x.pdf.
+TEST(CliGenerateTest, FormatThatDisagreesWithTheExtensionIsRefused) {
+  const std::string dir = MakeDir("mismatch");
+  const auto result = Chromatag({"generate", "--ids", "0", "--format", "png", "-o", dir + "/x.pdf"});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_EQ(CountLines(result.err), 1) << result.err;
+  EXPECT_NE(result.err.find("the format is png but"), std::string::npos) << result.err;
+  EXPECT_TRUE(ListDir(dir).empty());
+  // Agreeing, or an extension that names no format, is fine.
+  EXPECT_EQ(Chromatag({"generate", "--ids", "0", "--format", "pdf", "-o", dir + "/x.pdf"}).exit_code,
+            0);
+  EXPECT_EQ(Chromatag({"generate", "--ids", "0", "--format", "svg", "-o", dir + "/x.drawing"})
+                .exit_code,
+            0);
 }
 
 TEST(CliGenerateTest, PngAndSvgFollowTheExtension) {
@@ -70,7 +86,7 @@ TEST(CliGenerateTest, PngAndSvgFollowTheExtension) {
       Chromatag({"generate", "--all", "--size", "60mm", "--one-per-page", "-o", dir + "/tag.svg"});
   ASSERT_EQ(svg.exit_code, 0) << svg.err;
   EXPECT_NE(ReadFile(dir + "/tag-28.svg").find("<svg"), std::string::npos);
-  EXPECT_EQ(nlohmann::json::parse(ReadFile(dir + "/tag.json"))["files"].size(), 28u);
+  EXPECT_EQ(nlohmann::json::parse(ReadFile(dir + "/tag.svg.json"))["files"].size(), 28u);
 }
 
 struct BadCase {
@@ -121,12 +137,12 @@ TEST(CliGenerateTest, UnwritableOutputLeavesNothingAndExistingFilesIntact) {
 
   const std::string dir = MakeDir("keep");
   std::ofstream(dir + "/tags.pdf") << "an older sheet";
-  std::ofstream(dir + "/tags.json") << "its sidecar";
+  std::ofstream(dir + "/tags.pdf.json") << "its sidecar";
   const auto too_big =
       Chromatag({"generate", "--ids", "0", "--size", "1m", "-o", dir + "/tags.pdf"});
   EXPECT_EQ(too_big.exit_code, 2);
   EXPECT_EQ(ReadFile(dir + "/tags.pdf"), "an older sheet");
-  EXPECT_EQ(ReadFile(dir + "/tags.json"), "its sidecar");
+  EXPECT_EQ(ReadFile(dir + "/tags.pdf.json"), "its sidecar");
   EXPECT_EQ(ListDir(dir).size(), 2u);
 }
 

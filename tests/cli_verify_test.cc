@@ -1,6 +1,7 @@
 // `chromatag verify` as a user runs it.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -22,7 +23,7 @@ TEST(CliVerifyTest, GeneratedSheetPassesAndATamperedSidecarFails) {
   EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
   EXPECT_NE(ok.out.find("5 of 5 tags pass, nothing else found. PASS"), std::string::npos) << ok.out;
 
-  const std::string sidecar = ::testing::TempDir() + "/cli_verify.json";
+  const std::string sidecar = ::testing::TempDir() + "/cli_verify.pdf.json";
   auto json = nlohmann::json::parse(ReadFile(sidecar));
   json["tags"][2]["id"] = 9;
   std::ofstream(sidecar) << json.dump();
@@ -32,6 +33,34 @@ TEST(CliVerifyTest, GeneratedSheetPassesAndATamperedSidecarFails) {
   EXPECT_FALSE(report["passed"].get<bool>());
   EXPECT_EQ(report["tags"][2]["found_id"], 2);
   EXPECT_NE(report["tags"][2]["problem"].get<std::string>().find("16h5 ID 9"), std::string::npos);
+}
+
+// Issue 11: a PDF and an SVG written one after the other into the same
+// folder shared tags.json, and verify of the PDF trusted the SVG's sidecar
+// (PASS for IDs it did not hold). Each output now has its own sidecar, and a
+// sidecar that describes another file is refused.
+TEST(CliVerifyTest, EachOutputKeepsItsOwnSidecar) {
+  const std::string dir = ::testing::TempDir() + "/cli_verify_own";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  ASSERT_EQ(Chromatag({"generate", "--ids", "0-3", "-o", dir + "/tags.pdf"}).exit_code, 0);
+  ASSERT_EQ(Chromatag({"generate", "--ids", "6-9", "-o", dir + "/tags.svg"}).exit_code, 0);
+  const auto pdf = Chromatag({"verify", "--json", dir + "/tags.pdf"});
+  EXPECT_EQ(pdf.exit_code, 0) << pdf.err;
+  const auto report = nlohmann::json::parse(pdf.out);
+  ASSERT_EQ(report["tags"].size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(report["tags"][i]["found_id"], i);
+
+  // A sidecar copied beside another sheet (or an empty file) vouches for nothing.
+  std::filesystem::copy_file(dir + "/tags.svg.json", dir + "/tags.pdf.json",
+                             std::filesystem::copy_options::overwrite_existing);
+  const auto swapped = Chromatag({"verify", dir + "/tags.pdf"});
+  EXPECT_EQ(swapped.exit_code, 2);
+  EXPECT_EQ(CountLines(swapped.err), 1) << swapped.err;
+  EXPECT_NE(swapped.err.find("does not describe"), std::string::npos) << swapped.err;
+  std::ofstream(dir + "/empty.pdf").close();
+  std::filesystem::copy_file(dir + "/tags.svg.json", dir + "/empty.pdf.json");
+  EXPECT_EQ(Chromatag({"verify", dir + "/empty.pdf"}).exit_code, 2);
 }
 
 TEST(CliVerifyTest, FamilyAuditRunsOnEveryKeptId) {

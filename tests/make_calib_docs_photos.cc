@@ -1,7 +1,7 @@
 // Writes the two synthetic photos behind docs/calibration.md's pictures (not
 // a test). Usage, after 'chromatag calib-sheet -o DIR/calib.pdf':
 //   make_calib_docs_photos DIR
-// then 'chromatag calibrate DIR/warm.jpg DIR/dim.jpg --sheet DIR/calib.json -o DIR/out'.
+// then 'chromatag calibrate DIR/warm.jpg DIR/dim.jpg --sheet DIR/calib.pdf.json -o DIR/out'.
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -15,12 +15,12 @@ int main(int argc, char** argv) {
   using chromatag::testing::SimCamera;
   using chromatag::testing::SimPrinter;
   if (argc != 2) {
-    std::cerr << "usage: make_calib_docs_photos DIR (DIR holds calib.json from calib-sheet)\n";
+    std::cerr << "usage: make_calib_docs_photos DIR (DIR holds calib.pdf.json from calib-sheet)\n";
     return 2;
   }
   const std::string dir = argv[1];
   std::string error;
-  const auto layout = ReadCalibSidecar(dir + "/calib.json", &error);
+  const auto layout = ReadCalibSidecar(dir + "/calib.pdf.json", &error);
   if (!layout) {
     std::cerr << "make_calib_docs_photos: " << error << "\n";
     return 2;

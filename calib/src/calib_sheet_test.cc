@@ -96,7 +96,7 @@ TEST(CalibSheetTest, SidecarRoundTrips) {
   ASSERT_TRUE(layout);
   const auto files = RenderCalibSheet(*layout, CalibSheetFormat::kPdf, "/tmp/x/calib.pdf");
   ASSERT_EQ(files.size(), 2u);
-  EXPECT_EQ(files[1].path, "/tmp/x/calib.json");
+  EXPECT_EQ(files[1].path, "/tmp/x/calib.pdf.json");
   EXPECT_EQ(files[0].contents.substr(0, 5), "%PDF-");
   std::string error;
   const auto back = ParseCalibSidecar(files[1].contents, &error);

@@ -191,7 +191,7 @@ TagColors SheetColors(const SheetOptions& options) {
   return colors;
 }
 
-std::string SidecarPath(const std::string& output_path) { return Stem(output_path) + ".json"; }
+std::string SidecarPath(const std::string& output_path) { return output_path + ".json"; }
 
 std::optional<SheetFormat> FormatFromPath(const std::string& path, std::string* error) {
   std::string extension = Extension(path);
@@ -210,10 +210,6 @@ std::optional<std::vector<OutputFile>> RenderSheet(const SheetOptions& options,
                                                    std::string* error) {
   const auto layout = LayoutSheet(options, error);
   if (!layout) return std::nullopt;
-  if (SidecarPath(output_path) == output_path) {
-    if (error) *error = "the output '" + output_path + "' would be overwritten by its sidecar";
-    return std::nullopt;
-  }
   const TagColors colors = SheetColors(options);
   std::vector<OutputFile> files;
   if (options.format == SheetFormat::kPdf) {

@@ -296,7 +296,7 @@ TEST(SheetTest, SvgPagesAreSplitIntoFilesAndSizedInPoints) {
   ASSERT_TRUE(files) << error;
   ASSERT_EQ(files->size(), 4u);
   EXPECT_EQ((*files)[1].path, "/tmp/x/tags-2.svg");
-  EXPECT_EQ((*files)[3].path, "/tmp/x/tags.json");
+  EXPECT_EQ((*files)[3].path, "/tmp/x/tags.svg.json");
   EXPECT_NE((*files)[0].contents.find("width=\"595.275591pt\""), std::string::npos)
       << (*files)[0].contents.substr(0, 300);
 }

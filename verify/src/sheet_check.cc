@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -123,8 +124,27 @@ SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
 std::optional<SheetVerdict> VerifySheetFile(const std::string& sheet_path,
                                             const VerifyOptions& options, std::string* error) {
   if (!options.IsValid(error)) return std::nullopt;
+  if (!std::filesystem::is_regular_file(sheet_path)) {
+    if (error) *error = "cannot read sheet '" + sheet_path + "': no such file";
+    return std::nullopt;
+  }
   auto record = ReadSidecar(SidecarPath(sheet_path), error);
   if (!record) return std::nullopt;
+  // The sidecar must describe the file given (and the checks below run on
+  // the files it names): a sidecar copied or renamed next to another sheet
+  // would otherwise vouch for it.
+  bool names_sheet = false;
+  std::error_code ignored;
+  for (const auto& file : record->files)
+    names_sheet |= std::filesystem::equivalent(file.path, sheet_path, ignored);
+  if (!names_sheet) {
+    if (error) {
+      *error = "sidecar '" + record->sidecar_path + "' does not describe '" + sheet_path +
+               "' (it lists " + (record->files.empty() ? "no file" : "'" + record->files[0].path + "'") +
+               "); regenerate the sheet to get its own sidecar";
+    }
+    return std::nullopt;
+  }
   auto images = RasterizeSheet(*record, options.dpi, error);
   if (!images) return std::nullopt;
   DetectorOptions detector_options;

@@ -169,7 +169,7 @@ TEST(SheetCheckTest, MovedTagFailsNamingTheTag) {
 TEST(SheetCheckTest, MissingSidecarAndBadOptionsAreErrors) {
   std::string error;
   EXPECT_FALSE(VerifySheetFile("/nonexistent/tags.pdf", VerifyOptions(), &error));
-  EXPECT_EQ(error, "cannot read sidecar '/nonexistent/tags.json'");
+  EXPECT_EQ(error, "cannot read sheet '/nonexistent/tags.pdf': no such file");
   VerifyOptions options;
   options.dpi = 5.0;
   EXPECT_FALSE(VerifySheetFile("/nonexistent/tags.pdf", options, &error));

@@ -123,7 +123,7 @@ cv::Mat RasterizeCalibPage(const CalibSheetLayout& layout, double px_per_mm);
 enum class CalibSheetFormat { kPdf, kPng };
 
 // The sheet as a PDF (vector) or PNG (at `dpi`) and its sidecar beside it
-// ("calib.pdf" -> "calib.json"), in memory, for WriteFilesAtomically.
+// ("calib.pdf" -> "calib.pdf.json"), in memory, for WriteFilesAtomically.
 // Byte-identical for identical layouts.
 std::vector<OutputFile> RenderCalibSheet(const CalibSheetLayout& layout, CalibSheetFormat format,
                                          const std::string& output_path, double dpi = 300.0);

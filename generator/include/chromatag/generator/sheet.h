@@ -89,7 +89,9 @@ std::optional<std::vector<OutputFile>> RenderSheet(const SheetOptions& options,
 // colour LUT if one is set (rounded to 8 bits again).
 TagColors SheetColors(const SheetOptions& options);
 
-// The sidecar path for an output path: "tags.pdf" -> "tags.json".
+// The sidecar path for an output path: "tags.pdf" -> "tags.pdf.json". One
+// sidecar per output, so that tags.pdf and tags.svg written one after the
+// other each keep their own (a shared tags.json let verify trust the wrong one).
 std::string SidecarPath(const std::string& output_path);
 
 // Guesses the format from the extension (.pdf, .svg, .png, any case).
