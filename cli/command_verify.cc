@@ -207,12 +207,11 @@ int RunVerify(const VerifyCommandOptions& o) {
   bool passed = false;
   std::vector<TagStress> stresses;
   if (!o.sheet.empty()) {
+    // The sheet first, so that a missing sheet is named as such (not its sidecar).
+    const auto verdict = VerifySheetFile(o.sheet, options, &error);
+    if (!verdict) return Fail(error);
     const auto record = ReadSidecar(SidecarPath(o.sheet), &error);
     if (!record) return Fail(error);
-    Progress("verify", 0, 1);
-    const auto verdict = VerifySheetFile(o.sheet, options, &error);
-    Progress("verify", 1, 1);
-    if (!verdict) return Fail(error);
     passed = verdict->passed;
     if (o.stress) {
       std::vector<int> ids;

@@ -13,6 +13,8 @@ packages=(
   libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev librsvg2-dev zlib1g-dev
   # Fonts for the labels and notes on generated sheets.
   fonts-dejavu-core
+  # The Python module (pybind11 on numpy) and its tests (cv2 reads images in them).
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-opencv
   # Tests and benchmarks (libopencv-contrib-dev above: ArUco, for the comparison).
   libgtest-dev libgmock-dev libbenchmark-dev
   # Natural photographs for the no-false-detection tests and the benchmark.

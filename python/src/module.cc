@@ -1,0 +1,486 @@
+// The Python module `chromatag` (pybind11, numpy arrays in and out):
+// Detector, detect, draw_detections, render_tag, generate, verify, and the
+// families and palettes. docs/python.md shows it in use.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "chromatag/detector/config.h"
+#include "chromatag/detector/detector.h"
+#include "chromatag/detector/draw.h"
+#include "chromatag/families/family.h"
+#include "chromatag/families/palette.h"
+#include "chromatag/families/version.h"
+#include "chromatag/generator/sheet.h"
+#include "chromatag/generator/sheet_request.h"
+#include "chromatag/generator/tag_renderer.h"
+#include "chromatag/generator/units.h"
+#include "chromatag/verify/sheet_check.h"
+
+namespace py = pybind11;
+
+namespace chromatag::python {
+namespace {
+
+// Raised as chromatag.Error (a ValueError) with the library's message.
+struct Error : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+PixelOrder OrderFrom(const std::string& order) {
+  if (order == "bgr" || order == "BGR") return PixelOrder::kBgr;
+  if (order == "rgb" || order == "RGB") return PixelOrder::kRgb;
+  throw Error("unknown pixel order '" + order + "' (allowed: \"bgr\", as OpenCV reads, or \"rgb\")");
+}
+
+// A numpy image as a cv::Mat. 8-bit, H x W x 3 (or x 4, whose alpha is
+// dropped); shares the array's memory when it is C-contiguous, copies it
+// otherwise. *keep holds what the Mat points into.
+cv::Mat ColourImage(const py::array& image, py::object* keep) {
+  if (!py::isinstance<py::array_t<uint8_t>>(image) ||
+      image.dtype().kind() != 'u' || image.itemsize() != 1) {
+    throw Error("the image must be 8-bit (dtype uint8), not " +
+                std::string(py::str(image.dtype())) + ": convert it, e.g. with cv2.convertScaleAbs");
+  }
+  if (image.ndim() == 2 || (image.ndim() == 3 && image.shape(2) == 1)) {
+    throw Error(
+        "ChromaTag needs a colour image (H x W x 3): its tags are told apart by colour, and this "
+        "one is grey");
+  }
+  if (image.ndim() != 3 || (image.shape(2) != 3 && image.shape(2) != 4)) {
+    throw Error("the image must be H x W x 3 (or x 4), not of shape " +
+                std::string(py::str(py::tuple(py::cast(std::vector<py::ssize_t>(
+                    image.shape(), image.shape() + image.ndim()))))));
+  }
+  auto contiguous = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>::ensure(image);
+  *keep = contiguous;
+  const int rows = static_cast<int>(contiguous.shape(0));
+  const int cols = static_cast<int>(contiguous.shape(1));
+  const int channels = static_cast<int>(contiguous.shape(2));
+  cv::Mat mat(rows, cols, CV_8UC(channels), const_cast<uint8_t*>(contiguous.data()));
+  if (channels == 3) return mat;
+  cv::Mat three;
+  cv::cvtColor(mat, three, cv::COLOR_BGRA2BGR);  // Drops the 4th channel whatever the order.
+  return three;
+}
+
+py::array_t<double> Points(const cv::Point2d* points, int n) {
+  py::array_t<double> out({n, 2});
+  auto view = out.mutable_unchecked<2>();
+  for (int i = 0; i < n; ++i) {
+    view(i, 0) = points[i].x;
+    view(i, 1) = points[i].y;
+  }
+  return out;
+}
+
+py::array_t<double> Vector(const double* values, int n) {
+  py::array_t<double> out(n);
+  for (int i = 0; i < n; ++i) out.mutable_at(i) = values[i];
+  return out;
+}
+
+py::array_t<double> Matrix33(const cv::Matx33d& m) {
+  py::array_t<double> out({3, 3});
+  auto view = out.mutable_unchecked<2>();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) view(r, c) = m(r, c);
+  return out;
+}
+
+// The JSON value of a keyword argument, for ParseDetectorConfig.
+nlohmann::json JsonOf(const std::string& name, const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
+  if (py::isinstance<py::int_>(value)) return value.cast<long long>();
+  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const py::handle& item : value) list.push_back(JsonOf(name, item));
+    return list;
+  }
+  throw Error("option " + name + ": cannot use a " +
+              std::string(py::str(value.get_type().attr("__name__"))));
+}
+
+struct PyDetector {
+  std::shared_ptr<const Detector> detector;
+};
+
+// A detection that owns its copy (the family is process-wide, see TagFamily::Load).
+struct PyDetection {
+  Detection d;
+};
+
+PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
+  DetectorOptions options;
+  options.families = {"16h5", "36h11"};
+  nlohmann::json fields = nlohmann::json::object();
+  if (py::isinstance<py::str>(families)) {
+    fields["families"] = nlohmann::json::array({families.cast<std::string>()});
+  } else {
+    fields["families"] = JsonOf("families", families);
+  }
+  py::object camera_matrix = py::none(), dist_coeffs = py::none();
+  double tag_size = 0.0;
+  std::string config;
+  for (const auto& item : kwargs) {
+    const std::string name = item.first.cast<std::string>();
+    if (name == "camera_matrix") {
+      camera_matrix = py::reinterpret_borrow<py::object>(item.second);
+    } else if (name == "dist_coeffs") {
+      dist_coeffs = py::reinterpret_borrow<py::object>(item.second);
+    } else if (name == "tag_size") {
+      tag_size = item.second.cast<double>();
+    } else if (name == "report_rejected") {
+      options.report_rejected = item.second.cast<bool>();
+    } else if (name == "config") {
+      config = py::str(item.second);
+    } else {
+      fields[name] = JsonOf(name, item.second);
+    }
+  }
+  std::string error;
+  const bool report_rejected = options.report_rejected;
+  if (!config.empty() && !LoadDetectorConfig(config, &options, &error)) throw Error(error);
+  options.report_rejected = report_rejected;
+  const nlohmann::json text = {
+      {"schema", kDetectorConfigSchema}, {"schema_version", 1}, {"options", fields}};
+  if (!ParseDetectorConfig(text.dump(), &options, &error)) throw Error(error);
+  if (!camera_matrix.is_none()) {
+    const auto k = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(
+        camera_matrix);
+    if (!k || k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3)
+      throw Error("camera_matrix must be 3 x 3 ([[fx, 0, cx], [0, fy, cy], [0, 0, 1]])");
+    CameraIntrinsics camera;
+    camera.fx = k.at(0, 0);
+    camera.fy = k.at(1, 1);
+    camera.cx = k.at(0, 2);
+    camera.cy = k.at(1, 2);
+    if (!dist_coeffs.is_none()) {
+      const auto d = py::array_t<double, py::array::forcecast>::ensure(dist_coeffs);
+      if (!d) throw Error("dist_coeffs must be numbers (k1, k2, p1, p2[, k3[, k4, k5, k6]])");
+      for (py::ssize_t i = 0; i < d.size(); ++i) camera.distortion.push_back(d.data()[i]);
+    }
+    options.camera = camera;
+  } else if (!dist_coeffs.is_none()) {
+    throw Error("dist_coeffs without camera_matrix");
+  }
+  options.tag_size = tag_size;
+  if (tag_size > 0 && !options.camera) throw Error("tag_size needs camera_matrix for a pose");
+  auto detector = Detector::Create(options, &error);
+  if (!detector) throw Error(error);
+  return {std::move(detector)};
+}
+
+py::object Detect(const PyDetector& self, const py::array& image, const std::string& order,
+                  bool return_rejected) {
+  py::object keep;
+  const cv::Mat mat = ColourImage(image, &keep);
+  const PixelOrder pixel_order = OrderFrom(order);
+  DetectionResult result;
+  {
+    py::gil_scoped_release release;
+    self.detector->Detect(mat, pixel_order, &result);
+  }
+  py::list detections;
+  for (Detection& d : result.detections) detections.append(PyDetection{std::move(d)});
+  if (!return_rejected) return std::move(detections);
+  py::list rejected;
+  for (const RejectedCandidate& r : result.rejected) {
+    py::dict entry;
+    entry["stage"] = StageName(r.stage);
+    entry["reason"] = RejectReasonName(r.reason);
+    entry["seed"] = py::make_tuple(r.seed.x, r.seed.y);
+    entry["centre"] = py::make_tuple(r.centre.x, r.centre.y);
+    py::array_t<double> outline({static_cast<py::ssize_t>(r.outline.size()), py::ssize_t{2}});
+    auto view = outline.mutable_unchecked<2>();
+    for (size_t i = 0; i < r.outline.size(); ++i) {
+      view(i, 0) = r.outline[i].x;
+      view(i, 1) = r.outline[i].y;
+    }
+    entry["outline"] = outline;
+    rejected.append(entry);
+  }
+  return py::make_tuple(detections, rejected);
+}
+
+py::array DrawOn(py::array image, const std::vector<PyDetection>& detections,
+                 const PyDetector* detector) {
+  if (!(image.flags() & py::array::c_style) || !image.writeable())
+    throw Error("draw_detections draws in place: give it a writeable, C-contiguous image");
+  py::object keep;
+  cv::Mat mat = ColourImage(image, &keep);
+  if (mat.data != image.data()) throw Error("draw_detections needs an H x W x 3 uint8 image");
+  std::vector<Detection> plain;
+  for (const PyDetection& d : detections) plain.push_back(d.d);
+  const DetectorOptions* options = detector ? &detector->detector->options() : nullptr;
+  const CameraIntrinsics* camera = options && options->camera ? &*options->camera : nullptr;
+  DrawDetections(plain, camera, options ? options->tag_size : 0.0, &mat);
+  return image;
+}
+
+py::array RenderTag(const std::string& family_name, int id, double cell_px,
+                    const std::string& palette_name, int quiet_zone, const std::string& order) {
+  std::string error;
+  const auto family = TagFamily::Load(family_name, &error);
+  if (!family) throw Error(error);
+  if (!family->IsValidId(id, &error)) throw Error(error);
+  const auto palette = BuiltinPalette(palette_name, &error);
+  if (!palette) throw Error(error);
+  if (!(cell_px >= 1.0 && cell_px <= 1000.0))
+    throw Error("cell_px must lie in [1, 1000] pixels per cell");
+  if (quiet_zone < 1 || quiet_zone > 20) throw Error("quiet_zone must lie in [1, 20] cells");
+  const PixelOrder pixel_order = OrderFrom(order);
+  TagDrawOptions draw;
+  draw.quiet_zone_cells = quiet_zone;
+  const RgbImage rgb = RasterizeTag(*family, id, TagColors::FromPalette(*palette), cell_px, draw);
+  py::array_t<uint8_t> out({rgb.height, rgb.width, 3});
+  auto view = out.mutable_unchecked<3>();
+  for (int y = 0; y < rgb.height; ++y) {
+    for (int x = 0; x < rgb.width; ++x) {
+      const uint8_t* p = rgb.At(x, y);
+      for (int c = 0; c < 3; ++c) view(y, x, c) = p[pixel_order == PixelOrder::kRgb ? c : 2 - c];
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> Generate(const std::string& output, const std::string& family,
+                                  const py::object& ids, const std::string& size,
+                                  const std::string& page, const std::string& margin,
+                                  const std::string& gap, int quiet_zone,
+                                  const std::string& palette, const std::string& palette_file,
+                                  const std::string& color_lut, const std::string& format,
+                                  double dpi, bool label, bool crop_marks, bool cut_ring,
+                                  bool one_per_page) {
+  SheetRequest request;
+  request.family = family;
+  if (ids.is_none()) {
+    request.all = true;
+  } else if (py::isinstance<py::str>(ids)) {
+    request.ids = ids.cast<std::string>();
+  } else if (py::isinstance<py::int_>(ids)) {
+    request.ids = std::to_string(ids.cast<int>());
+  } else {
+    for (const py::handle& id : ids)
+      request.ids += (request.ids.empty() ? "" : ",") + std::to_string(id.cast<int>());
+    if (request.ids.empty()) throw Error("ids is empty: give some IDs, or None for every kept ID");
+  }
+  request.size = size;
+  request.page = page;
+  request.margin = margin;
+  request.gap = gap;
+  request.quiet_zone = quiet_zone;
+  request.palette = palette;
+  request.palette_file = palette_file;
+  request.color_lut = color_lut;
+  request.format = format;
+  request.dpi = dpi;
+  request.label = label;
+  request.crop_marks = crop_marks;
+  request.cut_ring = cut_ring;
+  request.one_per_page = one_per_page;
+  SheetOptions options;
+  std::string error;
+  if (!ToSheetOptions(request, output, &options, &error)) throw Error(error);
+  std::vector<std::string> written;
+  bool ok = false;
+  {
+    py::gil_scoped_release release;
+    ok = WriteSheet(options, output, &error, &written);
+  }
+  if (!ok) throw Error(error);
+  return written;
+}
+
+SheetVerdict Verify(const std::string& sheet, double dpi, const std::string& tolerance) {
+  VerifyOptions options;
+  options.dpi = dpi;
+  std::string error;
+  const auto length = ParseLength(tolerance, &error);
+  if (!length) throw Error(error);
+  options.max_position_error_mm = length->mm;
+  std::optional<SheetVerdict> verdict;
+  {
+    py::gil_scoped_release release;
+    verdict = VerifySheetFile(sheet, options, &error);
+  }
+  if (!verdict) throw Error(error);
+  return *verdict;
+}
+
+py::dict FamilyInfo(const std::string& name) {
+  std::string error;
+  const auto family = TagFamily::Load(name, &error);
+  if (!family) throw Error(error);
+  py::dict out;
+  out["name"] = family->name();
+  out["payload_width"] = family->payload_width();
+  out["black_square_cells"] = family->black_square_cells();
+  out["min_hamming"] = family->min_hamming();
+  out["kept_ids"] = family->kept_ids();
+  return out;
+}
+
+py::dict PaletteInfo(const std::string& name) {
+  std::string error;
+  const auto palette = BuiltinPalette(name, &error);
+  if (!palette) throw Error(error);
+  py::dict shades;
+  for (Shade shade : kAllShades) {
+    const Lab& lab = (*palette)[shade];
+    const Rgb8 rgb = palette->Srgb8(shade);
+    py::dict entry;
+    entry["lab"] = py::make_tuple(lab.L, lab.a, lab.b);
+    entry["srgb"] = py::make_tuple(rgb.r, rgb.g, rgb.b);
+    shades[ShadeName(shade)] = entry;
+  }
+  py::dict out;
+  out["name"] = palette->name;
+  out["description"] = palette->description;
+  out["shades"] = shades;
+  return out;
+}
+
+}  // namespace
+}  // namespace chromatag::python
+
+PYBIND11_MODULE(_chromatag, m) {
+  using namespace chromatag;
+  using namespace chromatag::python;
+  m.doc() = "ChromaTag coloured fiducial markers: detect, draw, render, generate and verify";
+  m.attr("__version__") = kVersion;
+  static py::exception<Error> error(m, "Error", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const Error& e) {
+      PyErr_SetString(error.ptr(), e.what());
+    }
+  });
+
+  py::class_<TagPose>(m, "Pose", "A tag's pose in the camera frame (metres)")
+      .def_property_readonly("rvec", [](const TagPose& p) { return Vector(p.rvec.val, 3); },
+                             "Rodrigues rotation of camera_from_tag")
+      .def_property_readonly("tvec", [](const TagPose& p) { return Vector(p.tvec.val, 3); },
+                             "the tag's centre in the camera frame")
+      .def_property_readonly("rotation",
+                             [](const TagPose& p) {
+                               cv::Matx33d r;
+                               cv::Rodrigues(p.rvec, r);
+                               return Matrix33(r);
+                             })
+      .def_readonly("rms_error_px", &TagPose::rms_error_px)
+      .def("__repr__", [](const TagPose& p) {
+        return "Pose(tvec=[" + std::to_string(p.tvec[0]) + ", " + std::to_string(p.tvec[1]) + ", " +
+               std::to_string(p.tvec[2]) + "])";
+      });
+
+  py::class_<PyDetection>(m, "Detection")
+      .def_property_readonly("family", [](const PyDetection& d) { return d.d.family->name(); })
+      .def_property_readonly("id", [](const PyDetection& d) { return d.d.id; })
+      .def_property_readonly("hamming", [](const PyDetection& d) { return d.d.hamming; },
+                             "bits corrected")
+      .def_property_readonly("decision_margin",
+                             [](const PyDetection& d) { return d.d.decision_margin; })
+      .def_property_readonly(
+          "corners", [](const PyDetection& d) { return Points(d.d.corners.data(), 4); },
+          "4 x 2, pixels: the black square's top-left, top-right, bottom-right, bottom-left "
+          "corners of the upright tag")
+      .def_property_readonly("center",
+                             [](const PyDetection& d) {
+                               const cv::Vec3d c = d.d.image_from_tag * cv::Vec3d(0.5, 0.5, 1);
+                               return py::make_tuple(c[0] / c[2], c[1] / c[2]);
+                             })
+      .def_property_readonly(
+          "homography", [](const PyDetection& d) { return Matrix33(d.d.image_from_tag); },
+          "image from tag: the unit square [0,1]^2 of the black square to pixels")
+      .def_property_readonly("pose",
+                             [](const PyDetection& d) -> py::object {
+                               if (!d.d.has_pose) return py::none();
+                               return py::cast(d.d.pose);
+                             })
+      .def("__repr__", [](const PyDetection& d) {
+        return "Detection(family='" + d.d.family->name() + "', id=" + std::to_string(d.d.id) +
+               ", hamming=" + std::to_string(d.d.hamming) + ")";
+      });
+
+  py::class_<PyDetector>(m, "Detector",
+                         "Detector(families=('16h5', '36h11'), *, config=None, camera_matrix=None,\n"
+                         "         dist_coeffs=None, tag_size=0.0, **options)\n\n"
+                         "options are DetectorOptions' fields (step, adiff_thresh, border_thresh,\n"
+                         "min_decision_margin, ...; docs/calibration.md); config a file written by\n"
+                         "'chromatag calibrate'. With camera_matrix and tag_size (metres, side of\n"
+                         "the black square) each detection has a pose.")
+      .def(py::init([](const py::object& families, const py::kwargs& kwargs) {
+             return MakeDetector(families, kwargs);
+           }),
+           py::arg("families") = std::vector<std::string>{"16h5", "36h11"})
+      .def("detect", &Detect, py::arg("image"), py::arg("order") = "bgr",
+           py::arg("return_rejected") = false,
+           "Detections in an H x W x 3 uint8 image (BGR as cv2.imread gives, or order='rgb').\n"
+           "With return_rejected=True (and report_rejected=True in the options), also the\n"
+           "candidates that were rejected, with their stage and reason.")
+      .def_property_readonly("families",
+                             [](const PyDetector& d) { return d.detector->options().families; });
+
+  m.def("draw_detections", &DrawOn, py::arg("image"), py::arg("detections"),
+        py::arg("detector") = nullptr,
+        "Draws the detections' outlines and IDs (and pose axes, given the detector that found\n"
+        "them with a camera and tag size) on the image, in place; returns it.");
+  m.def("render_tag", &RenderTag, py::arg("family"), py::arg("id"), py::arg("cell_px") = 10.0,
+        py::arg("palette") = "default", py::arg("quiet_zone") = 2, py::arg("order") = "bgr",
+        "One tag with its quiet zone as an H x W x 3 uint8 image, cell_px pixels per cell.");
+  m.def("generate", &Generate, py::arg("output"), py::kw_only(), py::arg("family") = "16h5",
+        py::arg("ids") = py::none(), py::arg("size") = "40mm", py::arg("page") = "a4",
+        py::arg("margin") = "10mm", py::arg("gap") = "5mm", py::arg("quiet_zone") = 2,
+        py::arg("palette") = "default", py::arg("palette_file") = "", py::arg("color_lut") = "",
+        py::arg("format") = "", py::arg("dpi") = 300.0, py::arg("label") = true,
+        py::arg("crop_marks") = false, py::arg("cut_ring") = false,
+        py::arg("one_per_page") = false,
+        "Writes a print-ready sheet (PDF, SVG or PNG, from the extension) and its sidecar\n"
+        "(output + '.json'), as 'chromatag generate' does; ids: a list, '0-9,12', or None for\n"
+        "every kept ID. Returns the paths written.");
+
+  py::class_<TagVerdict>(m, "TagVerdict")
+      .def_property_readonly("id", [](const TagVerdict& v) { return v.expected.id; })
+      .def_property_readonly("page", [](const TagVerdict& v) { return v.expected.page; })
+      .def_readonly("found_id", &TagVerdict::found_id)
+      .def_readonly("times_found", &TagVerdict::times_found)
+      .def_readonly("hamming", &TagVerdict::hamming)
+      .def_readonly("margin", &TagVerdict::margin)
+      .def_readonly("position_error_mm", &TagVerdict::position_error_mm)
+      .def_readonly("passed", &TagVerdict::passed)
+      .def_readonly("problem", &TagVerdict::problem);
+  py::class_<SheetVerdict>(m, "SheetVerdict")
+      .def_readonly("passed", &SheetVerdict::passed)
+      .def_readonly("tags_passed", &SheetVerdict::tags_passed)
+      .def_readonly("tags", &SheetVerdict::tags)
+      .def_readonly("file_problems", &SheetVerdict::file_problems)
+      .def_property_readonly("unexpected", [](const SheetVerdict& v) {
+        py::list out;
+        for (const auto& u : v.unexpected)
+          out.append(py::make_tuple(u.page, u.family, u.id, u.center_mm[0], u.center_mm[1]));
+        return out;
+      });
+  m.def("verify", &Verify, py::arg("sheet"), py::kw_only(), py::arg("dpi") = 200.0,
+        py::arg("tolerance") = "0.5mm",
+        "Rasterises a generated sheet, detects every tag and checks it against the sidecar, as\n"
+        "'chromatag verify' does.");
+
+  m.def("families", &TagFamily::Names, "The families: ['16h5', '36h11']");
+  m.def("family", &FamilyInfo, py::arg("name"), "A family's geometry, distance and kept IDs");
+  m.def("palettes", &BuiltinPaletteNames, "The built-in palettes");
+  m.def("palette", &PaletteInfo, py::arg("name"), "A palette's six shades in CIELAB and sRGB");
+}

@@ -1,0 +1,159 @@
+"""The Python module against the library's own tags and sheets."""
+import json
+import os
+import threading
+
+import numpy as np
+import pytest
+
+import chromatag
+
+cv2 = pytest.importorskip("cv2")
+
+
+def scene(family="16h5", tag_id=3, cell_px=12, at=(60, 50), size=(400, 480)):
+    """A tag pasted on a mid-grey frame; returns the frame and the black square's
+    top-left corner in pixel-centre coordinates."""
+    tag = chromatag.render_tag(family, tag_id, cell_px)
+    frame = np.full((size[0], size[1], 3), 128, np.uint8)
+    x, y = at
+    frame[y:y + tag.shape[0], x:x + tag.shape[1]] = tag
+    quiet = 2 * cell_px
+    return frame, (x + quiet - 0.5, y + quiet - 0.5)
+
+
+def test_detects_a_rendered_tag_with_its_corners():
+    frame, top_left = scene()
+    detections = chromatag.Detector().detect(frame)
+    assert len(detections) == 1
+    tag = detections[0]
+    assert (tag.family, tag.id, tag.hamming) == ("16h5", 3, 0)
+    assert tag.corners.shape == (4, 2) and tag.corners.dtype == np.float64
+    side = 6 * 12  # 16h5: a black square of 6 cells.
+    expected = np.array(top_left) + np.array([[0, 0], [side, 0], [side, side], [0, side]])
+    np.testing.assert_allclose(tag.corners, expected, atol=0.5)
+    assert tag.decision_margin > 2
+    assert tag.pose is None
+    np.testing.assert_allclose(tag.center, expected.mean(axis=0), atol=0.5)
+
+
+def test_both_families_by_default_and_rgb_order():
+    frame, _ = scene("36h11", 7, cell_px=10)
+    detector = chromatag.Detector()
+    assert detector.families == ["16h5", "36h11"]
+    bgr = detector.detect(frame)
+    rgb = detector.detect(np.ascontiguousarray(frame[:, :, ::-1]), order="rgb")
+    assert [(d.family, d.id) for d in bgr] == [("36h11", 7)]
+    np.testing.assert_allclose(rgb[0].corners, bgr[0].corners)
+    # Read with the wrong order, red and blue swap and nothing is a tag.
+    assert detector.detect(frame, order="rgb") == []
+    assert chromatag.Detector("16h5").detect(frame) == []
+
+
+def test_views_and_four_channels_are_accepted():
+    frame, _ = scene()
+    big = np.zeros((frame.shape[0], frame.shape[1] * 2, 3), np.uint8)
+    big[:, ::2] = frame  # A strided view: not contiguous.
+    assert [d.id for d in chromatag.Detector().detect(big[:, ::2])] == [3]
+    bgra = np.dstack([frame, np.full(frame.shape[:2], 255, np.uint8)])
+    assert [d.id for d in chromatag.Detector().detect(bgra)] == [3]
+
+
+@pytest.mark.parametrize(
+    "image, message",
+    [
+        (np.zeros((50, 50), np.uint8), "colour image"),
+        (np.zeros((50, 50, 3), np.float32), "8-bit"),
+        (np.zeros((50, 50, 2), np.uint8), "H x W x 3"),
+    ],
+)
+def test_bad_images_raise(image, message):
+    with pytest.raises(chromatag.Error, match=message):
+        chromatag.Detector().detect(image)
+
+
+def test_bad_options_raise_value_errors():
+    with pytest.raises(ValueError, match="unknown option"):
+        chromatag.Detector(stepp=3)
+    with pytest.raises(ValueError, match="step"):
+        chromatag.Detector(step=0)
+    with pytest.raises(ValueError, match="unknown family"):
+        chromatag.Detector("25h9")
+    with pytest.raises(ValueError, match="camera_matrix"):
+        chromatag.Detector(tag_size=0.05)
+    with pytest.raises(ValueError, match="pixel order"):
+        chromatag.Detector().detect(scene()[0], order="bgra")
+
+
+def test_pose_from_camera_and_tag_size():
+    frame, _ = scene(cell_px=12)
+    f = 500.0
+    k = np.array([[f, 0, 240], [0, f, 200], [0, 0, 1]])
+    detector = chromatag.Detector(camera_matrix=k, tag_size=0.06)
+    tag = detector.detect(frame)[0]
+    # A fronto-parallel tag of 72 px: depth f * size / pixels.
+    assert tag.pose.tvec[2] == pytest.approx(f * 0.06 / 72, rel=0.02)
+    np.testing.assert_allclose(tag.pose.rotation @ tag.pose.rotation.T, np.eye(3), atol=1e-9)
+    before = frame.copy()
+    assert chromatag.draw_detections(frame, [tag], detector) is frame
+    assert (frame != before).any(axis=2).sum() > 200
+
+
+def test_rejected_candidates_on_request():
+    frame, _ = scene()
+    frame[300:360, 300:360] = (40, 40, 220)  # A red square: no tag.
+    detector = chromatag.Detector(report_rejected=True)
+    detections, rejected = detector.detect(frame, return_rejected=True)
+    assert [d.id for d in detections] == [3]
+    assert rejected and all({"stage", "reason", "outline"} <= set(r) for r in rejected)
+
+
+def test_a_generated_page_read_with_cv2(tmp_path):
+    page = str(tmp_path / "sheet.png")
+    written = chromatag.generate(page, ids=[0, 4, 9], size="30mm", dpi=150)
+    assert written == [page, page + ".json"]
+    sidecar = json.load(open(page + ".json"))
+    found = chromatag.Detector().detect(cv2.imread(page))
+    assert sorted(d.id for d in found) == sorted(t["id"] for t in sidecar["tags"])
+
+
+def test_generate_and_verify(tmp_path):
+    sheet = str(tmp_path / "tags.pdf")
+    chromatag.generate(sheet, family="36h11", ids="0-3", size="30mm")
+    verdict = chromatag.verify(sheet)
+    assert verdict.passed and verdict.tags_passed == 4
+    assert [t.found_id for t in verdict.tags] == [0, 1, 2, 3]
+    with pytest.raises(chromatag.Error, match="format is png"):
+        chromatag.generate(str(tmp_path / "x.pdf"), ids=[0], format="png")
+    with pytest.raises(chromatag.Error, match="no such file"):
+        chromatag.verify(str(tmp_path / "missing.pdf"))
+    assert not os.path.exists(tmp_path / "x.pdf")
+
+
+def test_threads_share_one_detector():
+    frames = [scene(tag_id=i)[0] for i in (0, 1, 2, 3)]
+    detector = chromatag.Detector()
+    results = {}
+
+    def run(i):
+        for _ in range(20):
+            results[i] = [d.id for d in detector.detect(frames[i])]
+
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert results == {0: [0], 1: [1], 2: [2], 3: [3]}
+
+
+def test_families_and_palettes():
+    assert chromatag.families() == ["16h5", "36h11"]
+    info = chromatag.family("16h5")
+    assert info["black_square_cells"] == 6 and 3 in info["kept_ids"]
+    shades = chromatag.palette("default")["shades"]
+    assert set(shades) == {"red-1", "red-0", "green-1", "green-0", "black", "white"}
+    assert shades["red-1"]["lab"][1] > 40 > shades["green-1"]["lab"][1]
+    assert chromatag.render_tag("16h5", 3, 5, order="rgb").shape == (50, 50, 3)
+    with pytest.raises(chromatag.Error):
+        chromatag.render_tag("16h5", 10000, 5)
