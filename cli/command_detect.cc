@@ -1,105 +1,408 @@
-// `chromatag detect`: run the detector over images, folders and videos.
+// `chromatag detect`: the detector over images, folders, videos, cameras and
+// streams. Frames are decoded and detected on --jobs threads; the output
+// comes in input order.
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <deque>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
-#include <opencv2/core/persistence.hpp>
+#include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
-#include <sstream>
+#include <thread>
 
+#include "camera_file.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/families/family.h"
 #include "chromatag/generator/units.h"
 #include "commands.h"
+#include "progress.h"
 
 namespace chromatag::cli {
 namespace {
 
 namespace fs = std::filesystem;
+using Json = nlohmann::json;
 
 struct DetectOptions {
-  std::string family = "16h5";
+  std::string family = "all";
   bool json = false;
   std::string overlay_dir;
   std::string camera_file;
   std::string tag_size;
   std::string config;     // Detector config file, e.g. from chromatag calibrate.
   bool rejected = false;  // Report (JSON) and draw (overlay) rejected candidates.
+  std::vector<int> camera_indices;
+  bool show = false;
+  int jobs = 0;  // 0: one per core.
   std::vector<std::string> inputs;
 };
 
+// Ctrl-C: the first ends the run cleanly (the frames under way finish and
+// the summary is printed); a second one, with the default handler back,
+// ends the process.
+std::atomic<bool> g_stop{false};
+
+void OnInterrupt(int) {
+  g_stop = true;
+  std::signal(SIGINT, SIG_DFL);
+}
+
+std::string Lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
 bool IsVideo(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  const std::string ext = Lower(path.extension().string());
   for (const char* v : {".avi", ".mp4", ".mkv", ".mov", ".webm", ".mpg", ".mpeg", ".m4v"})
     if (ext == v) return true;
   return false;
 }
 
 bool IsImage(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  const std::string ext = Lower(path.extension().string());
   for (const char* v : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".ppm", ".pgm", ".webp"})
     if (ext == v) return true;
   return false;
 }
 
-// OpenCV's calibration file layout (camera_matrix, distortion_coefficients),
-// YAML, XML or JSON.
-bool LoadCamera(const std::string& path, CameraIntrinsics* camera, std::string* error) {
-  cv::Mat k, d;
-  try {
-    cv::FileStorage file(path, cv::FileStorage::READ);
-    if (!file.isOpened()) {
-      *error = "cannot read camera file '" + path + "'";
-      return false;
-    }
-    file["camera_matrix"] >> k;
-    file["distortion_coefficients"] >> d;
-  } catch (const cv::Exception&) {
-    *error = "camera file '" + path + "' is not OpenCV YAML, XML or JSON";
-    return false;
-  }
-  if (k.rows != 3 || k.cols != 3) {
-    *error = "camera file '" + path + "' needs a 3x3 camera_matrix (and distortion_coefficients)";
-    return false;
-  }
-  k.convertTo(k, CV_64F);
-  camera->fx = k.at<double>(0, 0);
-  camera->fy = k.at<double>(1, 1);
-  camera->cx = k.at<double>(0, 2);
-  camera->cy = k.at<double>(1, 2);
-  camera->distortion.clear();
-  if (!d.empty()) {
-    d.convertTo(d, CV_64F);
-    camera->distortion.assign(d.begin<double>(), d.end<double>());
-  }
-  return camera->IsValid(error);
+enum class SourceKind { kImage, kVideo, kCamera, kStream };
+
+struct Source {
+  SourceKind kind = SourceKind::kImage;
+  std::string name;  // As given: a path, /dev/videoN, "camera N" or a URL.
+  int camera_index = -1;
+  std::string overlay_stem;  // Unique among the run's sources.
+  bool live() const { return kind == SourceKind::kCamera || kind == SourceKind::kStream; }
+};
+
+Source MakeSource(SourceKind kind, std::string name) {
+  Source source;
+  source.kind = kind;
+  source.name = std::move(name);
+  return source;
 }
 
-class Runner {
- public:
-  Runner(const DetectOptions& options, const Detector& detector)
-      : options_(options), detector_(detector), progress_(isatty(STDERR_FILENO)) {}
+// What one frame (or one source that could not be read) gives.
+struct Task {
+  size_t source = 0;
+  int frame_index = 0;
+  cv::Mat frame;      // Decoded by the reader (videos, cameras, streams) or empty (images).
+  double timestamp = 0;  // Seconds since the epoch when a live frame arrived.
+  std::string error;  // A source that could not be read: passed on in order.
+};
 
-  void Frame(const std::string& file, int frame_index, const cv::Mat& frame) {
-    detector_.Detect(frame, PixelOrder::kBgr, &result_);
+struct Outcome {
+  std::string out;
+  std::string err;
+  bool failed = false;
+  bool frame = false;  // A frame was detected in.
+  int tags = 0;
+  cv::Mat shown;  // --show: the frame with the detections drawn.
+};
+
+// The sources named on the command line, in order; false with *error for
+// inputs that do not exist.
+bool GatherSources(const DetectOptions& options, std::vector<Source>* sources, std::string* error) {
+  std::vector<std::string> missing;
+  for (const std::string& input : options.inputs) {
+    std::error_code ec;
+    const fs::path path(input);
+    if (input.find("://") != std::string::npos) {
+      sources->push_back(MakeSource(SourceKind::kStream, input));
+    } else if (input.rfind("/dev/video", 0) == 0) {
+      sources->push_back(MakeSource(SourceKind::kCamera, input));
+    } else if (fs::is_directory(path, ec)) {
+      std::vector<fs::path> files;
+      for (const auto& entry : fs::directory_iterator(path, ec)) {
+        if (entry.is_regular_file() && (IsImage(entry.path()) || IsVideo(entry.path())))
+          files.push_back(entry.path());
+      }
+      std::sort(files.begin(), files.end());
+      for (const fs::path& file : files)
+        sources->push_back(
+            MakeSource(IsVideo(file) ? SourceKind::kVideo : SourceKind::kImage, file.string()));
+    } else if (!fs::exists(path, ec)) {
+      missing.push_back(input);
+    } else {
+      sources->push_back(MakeSource(IsVideo(path) ? SourceKind::kVideo : SourceKind::kImage, input));
+    }
+  }
+  for (int index : options.camera_indices) {
+    Source camera = MakeSource(SourceKind::kCamera, "camera " + std::to_string(index));
+    camera.camera_index = index;
+    sources->push_back(camera);
+  }
+  if (!missing.empty()) {
+    *error = "no such file or folder: '" + missing[0] + "'" +
+             (missing.size() > 1 ? " (and " + std::to_string(missing.size() - 1) + " more)" : "");
+    return false;
+  }
+  if (sources->empty()) {
+    *error = "nothing to detect in: give images, folders, videos, /dev/videoN, a stream URL or "
+             "--camera-index N";
+    return false;
+  }
+  // Overlay names: the file name with its extension (scene.jpg and scene.mp4
+  // differ), and a counter for names met before (a/x.png, b/x.png).
+  std::map<std::string, int> used;
+  for (size_t i = 0; i < sources->size(); ++i) {
+    Source& s = (*sources)[i];
+    std::string stem =
+        s.kind == SourceKind::kStream ? "stream" : fs::path(s.name).filename().string();
+    if (s.camera_index >= 0) stem = "camera" + std::to_string(s.camera_index);
+    std::replace(stem.begin(), stem.end(), '.', '_');
+    const int n = ++used[stem];
+    s.overlay_stem = n == 1 ? stem : stem + "-" + std::to_string(n);
+  }
+  return true;
+}
+
+Json Points(const std::array<cv::Point2d, 4>& points) {
+  Json out = Json::array();
+  for (const auto& p : points) out.push_back({p.x, p.y});
+  return out;
+}
+
+Json Rejected(const std::vector<RejectedCandidate>& rejected) {
+  Json out = Json::array();
+  for (const RejectedCandidate& r : rejected) {
+    Json outline = Json::array();
+    for (const auto& p : r.outline) outline.push_back({p.x, p.y});
+    Json record = {{"stage", StageName(r.stage)},
+                   {"reason", RejectReasonName(r.reason)},
+                   {"seed", {r.seed.x, r.seed.y}},
+                   {"centre", {r.centre.x, r.centre.y}},
+                   {"outline", outline}};
+    // The second path's own reason, when it tried the candidate too.
+    if (r.grown) record["grow_reason"] = RejectReasonName(r.grow_reason);
+    out.push_back(std::move(record));
+  }
+  return out;
+}
+
+// The run: a reader thread decodes the sources' frames in order (images are
+// decoded by the workers, as their decoding is most of the work), `jobs`
+// workers detect, and the calling thread prints the outcomes in order.
+class Run {
+ public:
+  Run(const DetectOptions& options, const Detector& detector, std::vector<Source> sources,
+      int jobs)
+      : options_(options),
+        detector_(detector),
+        sources_(std::move(sources)),
+        jobs_(jobs),
+        capacity_(static_cast<size_t>(2 * jobs + 2)) {}
+
+  // Returns the exit code.
+  int Execute() {
+    bool live = false;
+    size_t images = 0;
+    for (const Source& s : sources_) {
+      live |= s.live();
+      images += s.kind == SourceKind::kImage ? 1 : 0;
+    }
+    total_ = images;
+    Progress progress("detect", "frames", live ? 0 : total_.load());
+    const auto start = std::chrono::steady_clock::now();
+    std::thread reader([this] { Read(); });
+    std::vector<std::thread> workers;
+    for (int i = 0; i < jobs_; ++i) workers.emplace_back([this] { Work(); });
+    if (!options_.json)
+      std::cout << "file                            frame  family   id  h  margin  corner 0\n";
+    size_t frames = 0, with_tags = 0, tags = 0;
+    bool failed = false;
+    for (size_t next = 0;; ++next) {
+      Outcome outcome;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        done_changed_.wait(lock, [&] { return done_.count(next) || (read_all_ && next == queued_); });
+        if (!done_.count(next)) break;
+        outcome = std::move(done_[next]);
+        done_.erase(next);
+      }
+      space_.notify_all();
+      std::cout << outcome.out;
+      if (!outcome.err.empty()) {
+        progress.Finish();  // The message on a line of its own; the bar comes back.
+        std::cerr << outcome.err;
+      }
+      failed |= outcome.failed;
+      if (outcome.frame) {
+        ++frames;
+        with_tags += outcome.tags > 0 ? 1 : 0;
+        tags += static_cast<size_t>(outcome.tags);
+      }
+      if (!live) progress.set_total(total_);
+      progress.Update(frames);
+      if (options_.show && !outcome.shown.empty()) {
+        cv::imshow("chromatag detect", outcome.shown);
+        const int key = cv::waitKey(1);
+        if (key == 'q' || key == 27) g_stop = true;
+      }
+    }
+    reader.join();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      closed_ = true;
+    }
+    work_ready_.notify_all();
+    for (std::thread& w : workers) w.join();
+    progress.Finish();
+    std::cout.flush();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr,
+                 "detect: %zu frame%s, %zu with tags, %zu tag%s in %.2f s: %.1f frames/s on %d "
+                 "thread%s%s\n",
+                 frames, frames == 1 ? "" : "s", with_tags, tags, tags == 1 ? "" : "s", seconds,
+                 seconds > 0 ? static_cast<double>(frames) / seconds : 0.0, jobs_,
+                 jobs_ == 1 ? "" : "s", g_stop ? " (interrupted)" : "");
+    return failed ? kExitFailure : kExitOk;
+  }
+
+ private:
+  // Queues a task in order, waiting while `capacity_` frames are under way.
+  void Queue(Task task) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    space_.wait(lock, [&] { return queued_ - printed() < capacity_; });
+    tasks_.push_back({queued_++, std::move(task)});
+    lock.unlock();
+    work_ready_.notify_one();
+  }
+
+  // Tasks the printer has taken; the others are under way. Under mutex_.
+  size_t printed() const { return queued_ - tasks_.size() - done_.size() - working_; }
+
+  void Read() {
+    for (size_t i = 0; i < sources_.size() && !g_stop; ++i) {
+      const Source& source = sources_[i];
+      if (source.kind == SourceKind::kImage) {
+        Queue({i, 0, {}, 0, {}});
+        continue;
+      }
+      cv::VideoCapture capture;
+      if (source.camera_index >= 0) {
+        capture.open(source.camera_index);
+      } else {
+        capture.open(source.name);
+      }
+      if (!capture.isOpened()) {
+        Queue({i, 0, {}, 0,
+               std::string("cannot open ") +
+                   (source.kind == SourceKind::kVideo ? "video" : source.live() ? "camera or stream" : "") +
+                   " '" + source.name + "', skipped"});
+        continue;
+      }
+      if (!source.live())
+        total_ += static_cast<size_t>(std::max(0.0, capture.get(cv::CAP_PROP_FRAME_COUNT)));
+      int index = 0;
+      while (!g_stop) {
+        cv::Mat frame;  // A new buffer each time: the workers keep the last ones.
+        if (!capture.read(frame) || frame.empty()) break;
+        if (frame.type() != CV_8UC3) {
+          Queue({i, index, {}, 0, "'" + source.name + "' gives frames that are not 8-bit colour"});
+          break;
+        }
+        const double timestamp =
+            source.live() ? std::chrono::duration<double>(
+                                std::chrono::system_clock::now().time_since_epoch())
+                                .count()
+                          : 0.0;
+        Queue({i, index++, std::move(frame), timestamp, {}});
+      }
+      if (index == 0 && !g_stop) Queue({i, 0, {}, 0, "no frames in '" + source.name + "', skipped"});
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    read_all_ = true;
+    done_changed_.notify_all();
+  }
+
+  void Work() {
+    DetectionResult result;
+    for (;;) {
+      std::pair<size_t, Task> item;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        work_ready_.wait(lock, [&] { return !tasks_.empty() || closed_; });
+        if (tasks_.empty()) return;
+        item = std::move(tasks_.front());
+        tasks_.pop_front();
+        ++working_;
+      }
+      Outcome outcome = Process(item.second, &result);
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        --working_;
+        done_[item.first] = std::move(outcome);
+      }
+      done_changed_.notify_all();
+    }
+  }
+
+  Outcome Process(Task& task, DetectionResult* result) const {
+    Outcome outcome;
+    const Source& source = sources_[task.source];
+    if (!task.error.empty()) {
+      outcome.err = "chromatag detect: " + task.error + "\n";
+      outcome.failed = true;
+      return outcome;
+    }
+    if (source.kind == SourceKind::kImage) {
+      task.frame = cv::imread(source.name, cv::IMREAD_COLOR);
+      if (task.frame.empty()) {
+        outcome.err = "chromatag detect: cannot read image '" + source.name + "', skipped\n";
+        outcome.failed = true;
+        return outcome;
+      }
+    }
+    const cv::Mat& frame = task.frame;
+    detector_.Detect(frame, PixelOrder::kBgr, result);
+    outcome.frame = true;
+    outcome.tags = static_cast<int>(result->detections.size());
+    std::string overlay;
+    if (!options_.overlay_dir.empty() || options_.show) {
+      cv::Mat canvas = frame.clone();
+      if (options_.rejected) DrawRejected(result->rejected, &canvas);
+      const DetectorOptions& d = detector_.options();
+      DrawDetections(result->detections, d.camera ? &*d.camera : nullptr, d.tag_size, &canvas);
+      if (!options_.overlay_dir.empty()) {
+        char suffix[32];
+        std::snprintf(suffix, sizeof suffix, "_%06d", task.frame_index);
+        overlay = (fs::path(options_.overlay_dir) /
+                   (source.overlay_stem + (source.kind == SourceKind::kImage ? "" : suffix) + ".png"))
+                      .string();
+        if (!cv::imwrite(overlay, canvas)) {
+          outcome.err = "chromatag detect: cannot write overlay '" + overlay + "'\n";
+          outcome.failed = true;
+          overlay.clear();
+        }
+      }
+      if (options_.show) outcome.shown = canvas;
+    }
     if (options_.json) {
-      nlohmann::json detections = nlohmann::json::array();
-      for (const Detection& d : result_.detections) {
-        nlohmann::json item = {{"family", d.family->name()},
-                               {"id", d.id},
-                               {"hamming", d.hamming},
-                               {"margin", d.decision_margin},
-                               {"corners", Points(d.corners)},
-                               {"green_corners", Points(d.green_corners)},
-                               {"red_corners", Points(d.red_corners)}};
+      Json detections = Json::array();
+      for (const Detection& d : result->detections) {
+        Json item = {{"family", d.family->name()},
+                     {"id", d.id},
+                     {"hamming", d.hamming},
+                     {"margin", d.decision_margin},
+                     {"corners", Points(d.corners)},
+                     {"green_corners", Points(d.green_corners)},
+                     {"red_corners", Points(d.red_corners)}};
         if (d.has_pose) {
           item["pose"] = {{"rvec", {d.pose.rvec[0], d.pose.rvec[1], d.pose.rvec[2]}},
                           {"tvec", {d.pose.tvec[0], d.pose.tvec[1], d.pose.tvec[2]}},
@@ -107,205 +410,119 @@ class Runner {
         }
         detections.push_back(item);
       }
-      nlohmann::json line = {{"file", file},
-                             {"frame", frame_index},
-                             {"width", frame.cols},
-                             {"height", frame.rows},
-                             {"time_us", result_.summary.total_time_us},
-                             {"detections", detections}};
-      if (options_.rejected) line["rejected"] = Rejected(result_.rejected);
-      std::cout << line.dump() << "\n";
+      Json line = {{"file", source.name},
+                   {"frame", task.frame_index},
+                   {"width", frame.cols},
+                   {"height", frame.rows},
+                   {"time_us", result->summary.total_time_us},
+                   {"detections", detections}};
+      if (source.live()) line["timestamp"] = task.timestamp;
+      if (!overlay.empty()) line["overlay"] = overlay;
+      if (options_.rejected) line["rejected"] = Rejected(result->rejected);
+      // A file name that is not UTF-8 is written with U+FFFD, not refused.
+      outcome.out = line.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n";
     } else {
-      for (const Detection& d : result_.detections) {
-        char line[256];
+      for (const Detection& d : result->detections) {
+        char line[512];
         std::snprintf(line, sizeof line, "%-30s %6d  %-6s %4d  %d  %6.1f  (%.1f, %.1f)",
-                      file.c_str(), frame_index, d.family->name().c_str(), d.id, d.hamming,
-                      d.decision_margin, d.corners[0].x, d.corners[0].y);
-        std::cout << line;
-        if (d.has_pose)
-          std::cout << "  t = (" << d.pose.tvec[0] << ", " << d.pose.tvec[1] << ", "
-                    << d.pose.tvec[2] << ") m";
-        std::cout << "\n";
+                      source.name.c_str(), task.frame_index, d.family->name().c_str(), d.id,
+                      d.hamming, d.decision_margin, d.corners[0].x, d.corners[0].y);
+        outcome.out += line;
+        if (d.has_pose) {
+          std::snprintf(line, sizeof line, "  t = (%g, %g, %g) m", d.pose.tvec[0], d.pose.tvec[1],
+                        d.pose.tvec[2]);
+          outcome.out += line;
+        }
+        outcome.out += "\n";
       }
-      if (result_.detections.empty())
-        std::cout << file << " frame " << frame_index << ": no tags\n";
+      if (result->detections.empty())
+        outcome.out += source.name + " frame " + std::to_string(task.frame_index) + ": no tags\n";
     }
-    if (!options_.overlay_dir.empty()) WriteOverlay(file, frame_index, frame);
-  }
-
-  void Progress(const std::string& what, size_t done, size_t total) {
-    if (!progress_) return;
-    const int width = 30;
-    const int filled = total ? static_cast<int>(width * done / total) : width;
-    std::fprintf(stderr, "\r%s [%s%s] %zu/%zu", what.c_str(), std::string(filled, '#').c_str(),
-                 std::string(width - filled, ' ').c_str(), done, total);
-    if (done == total) std::fprintf(stderr, "\n");
-  }
-
-  bool failed = false;
-
- private:
-  static nlohmann::json Points(const std::array<cv::Point2d, 4>& points) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const auto& p : points) out.push_back({p.x, p.y});
-    return out;
-  }
-
-  static nlohmann::json Rejected(const std::vector<RejectedCandidate>& rejected) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const RejectedCandidate& r : rejected) {
-      nlohmann::json outline = nlohmann::json::array();
-      for (const auto& p : r.outline) outline.push_back({p.x, p.y});
-      nlohmann::json record = {{"stage", StageName(r.stage)},
-                               {"reason", RejectReasonName(r.reason)},
-                               {"seed", {r.seed.x, r.seed.y}},
-                               {"centre", {r.centre.x, r.centre.y}},
-                               {"outline", outline}};
-      // The second path's own reason, when it tried the candidate too.
-      if (r.grown) record["grow_reason"] = RejectReasonName(r.grow_reason);
-      out.push_back(std::move(record));
-    }
-    return out;
-  }
-
-  void WriteOverlay(const std::string& file, int frame_index, const cv::Mat& frame) {
-    cv::Mat canvas = frame.clone();
-    if (options_.rejected) DrawRejected(result_.rejected, &canvas);
-    DrawDetections(result_.detections,
-                   detector_.options().camera ? &*detector_.options().camera : nullptr,
-                   detector_.options().tag_size, &canvas);
-    char suffix[32];
-    std::snprintf(suffix, sizeof suffix, "_%06d.png", frame_index);
-    const fs::path out = fs::path(options_.overlay_dir) / (fs::path(file).stem().string() + suffix);
-    if (!cv::imwrite(out.string(), canvas)) {
-      std::cerr << "chromatag detect: cannot write overlay '" << out.string() << "'\n";
-      failed = true;
-    }
+    return outcome;
   }
 
   const DetectOptions& options_;
   const Detector& detector_;
-  bool progress_;
-  DetectionResult result_;
+  const std::vector<Source> sources_;
+  const int jobs_;
+  const size_t capacity_;
+  std::atomic<size_t> total_{0};
+
+  std::mutex mutex_;
+  std::condition_variable work_ready_, done_changed_, space_;
+  std::deque<std::pair<size_t, Task>> tasks_;  // (sequence number, task), in order.
+  std::map<size_t, Outcome> done_;             // Finished, waiting to be printed in order.
+  size_t queued_ = 0;
+  size_t working_ = 0;
+  bool read_all_ = false;
+  bool closed_ = false;
 };
 
-void RunImage(const fs::path& path, Runner* runner) {
-  const cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (image.empty()) {
-    std::cerr << "chromatag detect: cannot read image '" << path.string() << "', skipped\n";
-    runner->failed = true;
-    return;
-  }
-  runner->Frame(path.string(), 0, image);
-}
-
-void RunVideo(const fs::path& path, Runner* runner) {
-  cv::VideoCapture video(path.string());
-  if (!video.isOpened()) {
-    std::cerr << "chromatag detect: cannot open video '" << path.string() << "', skipped\n";
-    runner->failed = true;
-    return;
-  }
-  const auto total = static_cast<size_t>(std::max(0.0, video.get(cv::CAP_PROP_FRAME_COUNT)));
-  cv::Mat frame;
-  int index = 0;
-  while (video.read(frame)) {
-    runner->Frame(path.string(), index++, frame);
-    runner->Progress(path.filename().string(), std::min<size_t>(index, total), total);
-  }
-  if (index == 0) {
-    std::cerr << "chromatag detect: no frames in video '" << path.string() << "', skipped\n";
-    runner->failed = true;
-  }
-}
-
 int RunDetect(const DetectOptions& options) {
+  const auto fail = [](const std::string& message) {
+    std::cerr << "chromatag detect: " << message << "\n";
+    return kExitUsage;
+  };
   DetectorOptions detector_options;
   detector_options.families =
       options.family == "all" ? TagFamily::Names() : std::vector<std::string>{options.family};
   detector_options.report_rejected = options.rejected;
   std::string error;
-  if (!options.config.empty() && !LoadDetectorConfig(options.config, &detector_options, &error)) {
-    std::cerr << "chromatag detect: " << error << "\n";
-    return kExitUsage;
-  }
+  if (!options.config.empty() && !LoadDetectorConfig(options.config, &detector_options, &error))
+    return fail(error);
   if (!options.camera_file.empty()) {
     CameraIntrinsics camera;
-    if (!LoadCamera(options.camera_file, &camera, &error)) {
-      std::cerr << "chromatag detect: " << error << "\n";
-      return kExitUsage;
-    }
+    if (!LoadCameraFile(options.camera_file, &camera, &error)) return fail(error);
     detector_options.camera = camera;
   }
   if (!options.tag_size.empty()) {
     const auto length = ParseLength(options.tag_size, &error);
-    if (!length) {
-      std::cerr << "chromatag detect: --tag-size: " << error << "\n";
-      return kExitUsage;
-    }
+    if (!length) return fail("--tag-size: " + error);
     detector_options.tag_size = length->mm / 1000.0;
   }
-  if (detector_options.camera.has_value() != (detector_options.tag_size > 0)) {
-    std::cerr << "chromatag detect: pose needs both --camera FILE and --tag-size LENGTH\n";
-    return kExitUsage;
-  }
+  if (detector_options.camera.has_value() != (detector_options.tag_size > 0))
+    return fail("pose needs both --camera FILE and --tag-size LENGTH");
+  if (options.show && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+    return fail("--show needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set)");
+  std::vector<Source> sources;
+  if (!GatherSources(options, &sources, &error)) return fail(error);
   if (!options.overlay_dir.empty()) {
     std::error_code ec;
     fs::create_directories(options.overlay_dir, ec);
-    if (ec) {
-      std::cerr << "chromatag detect: cannot create overlay folder '" << options.overlay_dir
-                << "': " << ec.message() << "\n";
-      return kExitUsage;
-    }
+    if (ec) return fail("cannot create overlay folder '" + options.overlay_dir + "': " + ec.message());
   }
   auto detector = Detector::Create(detector_options, &error);
-  if (!detector) {
-    std::cerr << "chromatag detect: " << error << "\n";
-    return kExitUsage;
-  }
-  Runner runner(options, *detector);
-  if (!options.json)
-    std::cout << "file                            frame  family   id  h  margin  corner 0\n";
-  for (const std::string& input : options.inputs) {
-    const fs::path path(input);
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) {
-      std::vector<fs::path> files;
-      for (const auto& entry : fs::directory_iterator(path, ec)) {
-        if (entry.is_regular_file() && (IsImage(entry.path()) || IsVideo(entry.path())))
-          files.push_back(entry.path());
-      }
-      std::sort(files.begin(), files.end());
-      for (size_t i = 0; i < files.size(); ++i) {
-        IsVideo(files[i]) ? RunVideo(files[i], &runner) : RunImage(files[i], &runner);
-        runner.Progress(path.string(), i + 1, files.size());
-      }
-    } else if (!fs::exists(path, ec)) {
-      std::cerr << "chromatag detect: no such file or folder '" << input << "', skipped\n";
-      runner.failed = true;
-    } else if (IsVideo(path)) {
-      RunVideo(path, &runner);
-    } else {
-      RunImage(path, &runner);
-    }
-  }
-  return runner.failed ? kExitFailure : kExitOk;
+  if (!detector) return fail(error);
+  const int jobs = options.jobs > 0
+                       ? options.jobs
+                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  g_stop = false;
+  std::signal(SIGINT, OnInterrupt);
+  Run run(options, *detector, std::move(sources), jobs);
+  const int code = run.Execute();
+  std::signal(SIGINT, SIG_DFL);
+  return code;
 }
 
 }  // namespace
 
 void RegisterDetect(CLI::App& app, Action* action) {
   auto options = std::make_shared<DetectOptions>();
-  CLI::App* command =
-      app.add_subcommand("detect", "Detect ChromaTags in images, folders of images and videos");
-  command->add_option("--family", options->family, "Tag family: 16h5, 36h11 or all")
+  CLI::App* command = app.add_subcommand(
+      "detect", "Detect ChromaTags in images, folders, videos, cameras and streams");
+  command
+      ->add_option("--family", options->family,
+                   "Tag family: 16h5, 36h11 or all (both; about 1 us more a tagged frame)")
+      ->capture_default_str()
       ->check(CLI::IsMember({"16h5", "36h11", "all"}));
-  command->add_flag("--json", options->json, "One JSON object per frame per line");
+  command->add_flag("--json", options->json,
+                    "One JSON object per frame per line (live frames with a timestamp)");
   command->add_option("--overlay", options->overlay_dir,
-                      "Write each frame with the detections drawn into this folder");
+                      "Write each frame with the detections drawn into this folder "
+                      "(<file>_<ext>[_<frame>].png)");
   command->add_option("--camera", options->camera_file,
-                      "Camera intrinsics (OpenCV YAML/XML/JSON: camera_matrix, "
-                      "distortion_coefficients), for pose");
+                      "Camera intrinsics for pose: OpenCV YAML/JSON/XML (camera_matrix, "
+                      "distortion_coefficients), ROS camera_info YAML or Kalibr camchain YAML");
   command->add_option("--tag-size", options->tag_size,
                       "Side of the black square, e.g. 40mm, for pose");
   command->add_option("--config", options->config,
@@ -313,7 +530,14 @@ void RegisterDetect(CLI::App& app, Action* action) {
   command->add_flag("--rejected", options->rejected,
                     "Also report the rejected candidates (JSON: \"rejected\") and draw them on "
                     "the overlays, coloured by the stage that rejected them");
-  command->add_option("INPUT", options->inputs, "Image files, folders or video files")->required();
+  command->add_option("--camera-index", options->camera_indices,
+                      "Read a camera by its index (as /dev/videoN); repeatable");
+  command->add_flag("--show", options->show, "Show the frames with the detections in a window (q quits)");
+  command->add_option("-j,--jobs", options->jobs, "Threads that decode and detect (default: one per core)")
+      ->check(CLI::Range(1, 256));
+  command->add_option("INPUT", options->inputs,
+                      "Images, folders, videos, /dev/videoN or stream URLs (rtsp://, http://, ...); "
+                      "Ctrl-C ends a live run with its summary");
   command->callback([options, action] { *action = [options] { return RunDetect(*options); }; });
 }
 

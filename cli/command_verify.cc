@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
@@ -12,6 +10,7 @@
 #include "chromatag/verify/sheet_check.h"
 #include "chromatag/verify/stress.h"
 #include "commands.h"
+#include "progress.h"
 
 namespace chromatag::cli {
 namespace {
@@ -33,17 +32,6 @@ struct VerifyCommandOptions {
 int Fail(const std::string& message) {
   std::cerr << "chromatag verify: " << message << "\n";
   return kExitUsage;
-}
-
-// "\r stress 12/28" on stderr when it is a terminal.
-void Progress(const char* what, size_t done, size_t total) {
-  if (!isatty(STDERR_FILENO)) return;
-  const int width = 30;
-  const int filled = static_cast<int>(width * done / std::max<size_t>(total, 1));
-  std::fprintf(stderr, "\r%s [%s%s] %zu/%zu", what, std::string(filled, '#').c_str(),
-               std::string(width - filled, ' ').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\r%*s\r", width + 40, "");
-  std::fflush(stderr);
 }
 
 Json SheetJson(const SheetVerdict& verdict) {
@@ -185,9 +173,10 @@ std::vector<TagStress> RunStress(const TagFamily& family, const std::vector<int>
   auto detector = Detector::Create(options);
   const TagColors colors = TagColors::FromPalette(palette);
   std::vector<TagStress> stresses;
+  Progress progress("stress", "tags", ids.size());
   for (size_t i = 0; i < ids.size(); ++i) {
     stresses.push_back(StressTag(family, ids[i], colors, *detector));
-    Progress("stress", i + 1, ids.size());
+    progress.Update(i + 1);
   }
   return stresses;
 }

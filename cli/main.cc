@@ -1,11 +1,17 @@
 // chromatag: print, detect and calibrate ChromaTag fiducial markers.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <iostream>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "chromatag/families/version.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
+  // OpenCV's and FFmpeg's own log lines ("[ERROR:0@0.006] global ...") would
+  // come before the tool's one message; the tool says what went wrong itself.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);  // AV_LOG_QUIET, unless the user asks for more.
   CLI::App app{"ChromaTag toolkit: coloured fiducial markers (DeGol, Bretl and Hoiem, ICCV 2017)",
                "chromatag"};
   app.set_version_flag("--version", std::string("chromatag ") + chromatag::kVersion);

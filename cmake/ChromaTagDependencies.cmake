@@ -1,7 +1,7 @@
 # Every dependency comes from Debian's packages; scripts/install-deps.sh installs them.
 find_package(PkgConfig REQUIRED)
 find_package(apriltag REQUIRED)
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs calib3d videoio objdetect)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs calib3d videoio highgui objdetect)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(Ceres REQUIRED)
 find_package(CLI11 REQUIRED)
@@ -12,6 +12,8 @@ pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-pdf cairo-svg cairo
 # prefix as "/" and names a missing /include.
 pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
 pkg_check_modules(ZLIB REQUIRED IMPORTED_TARGET zlib)
+# Camera files for `detect --camera` (ROS camera_info, Kalibr and OpenCV YAML).
+pkg_check_modules(YAML_CPP REQUIRED IMPORTED_TARGET yaml-cpp)
 pkg_check_modules(POPPLER_CPP REQUIRED IMPORTED_TARGET poppler-cpp)
 if(CHROMATAG_BUILD_TESTS)
   find_package(GTest REQUIRED)

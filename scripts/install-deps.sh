@@ -11,6 +11,8 @@ packages=(
   # libapriltag, nlohmann-json, poppler).
   libapriltag-dev libcairo2-dev libopencv-dev libopencv-contrib-dev libeigen3-dev libceres-dev
   libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev librsvg2-dev zlib1g-dev
+  # Camera files (ROS camera_info, Kalibr, OpenCV YAML) for detect --camera.
+  libyaml-cpp-dev
   # Fonts for the labels and notes on generated sheets.
   fonts-dejavu-core
   # The Python module (pybind11 on numpy) and its tests (cv2 reads images in them).

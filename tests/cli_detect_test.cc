@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -73,12 +75,82 @@ TEST(CliDetectTest, FoldersOverlaysAndATable) {
 TEST(CliDetectTest, UnreadableInputsAreReportedSkippedAndFailTheRun) {
   const std::string dir = MakeSheet("bad");
   std::system(("echo 'not an image' > '" + dir + "/broken.png'").c_str());
-  const auto result = Chromatag(
-      {"detect", "--json", dir + "/broken.png", dir + "/sheet.png", dir + "/missing.png"});
+  const auto result = Chromatag({"detect", "--json", dir + "/broken.png", dir + "/sheet.png"});
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_EQ(CountLines(result.out), 1) << result.out;  // The readable sheet still ran.
-  EXPECT_NE(result.err.find("broken.png"), std::string::npos) << result.err;
-  EXPECT_NE(result.err.find("missing.png"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("cannot read image '" + dir + "/broken.png'"), std::string::npos)
+      << result.err;
+  // A missing input is bad usage, found before anything runs (exit 2, as verify and calibrate).
+  const auto missing = Chromatag({"detect", "--json", dir + "/sheet.png", dir + "/missing.png"});
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_TRUE(missing.out.empty()) << missing.out;
+  EXPECT_NE(missing.err.find("missing.png"), std::string::npos) << missing.err;
+}
+
+// Issue 11: detect looked for 16h5 only, so a 36h11 sheet gave "no tags".
+TEST(CliDetectTest, BothFamiliesByDefault) {
+  const std::string dir = MakeSheet("families");
+  ASSERT_EQ(Chromatag({"generate", "--family", "36h11", "--ids", "5", "--size", "25.4mm", "--dpi",
+                       "150", "-o", dir + "/big.png"})
+                .exit_code,
+            0);
+  const auto result = Chromatag({"detect", "--json", dir + "/big.png"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto frame = nlohmann::json::parse(result.out);
+  ASSERT_EQ(frame["detections"].size(), 1u);
+  EXPECT_EQ(frame["detections"][0]["family"], "36h11");
+  EXPECT_EQ(frame["detections"][0]["id"], 5);
+}
+
+// The same intrinsics from OpenCV YAML and JSON, ROS camera_info and Kalibr
+// give the same pose; a broken file is one line and exit 2.
+TEST(CliDetectTest, CameraFilesInTheLayoutsPeopleHave) {
+  const std::string dir = MakeSheet("camera");
+  const std::map<std::string, std::string> files = {
+      {"opencv.yaml",
+       "%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+       "   data: [ 1500., 0., 620., 0., 1500., 877., 0., 0., 1. ]\n"
+       "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n"
+       "   data: [ 0., 0., 0., 0., 0. ]\n"},
+      {"ros.yaml",
+       "image_width: 1240\nimage_height: 1754\ncamera_name: test\ncamera_matrix:\n  rows: 3\n"
+       "  cols: 3\n  data: [1500, 0, 620, 0, 1500, 877, 0, 0, 1]\ndistortion_model: plumb_bob\n"
+       "distortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [0, 0, 0, 0, 0]\n"
+       "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"},
+      {"kalibr.yaml",
+       "cam0:\n  camera_model: pinhole\n  intrinsics: [1500, 1500, 620, 877]\n"
+       "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n  resolution: [1240, 1754]\n"},
+      {"opencv.json",
+       "{\"camera_matrix\": {\"type_id\": \"opencv-matrix\", \"rows\": 3, \"cols\": 3, "
+       "\"dt\": \"d\", \"data\": [1500, 0, 620, 0, 1500, 877, 0, 0, 1]}}"}};
+  std::vector<double> depths;
+  for (const auto& [name, text] : files) {
+    std::ofstream(dir + "/" + name) << text;
+    const auto result = Chromatag({"detect", "--json", "--camera", dir + "/" + name, "--tag-size",
+                                   "25.4mm", dir + "/sheet.png"});
+    ASSERT_EQ(result.exit_code, 0) << name << ": " << result.err;
+    const auto frame = nlohmann::json::parse(result.out);
+    ASSERT_EQ(frame["detections"].size(), 2u) << name;
+    depths.push_back(frame["detections"][0]["pose"]["tvec"][2].get<double>());
+  }
+  // A 25.4 mm tag of 150 px at f = 1500 px is 0.254 m away.
+  for (double z : depths) EXPECT_NEAR(z, 0.254, 0.003);
+  for (const auto& [name, text] :
+       std::vector<std::pair<std::string, std::string>>{{"broken.yaml", "a:\n b: 1\n : 2\n"},
+                                                        {"empty.yaml", ""},
+                                                        {"fisheye.yaml",
+                                                         "intrinsics: [1, 1, 1, 1]\n"
+                                                         "distortion_model: equidistant\n"},
+                                                        {"nan.json", "{\"camera_matrix\": [1]}"},
+                                                        {"notes.txt", "fx 1500"}}) {
+    std::ofstream(dir + "/" + name) << text;
+    const auto result = Chromatag(
+        {"detect", "--camera", dir + "/" + name, "--tag-size", "25.4mm", dir + "/sheet.png"});
+    EXPECT_EQ(result.exit_code, 2) << name;
+    EXPECT_EQ(CountLines(result.err), 1) << name << ": " << result.err;
+    EXPECT_NE(result.err.find("camera file '" + dir + "/" + name + "'"), std::string::npos)
+        << result.err;
+  }
 }
 
 // --rejected lists the candidates the detector abandoned (JSON) and draws them
@@ -103,8 +175,7 @@ TEST(CliDetectTest, RejectedCandidatesInJsonAndOverlays) {
     EXPECT_GE(r["seed"][0].get<int>(), 0);
     EXPECT_LT(r["seed"][0].get<int>(), frame["width"].get<int>());
   }
-  EXPECT_NE(ReadFile(dir + "/plain/smarties_000000.png"),
-            ReadFile(dir + "/with/smarties_000000.png"));
+  EXPECT_NE(ReadFile(dir + "/plain/smarties_png.png"), ReadFile(dir + "/with/smarties_png.png"));
 }
 
 TEST(CliDetectTest, BadUsageIsExitTwo) {

@@ -1,0 +1,201 @@
+#include "camera_file.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <sstream>
+#include <vector>
+
+namespace chromatag::cli {
+namespace {
+
+// Camera files are a few hundred bytes; anything far larger is something else.
+constexpr std::uintmax_t kMaxCameraFileBytes = 1 << 20;
+
+std::string Lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+// Fills *camera from a row-major 3x3 matrix and distortion coefficients.
+bool FromMatrix(const std::vector<double>& k, const std::vector<double>& d, CameraIntrinsics* camera,
+                std::string* error) {
+  if (k.size() != 9) {
+    *error = "camera_matrix must have 9 numbers (3x3), not " + std::to_string(k.size());
+    return false;
+  }
+  camera->fx = k[0];
+  camera->fy = k[4];
+  camera->cx = k[2];
+  camera->cy = k[5];
+  camera->distortion = d;  // CameraIntrinsics::IsValid checks the count.
+  return true;
+}
+
+// A YAML number list: [a, b, ...] or {rows, cols, data: [...]} (OpenCV's
+// !!opencv-matrix and ROS's layout alike).
+std::vector<double> YamlNumbers(const YAML::Node& node) {
+  const YAML::Node list = node.IsMap() ? node["data"] : node;
+  std::vector<double> out;
+  if (!list || !list.IsSequence()) throw YAML::Exception(YAML::Mark::null_mark(), "no number list");
+  for (const YAML::Node& item : list) {
+    if (item.IsSequence()) {  // [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]
+      for (const YAML::Node& x : item) out.push_back(x.as<double>());
+    } else {
+      out.push_back(item.as<double>());
+    }
+  }
+  return out;
+}
+
+bool FromYaml(const std::string& text, CameraIntrinsics* camera, std::string* error) {
+  // OpenCV writes a "%YAML:1.0" line, which is not YAML 1.2's directive.
+  std::string body = text;
+  if (body.rfind("%YAML", 0) == 0) body = body.substr(std::min(body.find('\n'), body.size()));
+  YAML::Node root;
+  try {
+    root = YAML::Load(body);
+  } catch (const YAML::Exception& e) {
+    *error = "is not valid YAML (line " + std::to_string(e.mark.line + 1) + ")";
+    return false;
+  }
+  try {
+    if (!root.IsMap()) {
+      *error = "is YAML but not a camera file (no camera_matrix)";
+      return false;
+    }
+    if (root["camera_matrix"]) {  // OpenCV or ROS.
+      std::vector<double> d;
+      if (root["distortion_coefficients"]) d = YamlNumbers(root["distortion_coefficients"]);
+      if (root["distortion_model"]) {
+        const std::string model = root["distortion_model"].as<std::string>();
+        if (model != "plumb_bob" && model != "rational_polynomial") {
+          *error = "distortion_model '" + model +
+                   "' is not supported (plumb_bob or rational_polynomial, as OpenCV's)";
+          return false;
+        }
+      }
+      return FromMatrix(YamlNumbers(root["camera_matrix"]), d, camera, error);
+    }
+    // Kalibr: the first camera of a camchain, or a single camera's block.
+    YAML::Node cam = root["cam0"] ? root["cam0"] : root;
+    if (cam["intrinsics"]) {
+      const std::vector<double> i = YamlNumbers(cam["intrinsics"]);
+      if (i.size() != 4) {
+        *error = "intrinsics must be [fu, fv, pu, pv]";
+        return false;
+      }
+      const std::string model =
+          cam["distortion_model"] ? cam["distortion_model"].as<std::string>() : "none";
+      std::vector<double> d;
+      if (model == "radtan") {
+        d = YamlNumbers(cam["distortion_coeffs"]);
+      } else if (model != "none") {
+        *error = "distortion_model '" + model + "' is not supported (radtan or none)";
+        return false;
+      }
+      return FromMatrix({i[0], 0, i[2], 0, i[1], i[3], 0, 0, 1}, d, camera, error);
+    }
+  } catch (const YAML::Exception&) {
+    *error = "has a camera_matrix or distortion that is not a list of numbers";
+    return false;
+  }
+  *error = "names no camera_matrix (OpenCV, ROS camera_info) nor intrinsics (Kalibr)";
+  return false;
+}
+
+bool FromJson(const std::string& text, CameraIntrinsics* camera, std::string* error) {
+  try {
+    const nlohmann::json root = nlohmann::json::parse(text);
+    if (!root.is_object() || !root.contains("camera_matrix")) {
+      *error = "names no camera_matrix";
+      return false;
+    }
+    auto numbers = [](const nlohmann::json& node) {
+      const nlohmann::json& list = node.is_object() ? node.at("data") : node;
+      std::vector<double> out;
+      for (const auto& x : list) {
+        if (x.is_array()) {
+          for (const auto& y : x) out.push_back(y.get<double>());
+        } else {
+          out.push_back(x.get<double>());
+        }
+      }
+      return out;
+    };
+    std::vector<double> d;
+    if (root.contains("distortion_coefficients")) d = numbers(root["distortion_coefficients"]);
+    return FromMatrix(numbers(root["camera_matrix"]), d, camera, error);
+  } catch (const nlohmann::json::parse_error&) {
+    *error = "is not valid JSON";
+  } catch (const nlohmann::json::exception&) {
+    *error = "has a camera_matrix or distortion that is not a list of numbers";
+  }
+  return false;
+}
+
+bool FromXml(const std::string& path, CameraIntrinsics* camera, std::string* error) {
+  cv::Mat k, d;
+  try {
+    cv::FileStorage file(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_XML);
+    if (!file.isOpened()) {
+      *error = "is not OpenCV XML";
+      return false;
+    }
+    file["camera_matrix"] >> k;
+    file["distortion_coefficients"] >> d;
+  } catch (const cv::Exception&) {
+    *error = "is not OpenCV XML";
+    return false;
+  }
+  if (k.total() != 9) {
+    *error = "needs a 3x3 camera_matrix";
+    return false;
+  }
+  k.convertTo(k, CV_64F);
+  std::vector<double> kv(k.begin<double>(), k.end<double>()), dv;
+  if (!d.empty()) {
+    d.convertTo(d, CV_64F);
+    dv.assign(d.begin<double>(), d.end<double>());
+  }
+  return FromMatrix(kv, dv, camera, error);
+}
+
+}  // namespace
+
+bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error) {
+  std::string why;
+  const auto fail = [&](const std::string& what) {
+    *error = "camera file '" + path + "' " + what;
+    return false;
+  };
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return fail("does not exist or is not a file");
+  if (std::filesystem::file_size(path, ec) > kMaxCameraFileBytes)
+    return fail("is over 1 MiB: not a camera file");
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  if (!in) return fail("cannot be read");
+  const std::string text = buffer.str();
+  const std::string ext = Lower(std::filesystem::path(path).extension().string());
+  bool ok = false;
+  if (ext == ".json") {
+    ok = FromJson(text, camera, &why);
+  } else if (ext == ".xml") {
+    ok = FromXml(path, camera, &why);
+  } else if (ext == ".yaml" || ext == ".yml") {
+    ok = FromYaml(text, camera, &why);
+  } else {
+    return fail("must be .yaml/.yml (OpenCV, ROS camera_info, Kalibr), .json or .xml (OpenCV)");
+  }
+  if (!ok) return fail(why);
+  if (!camera->IsValid(&why)) return fail(why);
+  return true;
+}
+
+}  // namespace chromatag::cli

@@ -1,0 +1,27 @@
+// Camera intrinsics for `detect --camera FILE`, from the files people have:
+//
+// - OpenCV's calibration output (camera_matrix, distortion_coefficients) as
+//   YAML, JSON or XML (cv::FileStorage's layouts);
+// - ROS camera_info YAML (camera_calibration's ost.yaml: camera_matrix and
+//   distortion_coefficients as {rows, cols, data}, distortion_model
+//   plumb_bob or rational_polynomial);
+// - Kalibr's camchain YAML (cam0: intrinsics [fu, fv, pu, pv],
+//   distortion_model radtan or none, distortion_coeffs).
+//
+// YAML and JSON are parsed here (yaml-cpp, nlohmann-json), not by
+// cv::FileStorage; only XML still goes through FileStorage.
+#ifndef CHROMATAG_CLI_CAMERA_FILE_H_
+#define CHROMATAG_CLI_CAMERA_FILE_H_
+
+#include <string>
+
+#include "chromatag/detector/options.h"
+
+namespace chromatag::cli {
+
+// False with *error naming the file and what was wrong or missing.
+bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error);
+
+}  // namespace chromatag::cli
+
+#endif  // CHROMATAG_CLI_CAMERA_FILE_H_

@@ -1,0 +1,186 @@
+// `chromatag detect` on videos and streams (issue 11): frames in order on
+// any number of threads, overlay names that cannot collide, timestamps on
+// live frames, and Ctrl-C ending a run cleanly with its summary.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+#include <set>
+#include <sstream>
+
+#include "chromatag/generator/tag_renderer.h"
+#include "test_util.h"
+
+namespace chromatag {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CountLines;
+constexpr auto Chromatag = testing::RunChromatag;
+
+// An MJPG clip of `frames` frames with 16h5 ID 3 sliding across a grey frame.
+std::string MakeClip(const std::string& dir, const std::string& name, int frames) {
+  const auto family = TagFamily::Load("16h5");
+  const RgbImage tag = RasterizeTag(*family, 3, TagColors::FromPalette(*BuiltinPalette("default")), 6);
+  const cv::Mat rgb(tag.height, tag.width, CV_8UC3, const_cast<uint8_t*>(tag.pixels.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  const std::string path = dir + "/" + name;
+  cv::VideoWriter writer(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30, cv::Size(240, 180));
+  EXPECT_TRUE(writer.isOpened());
+  for (int i = 0; i < frames; ++i) {
+    cv::Mat frame(180, 240, CV_8UC3, cv::Scalar(110, 110, 110));
+    bgr.copyTo(frame(cv::Rect(10 + i % 120, 40, bgr.cols, bgr.rows)));
+    writer.write(frame);
+  }
+  return path;
+}
+
+std::string FreshDir(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/cli_live_" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::vector<nlohmann::json> JsonLines(const std::string& text) {
+  std::vector<nlohmann::json> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(nlohmann::json::parse(line));
+  return out;
+}
+
+TEST(CliLiveTest, FramesComeInInputOrderOnAnyNumberOfThreads) {
+  const std::string dir = FreshDir("order");
+  const std::string clip = MakeClip(dir, "clip.avi", 60);
+  cv::imwrite(dir + "/clip.png", cv::Mat(100, 100, CV_8UC3, cv::Scalar(90, 90, 90)));
+  std::string reference;
+  for (const char* jobs : {"1", "4"}) {
+    const auto run =
+        Chromatag({"detect", "--json", "-j", jobs, clip, dir + "/clip.png", clip});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const auto lines = JsonLines(run.out);
+    ASSERT_EQ(lines.size(), 121u);
+    for (int i = 0; i < 121; ++i) {
+      const int expected = i < 60 ? i : i == 60 ? 0 : i - 61;
+      EXPECT_EQ(lines[i]["frame"], expected) << i;
+      EXPECT_EQ(lines[i]["detections"].size(), i == 60 ? 0u : 1u) << i;
+    }
+    EXPECT_NE(run.err.find("121 frames, 120 with tags, 120 tags"), std::string::npos) << run.err;
+    std::string ids;
+    for (const auto& line : lines)
+      for (const auto& d : line["detections"]) ids += d["corners"].dump();
+    if (reference.empty()) reference = ids;
+    EXPECT_EQ(ids, reference) << "the same corners on " << jobs << " threads";
+  }
+}
+
+// An image and a video of the same stem, and two files of one name in two
+// folders, each keep their own overlays (the video's frame 0 used to
+// overwrite the image's).
+TEST(CliLiveTest, OverlayNamesAreUniquePerInput) {
+  const std::string dir = FreshDir("overlays");
+  fs::create_directories(dir + "/a");
+  fs::create_directories(dir + "/b");
+  MakeClip(dir, "scene.avi", 2);
+  const cv::Mat grey(80, 80, CV_8UC3, cv::Scalar(90, 90, 90));
+  cv::imwrite(dir + "/scene.png", grey);
+  cv::imwrite(dir + "/a/x.png", grey);
+  cv::imwrite(dir + "/b/x.png", grey);
+  const auto run = Chromatag({"detect", "--json", "--overlay", dir + "/out", dir + "/scene.png",
+                              dir + "/scene.avi", dir + "/a/x.png", dir + "/b/x.png"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::set<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir + "/out"))
+    names.insert(entry.path().filename().string());
+  EXPECT_EQ(names, (std::set<std::string>{"scene_png.png", "scene_avi_000000.png",
+                                          "scene_avi_000001.png", "x_png.png", "x_png-2.png"}));
+  for (const auto& line : JsonLines(run.out))
+    EXPECT_TRUE(fs::exists(line["overlay"].get<std::string>())) << line.dump();
+}
+
+TEST(CliLiveTest, StreamsCarryTimestamps) {
+  const std::string dir = FreshDir("stream");
+  const std::string clip = MakeClip(dir, "clip.avi", 20);
+  const double before = static_cast<double>(time(nullptr));
+  const auto run = Chromatag({"detect", "--json", "file://" + clip});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto lines = JsonLines(run.out);
+  ASSERT_EQ(lines.size(), 20u);
+  double last = 0;
+  for (const auto& line : lines) {
+    const double t = line["timestamp"].get<double>();
+    EXPECT_GE(t, before - 1);
+    EXPECT_GE(t, last);
+    last = t;
+  }
+  // Files are not live: no timestamp.
+  EXPECT_FALSE(JsonLines(Chromatag({"detect", "--json", clip}).out)[0].contains("timestamp"));
+}
+
+// Ctrl-C during a live run: the frames under way finish, the summary says it
+// was interrupted, exit 0, and every line written is whole.
+TEST(CliLiveTest, InterruptEndsALiveRunCleanly) {
+  const std::string dir = FreshDir("interrupt");
+  const std::string clip = MakeClip(dir, "long.avi", 3000);
+  int out_pipe[2];
+  ASSERT_EQ(pipe(out_pipe), 0);
+  const std::string err_path = dir + "/stderr.txt";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(out_pipe[1], STDOUT_FILENO);
+    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(err, STDERR_FILENO);
+    close(out_pipe[0]);
+    const std::string url = "file://" + clip;
+    execl(CHROMATAG_CLI_PATH, CHROMATAG_CLI_PATH, "detect", "--json", "-j", "1", url.c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(out_pipe[1]);
+  std::string out;
+  char buffer[4096];
+  bool signalled = false;
+  for (ssize_t n; (n = read(out_pipe[0], buffer, sizeof buffer)) > 0;) {
+    out.append(buffer, static_cast<size_t>(n));
+    if (!signalled && out.find('\n') != std::string::npos) {
+      kill(pid, SIGINT);
+      signalled = true;
+    }
+  }
+  close(out_pipe[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  const auto lines = JsonLines(out);  // Throws on a half-written line.
+  EXPECT_GE(lines.size(), 1u);
+  EXPECT_LT(lines.size(), 3000u);
+  const std::string err = testing::ReadFile(err_path);
+  EXPECT_NE(err.find("(interrupted)"), std::string::npos) << err;
+  EXPECT_NE(err.find(std::to_string(lines.size()) + " frame"), std::string::npos) << err;
+}
+
+TEST(CliLiveTest, BadLiveUsageIsExitTwo) {
+  const auto show = testing::RunCommand("/usr/bin/env", {"-u", "DISPLAY", "-u", "WAYLAND_DISPLAY",
+                                                         CHROMATAG_CLI_PATH, "detect", "--show",
+                                                         "--camera-index", "0"});
+  EXPECT_EQ(show.exit_code, 2);
+  EXPECT_NE(show.err.find("--show needs a display"), std::string::npos) << show.err;
+  const auto missing = Chromatag({"detect", "--json", "/nonexistent/a.png", "/nonexistent/b.avi"});
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_TRUE(missing.out.empty()) << missing.out;
+  EXPECT_EQ(CountLines(missing.err), 1) << missing.err;
+  EXPECT_NE(missing.err.find("'/nonexistent/a.png' (and 1 more)"), std::string::npos) << missing.err;
+}
+
+}  // namespace
+}  // namespace chromatag
