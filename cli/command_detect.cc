@@ -512,7 +512,7 @@ void RegisterDetect(CLI::App& app, Action* action) {
       "detect", "Detect ChromaTags in images, folders, videos, cameras and streams");
   command
       ->add_option("--family", options->family,
-                   "Tag family: 16h5, 36h11 or all (both; about 1 us more a tagged frame)")
+                   "Tag family: 16h5, 36h11 or all (both; no measurable cost, docs/live.md)")
       ->capture_default_str()
       ->check(CLI::IsMember({"16h5", "36h11", "all"}));
   command->add_flag("--json", options->json,
