@@ -178,8 +178,10 @@ void RegisterCalib(CLI::App& app, Action* action) {
       ->excludes(palette);
   sheet->add_option("--page", s->page, "a4, a3, letter, legal, or WxH with a unit")
       ->capture_default_str();
+  // 0 stands for "derived" inside; given on the command line it is refused,
+  // not silently replaced by the derived ID.
   sheet->add_option("--sheet-id", s->sheet_id, "Sheet ID 1-65535 (default: from palette and page)")
-      ->check(CLI::Range(0, 65535));
+      ->check(CLI::Range(1, 65535));
   sheet->add_option("--tag-size", s->tag_size, "Corner tags' black square, 10-60 mm")
       ->capture_default_str();
   sheet->add_option("--format", s->format, "pdf or png (default: from the output's extension)")

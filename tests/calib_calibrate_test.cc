@@ -10,6 +10,7 @@
 
 #include "calib_sim.h"
 #include "chromatag/calib/calibrate.h"
+#include "chromatag/calib/report.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/generator/color_lut.h"
@@ -97,6 +98,12 @@ TEST(CalibCalibrateTest, FullRunWritesLoadableOutputs) {
   for (const auto& w : result->warnings) std::printf("warning: %s\n", w.c_str());
   ASSERT_TRUE(result->palette) << result->palette_error;
   EXPECT_GE(result->palette->score, result->palette->sheet_palette_score);
+
+  // The report: no label over another (issue 11: "0 flaggedmodel", the
+  // legend's swatch over its label), on an A4 page.
+  for (const std::string& overlap : ReportOverlaps(*result)) ADD_FAILURE() << overlap;
+  const std::string pdf = RenderReportPdf(*result);
+  EXPECT_NE(pdf.find("/MediaBox [ 0 0 595.275591 841.889764 ]"), std::string::npos);
 
   const std::string dir = TempDir();
   ASSERT_TRUE(WriteFilesAtomically(CalibrationFiles(*result, dir), &error)) << error;

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "chromatag/families/version.h"
 #include "chromatag/generator/cairo_util.h"
+#include "chromatag/generator/units.h"
 
 namespace chromatag::calib {
 namespace {
@@ -23,10 +25,31 @@ void SetColour(cairo_t* cr, const Rgb& c, double alpha = 1.0) {
   cairo_set_source_rgba(cr, c.r, c.g, c.b, alpha);
 }
 
+// While ReportOverlaps runs: every label's and swatch's box, in report units.
+struct Box {
+  double x0, y0, x1, y1;
+  std::string what;
+};
+thread_local std::vector<Box>* g_boxes = nullptr;
+
 void Text(cairo_t* cr, double x, double y, double size, const std::string& text, bool bold = false,
           Rgb colour = {0, 0, 0}) {
   SetColour(cr, colour);
   DrawText(cr, x, y, size, text, bold);
+  if (g_boxes && !text.empty()) {
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, text.c_str(), &e);
+    g_boxes->push_back({x + e.x_bearing, y + e.y_bearing, x + e.x_bearing + e.width,
+                        y + e.y_bearing + e.height, "'" + text + "'"});
+  }
+}
+
+// A filled legend or palette swatch (its box is checked against the labels).
+void Swatch(cairo_t* cr, double x, double y, double side, const Rgb& colour) {
+  cairo_rectangle(cr, x, y, side, side);
+  SetColour(cr, colour);
+  cairo_fill(cr);
+  if (g_boxes) g_boxes->push_back({x, y, x + side, y + side, "a swatch"});
 }
 
 std::string F(const char* format, double a, double b = 0, double c = 0) {
@@ -234,9 +257,7 @@ void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
   const PaletteChoice& p = *r.palette;
   for (int s = 0; s < 4; ++s) {
     const Lab& lab = p.shades[s].intended;
-    cairo_rectangle(cr, 470, y - 8, 10, 10);
-    SetColour(cr, ToRgb(LabToSrgb8(lab)));
-    cairo_fill(cr);
+    Swatch(cr, 470, y - 8, 10, ToRgb(LabToSrgb8(lab)));
     Text(cr, 485, y, 8.5,
          std::string(ShadeName(static_cast<Shade>(s))) +
              F("  file L*a*b* %.1f %.1f %.1f", lab.L, lab.a, lab.b) +
@@ -260,11 +281,14 @@ void DrawMap(cairo_t* cr, const CalibrationResult& r, size_t index, double x0, d
   std::string name = photo.name.substr(photo.name.find_last_of('/') + 1);
   if (name.size() > 30) name = name.substr(0, 29) + "~";
   Text(cr, x0, y0, 9, name, true);
+  // Two short lines: one long line ran into the next map's ("0 flaggedmodel").
   Text(cr, x0, y0 + 11, 7.5,
-       F("model CIEDE2000 mean %.2f, max %.2f; ", photo.fit.mean_de, photo.fit.max_de) +
-           std::to_string(photo.measurement.flagged) + " flagged");
-  const double cell = std::min(kMapWidth / r.layout.columns, 250.0 / r.layout.rows);
-  const double top = y0 + 18;
+       F("model CIEDE2000 mean %.2f, max %.2f", photo.fit.mean_de, photo.fit.max_de));
+  const int flagged = photo.measurement.flagged;
+  Text(cr, x0, y0 + 20, 7.5,
+       std::to_string(flagged) + (flagged == 1 ? " patch" : " patches") + " flagged");
+  const double cell = std::min((kMapWidth - 10) / r.layout.columns, 250.0 / r.layout.rows);
+  const double top = y0 + 27;
   std::vector<double> residual(r.layout.patches.size(), -1);
   for (size_t i = 0; i < photo.fit_patches.size(); ++i)
     residual[photo.fit_patches[i]] = photo.fit.residual_de[i];
@@ -299,13 +323,13 @@ void DrawLegendAndWarnings(cairo_t* cr, const CalibrationResult& r, double y) {
   const char* labels[4] = {"< 1", "1-2", "2-4", ">= 4"};
   Text(cr, 40, y, 8,
        "CIEDE2000 between the model and the measurement, per patch, in sheet layout:");
+  // The key on a line of its own, below the sentence it explains.
+  y += 14;
   for (int i = 0; i < 4; ++i) {
-    cairo_rectangle(cr, 370 + i * 60, y - 8, 10, 10);
-    SetColour(cr, DeltaEColour(swatches[i]));
-    cairo_fill(cr);
-    Text(cr, 384 + i * 60, y, 8, labels[i]);
+    Swatch(cr, 40 + i * 60, y - 8, 10, DeltaEColour(swatches[i]));
+    Text(cr, 54 + i * 60, y, 8, labels[i]);
   }
-  Text(cr, 620, y, 8, "crossed: flagged, not used");
+  Text(cr, 290, y, 8, "crossed: flagged, not used");
   y += 20;
   Text(cr, 40, y, 10, r.warnings.empty() ? "No warnings." : "Warnings", true);
   for (const std::string& w : r.warnings) {
@@ -321,7 +345,7 @@ int MapRows(const CalibrationResult& r) {
 }  // namespace
 
 double ReportHeight(const CalibrationResult& result) {
-  return kMapTop + MapRows(result) * kMapRowHeight + 50 + 12.0 * result.warnings.size();
+  return kMapTop + MapRows(result) * kMapRowHeight + 64 + 12.0 * result.warnings.size();
 }
 
 void DrawReport(cairo_t* cr, const CalibrationResult& r) {
@@ -345,20 +369,63 @@ void DrawReport(cairo_t* cr, const CalibrationResult& r) {
   DrawLegendAndWarnings(cr, r, kMapTop + MapRows(r) * kMapRowHeight + 10);
 }
 
+PageSize ReportPage(const CalibrationResult& result) {
+  const std::string& name = result.layout.page.name;
+  if (name == "a4" || name == "letter" || name == "a3" || name == "legal") return result.layout.page;
+  return {"a4", 210.0, 297.0};
+}
+
 std::string RenderReportPdf(const CalibrationResult& result) {
+  // On the calibration sheet's paper (A4 unless it was Letter, A3 or
+  // Legal), the report scaled to fit within 10 mm margins.
+  const PageSize page = ReportPage(result);
+  constexpr double kPointsPerMm = 72.0 / 25.4;
+  const double width = page.width_mm * kPointsPerMm, height = page.height_mm * kPointsPerMm;
+  const double margin = 10.0 * kPointsPerMm;
+  const double scale = std::min((width - 2 * margin) / kReportWidth,
+                                (height - 2 * margin) / ReportHeight(result));
   std::string bytes;
-  cairo_surface_t* surface = cairo_pdf_surface_create_for_stream(
-      AppendToString, &bytes, kReportWidth, ReportHeight(result));
+  cairo_surface_t* surface =
+      cairo_pdf_surface_create_for_stream(AppendToString, &bytes, width, height);
   cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, "ChromaTag calibration report");
   // No creation date: identical inputs give byte-identical files.
   cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, "");
   cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_translate(cr, (width - kReportWidth * scale) / 2, margin);
+  cairo_scale(cr, scale, scale);
   DrawReport(cr, result);
   cairo_show_page(cr);
   cairo_destroy(cr);
   cairo_surface_finish(surface);
   cairo_surface_destroy(surface);
   return bytes;
+}
+
+std::vector<std::string> ReportOverlaps(const CalibrationResult& result) {
+  cairo_surface_t* surface = cairo_recording_surface_create(CAIRO_CONTENT_COLOR, nullptr);
+  cairo_t* cr = cairo_create(surface);
+  std::vector<Box> boxes;
+  g_boxes = &boxes;
+  DrawReport(cr, result);
+  g_boxes = nullptr;
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+  std::vector<std::string> overlaps;
+  constexpr double kSlack = 0.3;  // Glyph boxes of neighbouring lines may touch.
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Box& a = boxes[i];
+    if (a.x1 > kReportWidth + kSlack)
+      overlaps.push_back(a.what + " runs past the report's right edge");
+    for (size_t j = i + 1; j < boxes.size(); ++j) {
+      const Box& b = boxes[j];
+      if (a.x0 < b.x1 - kSlack && b.x0 < a.x1 - kSlack && a.y0 < b.y1 - kSlack &&
+          b.y0 < a.y1 - kSlack)
+        overlaps.push_back(a.what + " overlaps " + b.what);
+    }
+  }
+  return overlaps;
 }
 
 std::string RenderReportPng(const CalibrationResult& result, double scale) {

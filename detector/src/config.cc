@@ -93,14 +93,23 @@ bool ParseDetectorConfig(const std::string& text, DetectorOptions* options, std:
   try {
     const Json root = Json::parse(text);
     if (!root.is_object()) throw ConfigError{"the file must hold a JSON object"};
+    // The kind of file first: another tool's JSON (a sheet's sidecar, a
+    // palette) is named as such, not as a detector config with odd members.
+    if (!root.contains("schema") || root["schema"] != kDetectorConfigSchema) {
+      const std::string kind =
+          root.contains("schema") && root["schema"].is_string()
+              ? "a \"" + root["schema"].get<std::string>() + "\" file"
+          : root.contains("format") && root["format"].is_string()
+              ? "a \"" + root["format"].get<std::string>() + "\" file"
+              : "a JSON file without \"schema\"";
+      throw ConfigError{"this is " + kind + ", not a detector config (\"schema\": \"" +
+                        kDetectorConfigSchema + "\", as 'chromatag calibrate' writes detector.json)"};
+    }
     for (const auto& [key, value] : root.items()) {
       if (key != "schema" && key != "schema_version" && key != "options" && key != "calibration")
         throw ConfigError{"unknown member \"" + key +
                           "\" (allowed: schema, schema_version, options, calibration)"};
     }
-    if (!root.contains("schema") || root["schema"] != kDetectorConfigSchema)
-      throw ConfigError{std::string("not a detector config (\"schema\" must be \"") +
-                        kDetectorConfigSchema + "\")"};
     if (!root.contains("schema_version") || root["schema_version"] != 1)
       throw ConfigError{"unsupported schema_version (this chromatag reads version 1)"};
     if (!root.contains("options")) throw ConfigError{"missing \"options\""};

@@ -56,6 +56,11 @@ TEST(DetectorConfigTest, RefusesBadFilesAndLeavesOptionsAlone) {
   } cases[] = {
       {"{", "not valid JSON"},
       {R"({"schema": "chromatag-layout", "schema_version": 1, "options": {}})", "not a detector"},
+      // Another tool's file is named by its kind, not by its first odd member.
+      {R"({"schema": "chromatag-calib-sheet", "schema_version": 1, "tool": {}})",
+       "this is a \"chromatag-calib-sheet\" file, not a detector config"},
+      {R"({"format": "chromatag-palette", "version": 1})",
+       "this is a \"chromatag-palette\" file, not a detector config"},
       {R"({"schema": "chromatag-detector-config", "schema_version": 2, "options": {}})",
        "schema_version"},
       {R"({"schema": "chromatag-detector-config", "schema_version": 1})", "missing \"options\""},

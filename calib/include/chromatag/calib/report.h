@@ -8,6 +8,7 @@
 #include <cairo.h>
 
 #include <string>
+#include <vector>
 
 #include "chromatag/calib/calibrate.h"
 
@@ -21,9 +22,16 @@ double ReportHeight(const CalibrationResult& result);
 // Draws the report at the current transform.
 void DrawReport(cairo_t* cr, const CalibrationResult& result);
 
-// One-page PDF, and PNG at `scale` pixels per unit (1.5: 1200 pixels wide).
+// One-page PDF on the calibration sheet's paper size (A4 unless the sheet
+// was Letter, A3 or Legal), the report scaled to fit; and PNG at `scale`
+// pixels per unit (1.5: 1200 pixels wide).
 std::string RenderReportPdf(const CalibrationResult& result);
 std::string RenderReportPng(const CalibrationResult& result, double scale = 1.5);
+
+// The report's layout checked: every pair of labels (and legend swatches)
+// whose boxes overlap, and labels running past the right edge; empty when
+// the layout is clean.
+std::vector<std::string> ReportOverlaps(const CalibrationResult& result);
 
 }  // namespace chromatag::calib
 
