@@ -75,7 +75,8 @@ void PrintSheet(const SheetVerdict& verdict) {
         u.family.c_str(), u.id, u.page + 1, u.center_mm[0], u.center_mm[1]);
   }
   for (const auto& problem : verdict.file_problems) std::printf("  file: %s\n", problem.c_str());
-  std::printf("%d of %zu tags pass%s. %s\n", verdict.tags_passed, verdict.tags.size(),
+  std::printf("%d of %zu %s%s. %s\n", verdict.tags_passed, verdict.tags.size(),
+              verdict.tags.size() == 1 ? "tag passes" : "tags pass",
               verdict.unexpected.empty() ? ", nothing else found" : "",
               verdict.passed ? "PASS" : "FAIL");
 }
@@ -211,9 +212,11 @@ int RunVerify(const VerifyCommandOptions& o) {
       out = SheetJson(*verdict);
       out["sheet"] = o.sheet;
     } else {
-      std::printf("Sheet %s: %s, %zu tags of %.1f mm on %d page(s), palette %s, at %.0f dpi\n",
+      std::printf("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
                   o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
-                  record->tag_size_mm, record->num_pages, record->palette.name.c_str(),
+                  record->tags.size() == 1 ? "" : "s",
+                  record->tag_size_mm, record->num_pages, record->num_pages == 1 ? "" : "s",
+                  record->palette.name.c_str(),
                   record->format == SheetFormat::kPng ? record->dpi : o.dpi);
       PrintSheet(*verdict);
     }
