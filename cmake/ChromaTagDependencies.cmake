@@ -11,7 +11,9 @@ pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-pdf cairo-svg cairo
 # OpenColorIO through pkg-config: Debian 12's CMake config for it computes its
 # prefix as "/" and names a missing /include.
 pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
-pkg_check_modules(ZLIB REQUIRED IMPORTED_TARGET zlib)
+# GLib's SHA-256 and libpng's encoder (both already there through Cairo).
+pkg_check_modules(GLIB REQUIRED IMPORTED_TARGET glib-2.0)
+pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
 # Camera files for `detect --camera` (ROS camera_info, Kalibr and OpenCV YAML).
 pkg_check_modules(YAML_CPP REQUIRED IMPORTED_TARGET yaml-cpp)
 pkg_check_modules(POPPLER_CPP REQUIRED IMPORTED_TARGET poppler-cpp)

@@ -9,7 +9,7 @@
 # the Python module links the same position-independent archives into one
 # self-contained extension. The price is that a consumer links our
 # dependencies too: ChromaTagConfig.cmake finds them (find_dependency, and
-# pkg-config for Cairo, OpenColorIO, zlib, poppler and librsvg, which ship
+# pkg-config for Cairo, OpenColorIO, GLib, libpng, poppler and librsvg, which ship
 # no CMake package) and the exported targets name them.
 include(CMakePackageConfigHelpers)
 

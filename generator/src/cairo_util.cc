@@ -1,9 +1,10 @@
 #include "chromatag/generator/cairo_util.h"
 
-#include <zlib.h>
+#include <png.h>
 
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace chromatag {
 
@@ -20,24 +21,65 @@ cairo_status_t AppendToString(void* closure, const unsigned char* data, unsigned
   return CAIRO_STATUS_SUCCESS;
 }
 
+namespace {
+
+void AppendPngBytes(png_structp png, png_bytep data, png_size_t length) {
+  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data),
+                                                         length);
+}
+
+}  // namespace
+
 std::string EncodePng(cairo_surface_t* surface, double dpi) {
+  cairo_surface_flush(surface);
+  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) return {};
+  const cairo_format_t format = cairo_image_surface_get_format(surface);
+  const unsigned char* data = cairo_image_surface_get_data(surface);
+  if (data == nullptr || (format != CAIRO_FORMAT_RGB24 && format != CAIRO_FORMAT_ARGB32)) return {};
+  const int width = cairo_image_surface_get_width(surface);
+  const int height = cairo_image_surface_get_height(surface);
+  const int stride = cairo_image_surface_get_stride(surface);
+  const bool alpha = format == CAIRO_FORMAT_ARGB32;
+  const int channels = alpha ? 4 : 3;
+  const auto per_metre = static_cast<png_uint_32>(std::lround(dpi / 0.0254));
+
   std::string png;
-  cairo_surface_write_to_png_stream(surface, AppendToString, &png);
-  const uint32_t per_metre = static_cast<uint32_t>(std::lround(dpi / 0.0254));
-  std::string chunk = "pHYs";
-  for (int repeat = 0; repeat < 2; ++repeat) {
-    for (int shift = 24; shift >= 0; shift -= 8) {
-      chunk.push_back(static_cast<char>(per_metre >> shift));
-    }
+  std::vector<png_byte> row(static_cast<size_t>(width) * channels);
+  png_structp writer = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = writer ? png_create_info_struct(writer) : nullptr;
+  if (info == nullptr) {
+    png_destroy_write_struct(&writer, nullptr);
+    return {};
   }
-  chunk.push_back(1);  // Unit: metre.
-  const uint32_t crc =
-      crc32(0, reinterpret_cast<const Bytef*>(chunk.data()), static_cast<uInt>(chunk.size()));
-  std::string bytes = {0, 0, 0, 9};  // Data length.
-  bytes += chunk;
-  for (int shift = 24; shift >= 0; shift -= 8) bytes.push_back(static_cast<char>(crc >> shift));
-  constexpr size_t kAfterIhdr = 8 + 25;  // Signature, then IHDR's 4 + 4 + 13 + 4 bytes.
-  png.insert(kAfterIhdr, bytes);
+  // libpng reports errors by longjmp: nothing below holds a destructor that
+  // the jump would skip (png and row live outside).
+  if (setjmp(png_jmpbuf(writer))) {
+    png_destroy_write_struct(&writer, &info);
+    return {};
+  }
+  png_set_write_fn(writer, &png, AppendPngBytes, nullptr);
+  png_set_IHDR(writer, info, width, height, 8, alpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  // The resolution, so that the page prints at its size (Cairo writes none).
+  png_set_pHYs(writer, info, per_metre, per_metre, PNG_RESOLUTION_METER);
+  png_write_info(writer, info);
+  for (int y = 0; y < height; ++y) {
+    const auto* pixels = reinterpret_cast<const uint32_t*>(data + static_cast<size_t>(y) * stride);
+    for (int x = 0; x < width; ++x) {
+      // Cairo's pixels: native-endian 0xAARRGGBB, colour premultiplied by alpha.
+      const uint32_t p = pixels[x];
+      const uint32_t a = alpha ? p >> 24 : 255;
+      uint32_t rgb[3] = {(p >> 16) & 0xff, (p >> 8) & 0xff, p & 0xff};
+      png_byte* out = &row[static_cast<size_t>(x) * channels];
+      for (int c = 0; c < 3; ++c) {
+        out[c] = static_cast<png_byte>(a == 255 ? rgb[c] : a == 0 ? 0 : (rgb[c] * 255 + a / 2) / a);
+      }
+      if (alpha) out[3] = static_cast<png_byte>(a);
+    }
+    png_write_row(writer, row.data());
+  }
+  png_write_end(writer, info);
+  png_destroy_write_struct(&writer, &info);
   return png;
 }
 
