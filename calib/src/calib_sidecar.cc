@@ -8,6 +8,7 @@
 
 #include "chromatag/families/family.h"
 #include "chromatag/families/version.h"
+#include "chromatag/generator/json_fields.h"
 
 namespace chromatag::calib {
 namespace {
@@ -22,34 +23,12 @@ std::string BaseName(const std::string& path) { return path.substr(path.find_las
 
 Json LabJson(const Lab& lab) { return {Round4(lab.L), Round4(lab.a), Round4(lab.b)}; }
 
-// Thrown inside ParseCalibSidecar only, to unwind to one error message.
-struct ParseError {
-  std::string message;
-};
-
-const Json& Member(const Json& object, const char* key) {
-  if (!object.is_object() || !object.contains(key))
-    throw ParseError{std::string("missing \"") + key + "\""};
-  return object.at(key);
-}
-
-double Number(const Json& object, const char* key) {
-  const Json& value = Member(object, key);
-  if (!value.is_number()) throw ParseError{std::string("\"") + key + "\" must be a number"};
-  return value.get<double>();
-}
-
-std::string String(const Json& object, const char* key) {
-  const Json& value = Member(object, key);
-  if (!value.is_string()) throw ParseError{std::string("\"") + key + "\" must be a string"};
-  return value.get<std::string>();
-}
-
-std::array<double, 2> Point(const Json& value) {
-  if (!value.is_array() || value.size() != 2 || !value[0].is_number() || !value[1].is_number())
-    throw ParseError{"a position must be [x, y] in mm"};
-  return {value[0].get<double>(), value[1].get<double>()};
-}
+using ParseError = json_fields::FieldError;
+using json_fields::Integer;
+using json_fields::Member;
+using json_fields::Number;
+using json_fields::Point;
+using json_fields::String;
 
 Lab ParseLab(const Json& value) {
   if (!value.is_array() || value.size() != 3) throw ParseError{"a colour must be [L*, a*, b*]"};
@@ -127,13 +106,13 @@ CalibSheetLayout Parse(const Json& root) {
   if (!family) throw ParseError{error};
   layout.tag_size_mm = Number(root, "tag_size_mm");
   const Json& grid = Member(root, "grid");
-  layout.rows = static_cast<int>(Number(grid, "rows"));
-  layout.columns = static_cast<int>(Number(grid, "columns"));
+  layout.rows = Integer(grid, "rows", 1, 10000);
+  layout.columns = Integer(grid, "columns", 1, 10000);
   const Json& tags = Member(root, "corner_tags");
   if (!tags.is_array() || tags.size() != 4) throw ParseError{"\"corner_tags\" must hold 4 tags"};
   for (int k = 0; k < 4; ++k) {
     CornerTag& tag = layout.tags[k];
-    tag.id = static_cast<int>(Number(tags[k], "id"));
+    tag.id = Integer(tags[k], "id", 0, 1 << 20);
     if (!family->IsValidId(tag.id, &error)) throw ParseError{"corner tag: " + error};
     if (String(tags[k], "corner") != kCornerNames[k])
       throw ParseError{"corner tags must be listed top-left, top-right, bottom-right, bottom-left"};

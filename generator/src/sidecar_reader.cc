@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "chromatag/generator/json_fields.h"
 #include "chromatag/generator/sidecar.h"
 
 namespace chromatag {
@@ -9,62 +10,38 @@ namespace {
 
 using json = nlohmann::json;
 
-// Thrown inside ReadSidecar only, to unwind to one error message.
-struct SidecarError {
-  std::string message;
-};
-
-const json& Member(const json& object, const char* key) {
-  if (!object.is_object() || !object.contains(key)) {
-    throw SidecarError{std::string("missing \"") + key + "\""};
-  }
-  return object.at(key);
-}
-
-double Number(const json& object, const char* key) {
-  const json& value = Member(object, key);
-  if (!value.is_number()) throw SidecarError{std::string("\"") + key + "\" must be a number"};
-  return value.get<double>();
-}
-
-std::string String(const json& object, const char* key) {
-  const json& value = Member(object, key);
-  if (!value.is_string()) throw SidecarError{std::string("\"") + key + "\" must be a string"};
-  return value.get<std::string>();
-}
-
-std::array<double, 2> Point(const json& value) {
-  if (!value.is_array() || value.size() != 2 || !value[0].is_number() || !value[1].is_number()) {
-    throw SidecarError{"a position must be [x, y] in mm"};
-  }
-  return {value[0].get<double>(), value[1].get<double>()};
-}
+using json_fields::FieldError;
+using json_fields::Integer;
+using json_fields::Member;
+using json_fields::Number;
+using json_fields::Point;
+using json_fields::String;
 
 SheetRecord Parse(const json& root, const std::string& folder) {
   if (String(root, "schema") != "chromatag-layout") {
-    throw SidecarError{"not a ChromaTag sidecar (schema must be \"chromatag-layout\")"};
+    throw FieldError{"not a ChromaTag sidecar (schema must be \"chromatag-layout\")"};
   }
   if (Number(root, "schema_version") != 1) {
-    throw SidecarError{"unsupported schema_version (this chromatag reads version 1)"};
+    throw FieldError{"unsupported schema_version (this chromatag reads version 1)"};
   }
   SheetRecord record;
   std::string error;
   record.family = TagFamily::Load(String(root, "family"), &error);
-  if (!record.family) throw SidecarError{error};
+  if (!record.family) throw FieldError{error};
   record.tag_size_mm = Number(root, "tag_size_mm");
-  record.quiet_zone_cells = static_cast<int>(Number(root, "quiet_zone_cells"));
+  record.quiet_zone_cells = Integer(root, "quiet_zone_cells", 1, 20);
   const json& page = Member(root, "page");
   record.page = {String(page, "name"), Number(page, "width_mm"), Number(page, "height_mm")};
-  record.num_pages = static_cast<int>(Number(page, "count"));
+  record.num_pages = Integer(page, "count", 1, 100000);
   const std::string format = String(root, "format");
-  if (!FormatFromPath("x." + format)) throw SidecarError{"unknown format \"" + format + "\""};
+  if (!FormatFromPath("x." + format)) throw FieldError{"unknown format \"" + format + "\""};
   record.format = *FormatFromPath("x." + format);
   if (record.format == SheetFormat::kPng) record.dpi = Number(root, "dpi");
 
   const json& palette = Member(root, "palette");
   json palette_file = {{"name", String(palette, "name")}, {"lab", Member(palette, "lab")}};
   auto parsed = ParsePalette(palette_file.dump(), "sidecar", &error);
-  if (!parsed) throw SidecarError{error};
+  if (!parsed) throw FieldError{error};
   record.palette = *parsed;
 
   for (const json& file : Member(root, "files")) {
@@ -72,20 +49,20 @@ SheetRecord Parse(const json& root, const std::string& folder) {
   }
   const size_t expected_files = record.format == SheetFormat::kPdf ? 1 : record.num_pages;
   if (record.files.size() != expected_files) {
-    throw SidecarError{"\"files\" must list " + std::to_string(expected_files) + " file(s)"};
+    throw FieldError{"\"files\" must list " + std::to_string(expected_files) + " file(s)"};
   }
   for (const json& tag : Member(root, "tags")) {
     PlacedTag placed;
-    placed.id = static_cast<int>(Number(tag, "id"));
-    if (!record.family->IsValidId(placed.id, &error)) throw SidecarError{error};
-    placed.page = static_cast<int>(Number(tag, "page")) - 1;
+    placed.id = Integer(tag, "id", 0, 1 << 20);
+    if (!record.family->IsValidId(placed.id, &error)) throw FieldError{error};
+    placed.page = Integer(tag, "page", 1, 100000) - 1;
     if (placed.page < 0 || placed.page >= record.num_pages) {
-      throw SidecarError{"tag ID " + std::to_string(placed.id) +
+      throw FieldError{"tag ID " + std::to_string(placed.id) +
                          " is on a page that does not exist"};
     }
     placed.center_mm = Point(Member(tag, "center_mm"));
     const json& corners = Member(tag, "corners_mm");
-    if (!corners.is_array() || corners.size() != 4) throw SidecarError{"a tag needs 4 corners"};
+    if (!corners.is_array() || corners.size() != 4) throw FieldError{"a tag needs 4 corners"};
     for (int i = 0; i < 4; ++i) placed.corners_mm[i] = Point(corners[i]);
     record.tags.push_back(placed);
   }
@@ -113,7 +90,7 @@ std::optional<SheetRecord> ReadSidecar(const std::string& path, std::string* err
     SheetRecord record = Parse(root, folder);
     record.sidecar_path = path;
     return record;
-  } catch (const SidecarError& e) {
+  } catch (const FieldError& e) {
     if (error) *error = "sidecar '" + path + "': " + e.message;
   } catch (const json::exception& e) {
     if (error) *error = "sidecar '" + path + "': malformed (" + e.what() + ")";
