@@ -37,11 +37,6 @@ struct CalibrateArgs {
   int lut_size = 17;
 };
 
-int Fail(const char* command, int code, const std::string& message) {
-  std::cerr << "chromatag " << command << ": " << message << "\n";
-  return code;
-}
-
 std::string Extension(const std::string& path) {
   const auto dot = path.find_last_of('.');
   const auto slash = path.find_last_of('/');
@@ -57,32 +52,34 @@ int RunCalibSheet(const CalibSheetArgs& args) {
   calib::CalibSheetOptions options;
   const auto palette = args.palette_file.empty() ? BuiltinPalette(args.palette, &error)
                                                  : LoadPaletteFile(args.palette_file, &error);
-  if (!palette) return Fail(kName, kExitUsage, error);
+  if (!palette) return Fail(kName, error);
   options.palette = *palette;
   const auto page = ParsePageSize(args.page, &error);
-  if (!page) return Fail(kName, kExitUsage, error);
+  if (!page) return Fail(kName, error);
   options.page = *page;
   const auto tag_size = ParseLength(args.tag_size, &error);
-  if (!tag_size) return Fail(kName, kExitUsage, error);
+  if (!tag_size) return Fail(kName, error);
   options.tag_size_mm = tag_size->mm;
   options.sheet_id = args.sheet_id;
-  const std::string format = args.format.empty() ? Extension(args.output) : args.format;
+  const std::string extension = Extension(args.output);
+  const std::string format = args.format.empty() ? extension : args.format;
   if (format != "pdf" && format != "png") {
-    return Fail(kName, kExitUsage,
+    return Fail(kName,
                 "cannot tell the format of '" + args.output + "' (use .pdf or .png, or --format)");
   }
+  if ((extension == "pdf" || extension == "png") && extension != format) {
+    return Fail(kName, "the format is " + format + " but '" + args.output + "' names a " +
+                           extension + " file: give the output a ." + format +
+                           " name or leave the format out");
+  }
   if (!(args.dpi >= 50 && args.dpi <= 1200))
-    return Fail(kName, kExitUsage, "--dpi must be in [50, 1200]");
+    return Fail(kName, "--dpi must be in [50, 1200]");
   const auto layout = calib::LayoutCalibSheet(options, &error);
-  if (!layout) return Fail(kName, kExitUsage, error);
+  if (!layout) return Fail(kName, error);
   const auto files = calib::RenderCalibSheet(
       *layout, format == "pdf" ? calib::CalibSheetFormat::kPdf : calib::CalibSheetFormat::kPng,
       args.output, args.dpi);
-  if (files[1].path == args.output) {
-    return Fail(kName, kExitUsage,
-                "the output '" + args.output + "' would be overwritten by its sidecar");
-  }
-  if (!WriteFilesAtomically(files, &error)) return Fail(kName, kExitUsage, error);
+  if (!WriteFilesAtomically(files, &error)) return Fail(kName, error);
   int counts[4] = {0, 0, 0, 0};
   for (const calib::Patch& p : layout->patches) ++counts[static_cast<int>(p.kind)];
   std::cout << "Wrote calibration sheet " << layout->sheet_id << " (palette "
@@ -129,19 +126,18 @@ int RunCalibrate(const CalibrateArgs& args) {
   constexpr const char* kName = "calibrate";
   std::string error;
   const auto layout = calib::ReadCalibSidecar(args.sheet, &error);
-  if (!layout) return Fail(kName, kExitUsage, error);
+  if (!layout) return Fail(kName, error);
   calib::CalibrateOptions options;
   options.thresholds.safety_factor = args.safety;
   options.lut_size = args.lut_size;
-  if (!options.IsValid(&error)) return Fail(kName, kExitUsage, error);
+  if (!options.IsValid(&error)) return Fail(kName, error);
   std::vector<calib::PhotoInput> photos;
   for (const std::string& path : args.photos) {
     // Checked first: OpenCV would print its own warning for a missing file.
     const bool readable = static_cast<bool>(std::ifstream(path));
     cv::Mat image = readable ? cv::imread(path, cv::IMREAD_COLOR) : cv::Mat();
     if (image.empty()) {
-      return Fail(kName, kExitUsage,
-                  "cannot read photo '" + path +
+      return Fail(kName, "cannot read photo '" + path +
                       "' (JPEG, PNG, TIFF or another format OpenCV "
                       "reads)");
     }
@@ -149,15 +145,14 @@ int RunCalibrate(const CalibrateArgs& args) {
   }
   // Unusable photos fail the job (exit 1) and nothing is written.
   const auto result = calib::Calibrate(*layout, photos, options, &error);
-  if (!result) return Fail(kName, kExitFailure, error);
+  if (!result) return Fail(kName, error, kExitFailure);
   std::error_code ec;
   std::filesystem::create_directories(args.output, ec);
   if (ec) {
-    return Fail(kName, kExitUsage,
-                "cannot create the output folder '" + args.output + "': " + ec.message());
+    return Fail(kName, "cannot create the output folder '" + args.output + "': " + ec.message());
   }
   const auto files = calib::CalibrationFiles(*result, args.output);
-  if (!WriteFilesAtomically(files, &error)) return Fail(kName, kExitUsage, error);
+  if (!WriteFilesAtomically(files, &error)) return Fail(kName, error);
   std::vector<std::string> written;
   for (const auto& file : files) written.push_back(file.path);
   PrintSummary(*result, written);

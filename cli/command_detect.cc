@@ -459,10 +459,7 @@ class Run {
 };
 
 int RunDetect(const DetectOptions& options) {
-  const auto fail = [](const std::string& message) {
-    std::cerr << "chromatag detect: " << message << "\n";
-    return kExitUsage;
-  };
+  const auto fail = [](const std::string& message) { return Fail("detect", message); };
   DetectorOptions detector_options;
   detector_options.families =
       options.family == "all" ? TagFamily::Names() : std::vector<std::string>{options.family};

@@ -65,15 +65,9 @@ int RunFamilies(const FamiliesOptions& options) {
   for (size_t i = 0; i < names.size(); ++i) {
     std::string error;
     auto family = TagFamily::Load(names[i], &error);
-    if (!family) {
-      std::cerr << "chromatag families: " << error << "\n";
-      return kExitUsage;
-    }
+    if (!family) return Fail("families", error);
     auto decoder = CodeDecoder::Create(family, CodeDecoder::DefaultRadius(*family), &error);
-    if (!decoder) {
-      std::cerr << "chromatag families: " << error << "\n";
-      return kExitFailure;
-    }
+    if (!decoder) return Fail("families", error, kExitFailure);
     if (options.json) {
       all.push_back(FamilyJson(*family, *decoder));
     } else {

@@ -14,21 +14,16 @@ struct GenerateOptions {
   std::string output;
 };
 
-int Fail(const std::string& message) {
-  std::cerr << "chromatag generate: " << message << "\n";
-  return kExitUsage;
-}
-
 int RunGenerate(const GenerateOptions& options) {
   SheetOptions sheet;
   std::string error;
   SheetRequest request = options.request;
   request.label = !options.no_label;
-  if (!ToSheetOptions(request, options.output, &sheet, &error)) return Fail(error);
+  if (!ToSheetOptions(request, options.output, &sheet, &error)) return Fail("generate", error);
   const auto layout = LayoutSheet(sheet, &error);
-  if (!layout) return Fail(error);
+  if (!layout) return Fail("generate", error);
   std::vector<std::string> written;
-  if (!WriteSheet(sheet, options.output, &error, &written)) return Fail(error);
+  if (!WriteSheet(sheet, options.output, &error, &written)) return Fail("generate", error);
   std::cout << "Wrote " << sheet.ids.size() << " " << sheet.family->name() << " tag"
             << (sheet.ids.size() == 1 ? "" : "s") << " of " << sheet.tag_size_mm << " mm on "
             << layout->num_pages << " " << sheet.page.name << " page"

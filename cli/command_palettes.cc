@@ -67,20 +67,14 @@ int RunPalettes(const PalettesOptions& options) {
   std::string error;
   if (!options.palette_file.empty()) {
     auto palette = LoadPaletteFile(options.palette_file, &error);
-    if (!palette) {
-      std::cerr << "chromatag palettes: " << error << "\n";
-      return kExitUsage;
-    }
+    if (!palette) return Fail("palettes", error);
     palettes.push_back(*palette);
   } else {
     const auto names =
         options.palette.empty() ? BuiltinPaletteNames() : std::vector<std::string>{options.palette};
     for (const auto& name : names) {
       auto palette = BuiltinPalette(name, &error);
-      if (!palette) {
-        std::cerr << "chromatag palettes: " << error << "\n";
-        return kExitUsage;
-      }
+      if (!palette) return Fail("palettes", error);
       palettes.push_back(*palette);
     }
   }

@@ -29,11 +29,6 @@ struct VerifyCommandOptions {
   bool json = false;
 };
 
-int Fail(const std::string& message) {
-  std::cerr << "chromatag verify: " << message << "\n";
-  return kExitUsage;
-}
-
 Json SheetJson(const SheetVerdict& verdict) {
   Json tags = Json::array();
   for (const auto& t : verdict.tags) {
@@ -187,11 +182,11 @@ int RunVerify(const VerifyCommandOptions& o) {
   VerifyOptions options;
   options.dpi = o.dpi;
   const auto tolerance = ParseLength(o.tolerance, &error);
-  if (!tolerance) return Fail(error);
+  if (!tolerance) return Fail("verify", error);
   options.max_position_error_mm = tolerance->mm;
-  if (!options.IsValid(&error)) return Fail(error);
+  if (!options.IsValid(&error)) return Fail("verify", error);
   if (o.sheet.empty() == !(o.all && !o.family.empty())) {
-    return Fail("give a sheet (chromatag verify tags.pdf) or a family (--family 16h5 --all)");
+    return Fail("verify", "give a sheet (chromatag verify tags.pdf) or a family (--family 16h5 --all)");
   }
   Json out;
   bool passed = false;
@@ -199,9 +194,9 @@ int RunVerify(const VerifyCommandOptions& o) {
   if (!o.sheet.empty()) {
     // The sheet first, so that a missing sheet is named as such (not its sidecar).
     const auto verdict = VerifySheetFile(o.sheet, options, &error);
-    if (!verdict) return Fail(error);
+    if (!verdict) return Fail("verify", error);
     const auto record = ReadSidecar(SidecarPath(o.sheet), &error);
-    if (!record) return Fail(error);
+    if (!record) return Fail("verify", error);
     passed = verdict->passed;
     if (o.stress) {
       std::vector<int> ids;
@@ -223,9 +218,9 @@ int RunVerify(const VerifyCommandOptions& o) {
   } else {
     const auto palette = o.palette_file.empty() ? BuiltinPalette(o.palette, &error)
                                                 : LoadPaletteFile(o.palette_file, &error);
-    if (!palette) return Fail(error);
+    if (!palette) return Fail("verify", error);
     const auto verdict = VerifyFamily(o.family, *palette, options, &error);
-    if (!verdict) return Fail(error);
+    if (!verdict) return Fail("verify", error);
     passed = verdict->passed;
     if (o.stress) {
       auto family = TagFamily::Load(o.family);

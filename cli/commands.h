@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
 
 namespace chromatag::cli {
 
@@ -13,6 +14,11 @@ namespace chromatag::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
+
+// The one error line of a command: "chromatag <command>: <message>" on
+// stderr, control characters replaced (a message may quote the bytes of a
+// broken file, escape sequences included). Returns `code`.
+int Fail(const char* command, const std::string& message, int code = kExitUsage);
 
 // A subcommand's action, run after parsing; returns an exit code.
 using Action = std::function<int()>;

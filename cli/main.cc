@@ -7,6 +7,20 @@
 #include "chromatag/families/version.h"
 #include "commands.h"
 
+namespace chromatag::cli {
+
+int Fail(const char* command, const std::string& message, int code) {
+  std::string line = "chromatag " + std::string(command) + ": " + message;
+  for (char& c : line) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) c = '?';
+  }
+  std::cerr << line << "\n";
+  return code;
+}
+
+}  // namespace chromatag::cli
+
 int main(int argc, char** argv) {
   // OpenCV's and FFmpeg's own log lines ("[ERROR:0@0.006] global ...") would
   // come before the tool's one message; the tool says what went wrong itself.

@@ -92,7 +92,8 @@ TEST_F(CalibCliTest, SheetBadInputIsOneLineAndExitTwo) {
         {"calib-sheet", "-o", dir_ + "/x.pdf", "--palette", "nope"},
         {"calib-sheet", "-o", dir_ + "/x.pdf", "--tag-size", "5mm"},
         // 0 was silently replaced by the derived ID (issue 11).
-        {"calib-sheet", "-o", dir_ + "/x.pdf", "--sheet-id", "0"}}) {
+        {"calib-sheet", "-o", dir_ + "/x.pdf", "--sheet-id", "0"},
+        {"calib-sheet", "-o", dir_ + "/x.pdf", "--format", "png"}}) {
     const CommandResult r = RunCommand(kCli, args);
     EXPECT_EQ(r.exit_code, 2) << args.back();
     EXPECT_EQ(testing::CountLines(r.err), 1) << r.err;
