@@ -49,7 +49,7 @@ std::string Extension(const std::string& path) {
 int RunCalibSheet(const CalibSheetArgs& args) {
   constexpr const char* kName = "calib-sheet";
   std::string error;
-  calib::CalibSheetOptions options;
+  CalibSheetOptions options;
   const auto palette = args.palette_file.empty() ? BuiltinPalette(args.palette, &error)
                                                  : LoadPaletteFile(args.palette_file, &error);
   if (!palette) return Fail(kName, error);
@@ -74,14 +74,14 @@ int RunCalibSheet(const CalibSheetArgs& args) {
   }
   if (!(args.dpi >= 50 && args.dpi <= 1200))
     return Fail(kName, "--dpi must be in [50, 1200]");
-  const auto layout = calib::LayoutCalibSheet(options, &error);
+  const auto layout = LayoutCalibSheet(options, &error);
   if (!layout) return Fail(kName, error);
-  const auto files = calib::RenderCalibSheet(
-      *layout, format == "pdf" ? calib::CalibSheetFormat::kPdf : calib::CalibSheetFormat::kPng,
+  const auto files = RenderCalibSheet(
+      *layout, format == "pdf" ? CalibSheetFormat::kPdf : CalibSheetFormat::kPng,
       args.output, args.dpi);
   if (!WriteFilesAtomically(files, &error)) return Fail(kName, error);
   int counts[4] = {0, 0, 0, 0};
-  for (const calib::Patch& p : layout->patches) ++counts[static_cast<int>(p.kind)];
+  for (const Patch& p : layout->patches) ++counts[static_cast<int>(p.kind)];
   std::cout << "Wrote calibration sheet " << layout->sheet_id << " (palette "
             << layout->palette.name << ", page " << layout->page.name << "; corner tags "
             << layout->family << " " << layout->tags[0].id << ", " << layout->tags[1].id << ", "
@@ -95,11 +95,11 @@ int RunCalibSheet(const CalibSheetArgs& args) {
   return kExitOk;
 }
 
-void PrintSummary(const calib::CalibrationResult& result, const std::vector<std::string>& written) {
+void PrintSummary(const CalibrationResult& result, const std::vector<std::string>& written) {
   const DetectorOptions& d = result.thresholds.options;
   std::printf("Calibrated sheet %d from %zu photo(s):\n", result.layout.sheet_id,
               result.photos.size());
-  for (const calib::PhotoResult& p : result.photos) {
+  for (const PhotoResult& p : result.photos) {
     std::printf(
         "  %s: %.1f px/mm, white %.0f/255, %d flagged patches, model CIEDE2000 mean %.2f "
         "max %.2f\n",
@@ -110,8 +110,8 @@ void PrintSummary(const calib::CalibrationResult& result, const std::vector<std:
       "Detector thresholds: ADiffThresh %.1f, BorderThresh %.1f, min decision margin "
       "%.2f, max green a* %.1f\n",
       d.adiff_thresh, d.border_thresh, d.min_decision_margin, d.max_green_a);
-  for (const calib::PairVerdict& v : result.thresholds.verdicts)
-    std::printf("  %-24s %-5s %s\n", v.pair.c_str(), calib::VerdictName(v.verdict), v.why.c_str());
+  for (const PairVerdict& v : result.thresholds.verdicts)
+    std::printf("  %-24s %-5s %s\n", v.pair.c_str(), VerdictName(v.verdict), v.why.c_str());
   if (result.palette) {
     std::printf("Palette %s: score %.2f (sheet palette %.2f)\n",
                 result.palette->palette.name.c_str(), result.palette->score,
@@ -125,13 +125,13 @@ void PrintSummary(const calib::CalibrationResult& result, const std::vector<std:
 int RunCalibrate(const CalibrateArgs& args) {
   constexpr const char* kName = "calibrate";
   std::string error;
-  const auto layout = calib::ReadCalibSidecar(args.sheet, &error);
+  const auto layout = ReadCalibSidecar(args.sheet, &error);
   if (!layout) return Fail(kName, error);
-  calib::CalibrateOptions options;
+  CalibrateOptions options;
   options.thresholds.safety_factor = args.safety;
   options.lut_size = args.lut_size;
   if (!options.IsValid(&error)) return Fail(kName, error);
-  std::vector<calib::PhotoInput> photos;
+  std::vector<PhotoInput> photos;
   for (const std::string& path : args.photos) {
     // Checked first: OpenCV would print its own warning for a missing file.
     const bool readable = static_cast<bool>(std::ifstream(path));
@@ -144,14 +144,14 @@ int RunCalibrate(const CalibrateArgs& args) {
     photos.push_back({path, image});
   }
   // Unusable photos fail the job (exit 1) and nothing is written.
-  const auto result = calib::Calibrate(*layout, photos, options, &error);
+  const auto result = Calibrate(*layout, photos, options, &error);
   if (!result) return Fail(kName, error, kExitFailure);
   std::error_code ec;
   std::filesystem::create_directories(args.output, ec);
   if (ec) {
     return Fail(kName, "cannot create the output folder '" + args.output + "': " + ec.message());
   }
-  const auto files = calib::CalibrationFiles(*result, args.output);
+  const auto files = CalibrationFiles(*result, args.output);
   if (!WriteFilesAtomically(files, &error)) return Fail(kName, error);
   std::vector<std::string> written;
   for (const auto& file : files) written.push_back(file.path);

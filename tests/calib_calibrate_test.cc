@@ -15,7 +15,7 @@
 #include "chromatag/detector/detector.h"
 #include "chromatag/generator/color_lut.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 using testing::CameraReferredTruth;
@@ -138,9 +138,9 @@ TEST(CalibCalibrateTest, MaxGreenAFollowsTheGreensMeasuredA) {
 }
 
 }  // namespace
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 // A printer that loses four fifths of the chroma: the default palette's a*
@@ -240,4 +240,4 @@ TEST(CalibCalibrateTest, LutHalvesThePrintError) {
 }
 
 }  // namespace
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -15,7 +15,7 @@
 #include "chromatag/calib/calib_sidecar.h"
 #include "test_util.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 namespace fs = std::filesystem;
@@ -217,4 +217,4 @@ TEST_F(CalibCliTest, BadPhotosFailCleanly) {
 }
 
 }  // namespace
-}  // namespace chromatag::calib
+}  // namespace chromatag

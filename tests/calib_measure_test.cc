@@ -5,7 +5,7 @@
 #include "calib_sim.h"
 #include "chromatag/calib/measure.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 using testing::CameraReferredTruth;
@@ -47,4 +47,4 @@ TEST(CalibMeasureTest, ColorimetricCameraMeasuresThePrintWithinTwoDeltaE) {
 }
 
 }  // namespace
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -97,9 +97,9 @@ Lab CameraReferredTruth(const Lab& printed, const SimCamera& camera) {
   return XyzToLab(LinearRgbToXyz({colour.r / white.r, colour.g / white.g, colour.b / white.b}));
 }
 
-cv::Mat RenderSheetPhoto(const calib::CalibSheetLayout& layout, const SimPrinter& printer,
+cv::Mat RenderSheetPhoto(const CalibSheetLayout& layout, const SimPrinter& printer,
                          const SimCamera& camera, double page_px_per_mm) {
-  const cv::Mat page = calib::RasterizeCalibPage(layout, page_px_per_mm);
+  const cv::Mat page = RasterizeCalibPage(layout, page_px_per_mm);
   cv::Mat linear = PrintAndSee(page, printer, camera);
   // Uneven light: brightest off-centre (a lamp to the upper left), falling
   // to 1 - falloff at the far corner; not a quadratic, so the sampler's

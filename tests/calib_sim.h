@@ -47,7 +47,7 @@ struct SimCamera {
 
 // Renders the sheet at `page_px_per_mm`, prints it with `printer`, and
 // photographs it with `camera`: a CV_8UC3 BGR photo.
-cv::Mat RenderSheetPhoto(const calib::CalibSheetLayout& layout, const SimPrinter& printer,
+cv::Mat RenderSheetPhoto(const CalibSheetLayout& layout, const SimPrinter& printer,
                          const SimCamera& camera, double page_px_per_mm = 6.0);
 
 // What `camera` reports for a flat patch of `printed` colour under even light,

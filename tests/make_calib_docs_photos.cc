@@ -10,7 +10,7 @@
 #include "chromatag/calib/calib_sidecar.h"
 
 int main(int argc, char** argv) {
-  using namespace chromatag::calib;
+  using namespace chromatag;
   using chromatag::testing::RenderSheetPhoto;
   using chromatag::testing::SimCamera;
   using chromatag::testing::SimPrinter;

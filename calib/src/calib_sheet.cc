@@ -17,7 +17,7 @@
 #include "chromatag/generator/sheet.h"
 #include "chromatag/generator/tag_renderer.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 constexpr double kHeaderMm = 9.0;  // Title line above the grid.
@@ -395,4 +395,4 @@ std::vector<OutputFile> RenderCalibSheet(const CalibSheetLayout& layout, CalibSh
   return files;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

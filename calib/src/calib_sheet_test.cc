@@ -8,7 +8,7 @@
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/detector/detector.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 CalibSheetOptions DefaultOptions() {
@@ -150,4 +150,4 @@ TEST(CalibSheetTest, RasterShowsThePatchesAndTheCornerTags) {
 }
 
 }  // namespace
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -10,7 +10,7 @@
 #include "chromatag/families/version.h"
 #include "chromatag/generator/json_fields.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -200,4 +200,4 @@ std::optional<CalibSheetLayout> ReadCalibSidecar(const std::string& path, std::s
   return layout;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

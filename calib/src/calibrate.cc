@@ -10,7 +10,7 @@
 #include "chromatag/detector/config.h"
 #include "chromatag/families/version.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -199,4 +199,4 @@ std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
   return files;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -8,7 +8,7 @@
 
 namespace OCIO = OCIO_NAMESPACE;
 
-namespace chromatag::calib {
+namespace chromatag {
 
 std::optional<std::string> BakeCubeLut(const std::vector<PrinterModel>& models, int size,
                                        std::string* error) {
@@ -63,4 +63,4 @@ std::optional<std::string> BakeCubeLut(const std::vector<PrinterModel>& models, 
   }
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -9,7 +9,7 @@
 
 #include "chromatag/detector/detector.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 std::string IdList(const std::vector<int>& ids) {
@@ -216,4 +216,4 @@ std::optional<SheetLocation> LocateSheet(const cv::Mat& bgr, const CalibSheetLay
   return location;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

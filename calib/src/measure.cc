@@ -8,7 +8,7 @@
 
 #include "sample_patch.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 // The paper white as a smooth field over the page: per linear channel, a
@@ -242,4 +242,4 @@ std::optional<PhotoMeasurement> MeasurePhoto(const cv::Mat& bgr, const CalibShee
   return out;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

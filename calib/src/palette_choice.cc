@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <map>
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 struct Option {
@@ -222,4 +222,4 @@ std::optional<PaletteChoice> ChoosePalette(const CalibSheetLayout& layout,
   return best;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -8,7 +8,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 using ToneBlock = std::array<double, kToneSegments>;
@@ -235,4 +235,4 @@ std::optional<PrinterFit> FitPrinterModel(const std::vector<PrinterSample>& samp
   return fit;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

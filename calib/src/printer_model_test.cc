@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 // A printer of the model's own form with known, non-trivial parameters.
@@ -90,4 +90,4 @@ TEST(PrinterModelTest, TooFewSamplesAreRefused) {
 }
 
 }  // namespace
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -12,7 +12,7 @@
 #include "chromatag/generator/cairo_util.h"
 #include "chromatag/generator/units.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -442,4 +442,4 @@ std::string RenderReportPng(const CalibrationResult& result, double scale) {
   return bytes;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

@@ -8,7 +8,7 @@
 
 #include "chromatag/calib/locate_sheet.h"
 
-namespace chromatag::calib::internal {
+namespace chromatag::internal {
 namespace {
 
 const std::array<double, 256>& LinearTable() {
@@ -135,4 +135,4 @@ PatchPixels SamplePatch(const cv::Mat& bgr, const cv::Matx33d& image_from_page, 
   return out;
 }
 
-}  // namespace chromatag::calib::internal
+}  // namespace chromatag::internal

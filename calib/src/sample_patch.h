@@ -7,7 +7,7 @@
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/calib/measure.h"
 
-namespace chromatag::calib::internal {
+namespace chromatag::internal {
 
 struct PatchPixels {
   int pixels = 0;
@@ -25,6 +25,6 @@ struct PatchPixels {
 PatchPixels SamplePatch(const cv::Mat& bgr, const cv::Matx33d& image_from_page, const Patch& patch,
                         const MeasureOptions& options);
 
-}  // namespace chromatag::calib::internal
+}  // namespace chromatag::internal
 
 #endif  // CHROMATAG_CALIB_SRC_SAMPLE_PATCH_H_

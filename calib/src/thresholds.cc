@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace chromatag::calib {
+namespace chromatag {
 namespace {
 
 constexpr std::array<Shade, 4> kChromatic = {Shade::kRed1, Shade::kRed0, Shade::kGreen1,
@@ -219,4 +219,4 @@ DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
   return out;
 }
 
-}  // namespace chromatag::calib
+}  // namespace chromatag

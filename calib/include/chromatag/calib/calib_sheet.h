@@ -22,7 +22,7 @@
 #include "chromatag/generator/file_util.h"
 #include "chromatag/generator/units.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 struct CalibSheetOptions {
   Palette palette;  // Its colours are printed and its reds and greens seed the candidates.
@@ -128,6 +128,6 @@ enum class CalibSheetFormat { kPdf, kPng };
 std::vector<OutputFile> RenderCalibSheet(const CalibSheetLayout& layout, CalibSheetFormat format,
                                          const std::string& output_path, double dpi = 300.0);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_CALIB_SHEET_H_

@@ -12,7 +12,7 @@
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/generator/file_util.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 inline constexpr const char* kCalibSheetSchema = "chromatag-calib-sheet";
 inline constexpr int kCalibSheetSchemaVersion = 1;
@@ -32,6 +32,6 @@ std::optional<CalibSheetLayout> ParseCalibSidecar(const std::string& text,
 std::optional<CalibSheetLayout> ReadCalibSidecar(const std::string& path,
                                                  std::string* error = nullptr);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_CALIB_SIDECAR_H_

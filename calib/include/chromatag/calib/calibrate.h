@@ -19,7 +19,7 @@
 #include "chromatag/calib/thresholds.h"
 #include "chromatag/generator/file_util.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 struct CalibrateOptions {
   LocateOptions locate;
@@ -81,6 +81,6 @@ inline constexpr const char* kMeasurementsFile = "measurements.json";
 std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
                                          const std::string& folder);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_CALIBRATE_H_

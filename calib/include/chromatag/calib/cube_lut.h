@@ -9,7 +9,7 @@
 
 #include "chromatag/calib/printer_model.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 // Samples, on a size^3 grid of gamma-encoded sRGB (the intended colours),
 // the RGB to send to the printer so that the print, as `models` predict it,
@@ -22,6 +22,6 @@ namespace chromatag::calib {
 std::optional<std::string> BakeCubeLut(const std::vector<PrinterModel>& models, int size,
                                        std::string* error = nullptr);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_CUBE_LUT_H_

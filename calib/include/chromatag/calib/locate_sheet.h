@@ -11,7 +11,7 @@
 
 #include "chromatag/calib/calib_sheet.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 struct LocateOptions {
   // Detector thresholds tried in turn, {ADiffThresh, BorderThresh} in a*
@@ -57,6 +57,6 @@ std::optional<SheetLocation> LocateSheet(const cv::Mat& bgr, const CalibSheetLay
 // Image position of a page position.
 cv::Point2d PageToImage(const cv::Matx33d& image_from_page, const std::array<double, 2>& mm);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_LOCATE_SHEET_H_

@@ -15,7 +15,7 @@
 #include "chromatag/calib/locate_sheet.h"
 #include "chromatag/families/color.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 struct MeasureOptions {
   // Side of the sampled square over the patch's side, (0, 1). The rim is left
@@ -93,6 +93,6 @@ std::optional<PhotoMeasurement> MeasurePhoto(const cv::Mat& bgr, const CalibShee
                                              const LocateOptions& locate = {},
                                              std::string* error = nullptr);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_MEASURE_H_

@@ -13,7 +13,7 @@
 #include "chromatag/calib/measure.h"
 #include "chromatag/families/palette.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 struct PaletteChoiceOptions {
   // The score is the smallest of the three margins, each over its goal (spec
@@ -59,6 +59,6 @@ std::optional<PaletteChoice> ChoosePalette(const CalibSheetLayout& layout,
                                            const PaletteChoiceOptions& options = {},
                                            std::string* error = nullptr);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_PALETTE_CHOICE_H_

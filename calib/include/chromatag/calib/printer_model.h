@@ -19,7 +19,7 @@
 
 #include "chromatag/families/color.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 inline constexpr int kToneSegments = 8;
 
@@ -78,6 +78,6 @@ std::optional<PrinterFit> FitPrinterModel(const std::vector<PrinterSample>& samp
                                           const PrinterModelOptions& options = {},
                                           std::string* error = nullptr);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_PRINTER_MODEL_H_

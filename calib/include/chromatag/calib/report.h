@@ -12,7 +12,7 @@
 
 #include "chromatag/calib/calibrate.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 // Width of the report in Cairo user units (points in the PDF); the height
 // grows with the number of photos.
@@ -33,6 +33,6 @@ std::string RenderReportPng(const CalibrationResult& result, double scale = 1.5)
 // the layout is clean.
 std::vector<std::string> ReportOverlaps(const CalibrationResult& result);
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_REPORT_H_

@@ -16,7 +16,7 @@
 #include "chromatag/calib/measure.h"
 #include "chromatag/detector/options.h"
 
-namespace chromatag::calib {
+namespace chromatag {
 
 // One palette shade as measured in one photo: the mean over its usable
 // repeats.
@@ -103,6 +103,6 @@ struct DerivedThresholds {
 DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
                                    const ThresholdOptions& options = {});
 
-}  // namespace chromatag::calib
+}  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_THRESHOLDS_H_
