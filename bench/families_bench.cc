@@ -37,7 +37,8 @@ void BM_DecoderBuild(benchmark::State& state, const char* name) {
 BENCHMARK_CAPTURE(BM_DecoderBuild, 16h5, "16h5")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_DecoderBuild, 36h11, "36h11")->Unit(benchmark::kMillisecond);
 
-// The exact formula; the detector will use a compact table instead (issue 4).
+// The exact formula, for scale: the detector converts with its compact
+// ColorTable (detector/color_table.h) instead.
 void BM_SrgbToLabExact(benchmark::State& state) {
   uint8_t v = 0;
   for (auto _ : state) {
