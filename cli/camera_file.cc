@@ -22,8 +22,8 @@ std::string Lower(std::string s) {
 }
 
 // Fills *camera from a row-major 3x3 matrix and distortion coefficients.
-bool FromMatrix(const std::vector<double>& k, const std::vector<double>& d, CameraIntrinsics* camera,
-                std::string* error) {
+bool FromMatrix(const std::vector<double>& k, const std::vector<double>& d,
+                CameraIntrinsics* camera, std::string* error) {
   if (k.size() != 9) {
     *error = "camera_matrix must have 9 numbers (3x3), not " + std::to_string(k.size());
     return false;

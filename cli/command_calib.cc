@@ -72,13 +72,12 @@ int RunCalibSheet(const CalibSheetArgs& args) {
                            extension + " file: give the output a ." + format +
                            " name or leave the format out");
   }
-  if (!(args.dpi >= 50 && args.dpi <= 1200))
-    return Fail(kName, "--dpi must be in [50, 1200]");
+  if (!(args.dpi >= 50 && args.dpi <= 1200)) return Fail(kName, "--dpi must be in [50, 1200]");
   const auto layout = LayoutCalibSheet(options, &error);
   if (!layout) return Fail(kName, error);
-  const auto files = RenderCalibSheet(
-      *layout, format == "pdf" ? CalibSheetFormat::kPdf : CalibSheetFormat::kPng,
-      args.output, args.dpi);
+  const auto files =
+      RenderCalibSheet(*layout, format == "pdf" ? CalibSheetFormat::kPdf : CalibSheetFormat::kPng,
+                       args.output, args.dpi);
   if (!WriteFilesAtomically(files, &error)) return Fail(kName, error);
   int counts[4] = {0, 0, 0, 0};
   for (const Patch& p : layout->patches) ++counts[static_cast<int>(p.kind)];
@@ -138,8 +137,8 @@ int RunCalibrate(const CalibrateArgs& args) {
     cv::Mat image = readable ? cv::imread(path, cv::IMREAD_COLOR) : cv::Mat();
     if (image.empty()) {
       return Fail(kName, "cannot read photo '" + path +
-                      "' (JPEG, PNG, TIFF or another format OpenCV "
-                      "reads)");
+                             "' (JPEG, PNG, TIFF or another format OpenCV "
+                             "reads)");
     }
     photos.push_back({path, image});
   }

@@ -100,9 +100,9 @@ Source MakeSource(SourceKind kind, std::string name) {
 struct Task {
   size_t source = 0;
   int frame_index = 0;
-  cv::Mat frame;      // Decoded by the reader (videos, cameras, streams) or empty (images).
+  cv::Mat frame;         // Decoded by the reader (videos, cameras, streams) or empty (images).
   double timestamp = 0;  // Seconds since the epoch when a live frame arrived.
-  std::string error;  // A source that could not be read: passed on in order.
+  std::string error;     // A source that could not be read: passed on in order.
 };
 
 struct Outcome {
@@ -138,7 +138,8 @@ bool GatherSources(const DetectOptions& options, std::vector<Source>* sources, s
     } else if (!fs::exists(path, ec)) {
       missing.push_back(input);
     } else {
-      sources->push_back(MakeSource(IsVideo(path) ? SourceKind::kVideo : SourceKind::kImage, input));
+      sources->push_back(
+          MakeSource(IsVideo(path) ? SourceKind::kVideo : SourceKind::kImage, input));
     }
   }
   for (int index : options.camera_indices) {
@@ -152,8 +153,9 @@ bool GatherSources(const DetectOptions& options, std::vector<Source>* sources, s
     return false;
   }
   if (sources->empty()) {
-    *error = "nothing to detect in: give images, folders, videos, /dev/videoN, a stream URL or "
-             "--camera-index N";
+    *error =
+        "nothing to detect in: give images, folders, videos, /dev/videoN, a stream URL or "
+        "--camera-index N";
     return false;
   }
   // Overlay names: the file name with its extension (scene.jpg and scene.mp4
@@ -199,8 +201,7 @@ Json Rejected(const std::vector<RejectedCandidate>& rejected) {
 // workers detect, and the calling thread prints the outcomes in order.
 class Run {
  public:
-  Run(const DetectOptions& options, const Detector& detector, std::vector<Source> sources,
-      int jobs)
+  Run(const DetectOptions& options, const Detector& detector, std::vector<Source> sources, int jobs)
       : options_(options),
         detector_(detector),
         sources_(std::move(sources)),
@@ -229,7 +230,8 @@ class Run {
       Outcome outcome;
       {
         std::unique_lock<std::mutex> lock(mutex_);
-        done_changed_.wait(lock, [&] { return done_.count(next) || (read_all_ && next == queued_); });
+        done_changed_.wait(lock,
+                           [&] { return done_.count(next) || (read_all_ && next == queued_); });
         if (!done_.count(next)) break;
         outcome = std::move(done_[next]);
         done_.erase(next);
@@ -301,9 +303,14 @@ class Run {
         capture.open(source.name);
       }
       if (!capture.isOpened()) {
-        Queue({i, 0, {}, 0,
+        Queue({i,
+               0,
+               {},
+               0,
                std::string("cannot open ") +
-                   (source.kind == SourceKind::kVideo ? "video" : source.live() ? "camera or stream" : "") +
+                   (source.kind == SourceKind::kVideo ? "video"
+                    : source.live()                   ? "camera or stream"
+                                                      : "") +
                    " '" + source.name + "', skipped"});
         continue;
       }
@@ -318,13 +325,14 @@ class Run {
           break;
         }
         const double timestamp =
-            source.live() ? std::chrono::duration<double>(
-                                std::chrono::system_clock::now().time_since_epoch())
-                                .count()
-                          : 0.0;
+            source.live()
+                ? std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+                      .count()
+                : 0.0;
         Queue({i, index++, std::move(frame), timestamp, {}});
       }
-      if (index == 0 && !g_stop) Queue({i, 0, {}, 0, "no frames in '" + source.name + "', skipped"});
+      if (index == 0 && !g_stop)
+        Queue({i, 0, {}, 0, "no frames in '" + source.name + "', skipped"});
     }
     std::lock_guard<std::mutex> lock(mutex_);
     read_all_ = true;
@@ -382,9 +390,10 @@ class Run {
       if (!options_.overlay_dir.empty()) {
         char suffix[32];
         std::snprintf(suffix, sizeof suffix, "_%06d", task.frame_index);
-        overlay = (fs::path(options_.overlay_dir) /
-                   (source.overlay_stem + (source.kind == SourceKind::kImage ? "" : suffix) + ".png"))
-                      .string();
+        overlay =
+            (fs::path(options_.overlay_dir) /
+             (source.overlay_stem + (source.kind == SourceKind::kImage ? "" : suffix) + ".png"))
+                .string();
         if (!cv::imwrite(overlay, canvas)) {
           outcome.err = "chromatag detect: cannot write overlay '" + overlay + "'\n";
           outcome.failed = true;
@@ -486,7 +495,8 @@ int RunDetect(const DetectOptions& options) {
   if (!options.overlay_dir.empty()) {
     std::error_code ec;
     fs::create_directories(options.overlay_dir, ec);
-    if (ec) return fail("cannot create overlay folder '" + options.overlay_dir + "': " + ec.message());
+    if (ec)
+      return fail("cannot create overlay folder '" + options.overlay_dir + "': " + ec.message());
   }
   auto detector = Detector::Create(detector_options, &error);
   if (!detector) return fail(error);
@@ -529,12 +539,16 @@ void RegisterDetect(CLI::App& app, Action* action) {
                     "the overlays, coloured by the stage that rejected them");
   command->add_option("--camera-index", options->camera_indices,
                       "Read a camera by its index (as /dev/videoN); repeatable");
-  command->add_flag("--show", options->show, "Show the frames with the detections in a window (q quits)");
-  command->add_option("-j,--jobs", options->jobs, "Threads that decode and detect (default: one per core)")
+  command->add_flag("--show", options->show,
+                    "Show the frames with the detections in a window (q quits)");
+  command
+      ->add_option("-j,--jobs", options->jobs,
+                   "Threads that decode and detect (default: one per core)")
       ->check(CLI::Range(1, 256));
-  command->add_option("INPUT", options->inputs,
-                      "Images, folders, videos, /dev/videoN or stream URLs (rtsp://, http://, ...); "
-                      "Ctrl-C ends a live run with its summary");
+  command->add_option(
+      "INPUT", options->inputs,
+      "Images, folders, videos, /dev/videoN or stream URLs (rtsp://, http://, ...); "
+      "Ctrl-C ends a live run with its summary");
   command->callback([options, action] { *action = [options] { return RunDetect(*options); }; });
 }
 

@@ -52,22 +52,26 @@ void RegisterGenerate(CLI::App& app, Action* action) {
   c->add_option("--margin", o->request.margin, "Blank border on every side of the page")
       ->capture_default_str();
   c->add_option("--gap", o->request.gap, "Space between tags")->capture_default_str();
-  c->add_option("--quiet-zone", o->request.quiet_zone, "White ring around the black square, in cells")
+  c->add_option("--quiet-zone", o->request.quiet_zone,
+                "White ring around the black square, in cells")
       ->capture_default_str()
       ->check(CLI::Range(1, 20));
   c->add_flag("--cut-ring", o->request.cut_ring, "A light grey ring to cut along");
   c->add_flag("--crop-marks", o->request.crop_marks, "Crop marks at the corners of each tag");
   c->add_flag("--no-label", o->no_label, "No 'family ID size' line under the tags");
   c->add_flag("--one-per-page", o->request.one_per_page, "One tag per page, centred");
-  auto* palette = c->add_option("--palette", o->request.palette, "Built-in palette: default, iccv17")
-                      ->capture_default_str();
+  auto* palette =
+      c->add_option("--palette", o->request.palette, "Built-in palette: default, iccv17")
+          ->capture_default_str();
   c->add_option("--palette-file", o->request.palette_file, "Palette JSON file (docs/palettes.md)")
       ->excludes(palette);
   c->add_option("--color-lut", o->request.color_lut,
                 "3D LUT (.cube) applied to the palette's sRGB, e.g. from 'chromatag calibrate'");
-  c->add_option("--format", o->request.format, "pdf, svg or png (default: from the output's extension)")
+  c->add_option("--format", o->request.format,
+                "pdf, svg or png (default: from the output's extension)")
       ->check(CLI::IsMember({"pdf", "svg", "png"}));
-  c->add_option("--dpi", o->request.dpi, "PNG resolution in pixels per inch")->capture_default_str();
+  c->add_option("--dpi", o->request.dpi, "PNG resolution in pixels per inch")
+      ->capture_default_str();
   c->add_option("-o,--output", o->output, "Output file; the sidecar goes beside it as .json")
       ->required();
   c->callback([o, action] { *action = [o] { return RunGenerate(*o); }; });

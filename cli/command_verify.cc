@@ -186,7 +186,8 @@ int RunVerify(const VerifyCommandOptions& o) {
   options.max_position_error_mm = tolerance->mm;
   if (!options.IsValid(&error)) return Fail("verify", error);
   if (o.sheet.empty() == !(o.all && !o.family.empty())) {
-    return Fail("verify", "give a sheet (chromatag verify tags.pdf) or a family (--family 16h5 --all)");
+    return Fail("verify",
+                "give a sheet (chromatag verify tags.pdf) or a family (--family 16h5 --all)");
   }
   Json out;
   bool passed = false;
@@ -209,9 +210,8 @@ int RunVerify(const VerifyCommandOptions& o) {
     } else {
       std::printf("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
                   o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
-                  record->tags.size() == 1 ? "" : "s",
-                  record->tag_size_mm, record->num_pages, record->num_pages == 1 ? "" : "s",
-                  record->palette.name.c_str(),
+                  record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
+                  record->num_pages == 1 ? "" : "s", record->palette.name.c_str(),
                   record->format == SheetFormat::kPng ? record->dpi : o.dpi);
       PrintSheet(*verdict);
     }

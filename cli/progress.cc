@@ -27,8 +27,8 @@ void Progress::Update(size_t done) {
     constexpr int kWidth = 30;
     const int filled = static_cast<int>(kWidth * std::min(done, total_) / total_);
     std::fprintf(stderr, "\r\033[K%s [%s%s] %zu/%zu %s, %.0f/s", label_.c_str(),
-                 std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(),
-                 done, total_, unit_.c_str(), rate);
+                 std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), done,
+                 total_, unit_.c_str(), rate);
   } else {
     std::fprintf(stderr, "\r\033[K%s %zu %s, %.0f/s", label_.c_str(), done, unit_.c_str(), rate);
   }

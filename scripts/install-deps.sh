@@ -6,7 +6,9 @@ set -euo pipefail
 
 packages=(
   # Toolchain.
-  g++ cmake ninja-build pkg-config make
+  g++ cmake ninja-build pkg-config make git
+  # The formatter the tree is checked with (make format; the clang_format test).
+  clang-format-14
   # Libraries (brief: Cairo, OpenCV, Eigen, Ceres, OpenColorIO, CLI11,
   # libapriltag, nlohmann-json, poppler).
   libapriltag-dev libcairo2-dev libopencv-dev libopencv-contrib-dev libeigen3-dev libceres-dev

@@ -119,7 +119,8 @@ TEST(CliDetectTest, CameraFilesInTheLayoutsPeopleHave) {
        "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"},
       {"kalibr.yaml",
        "cam0:\n  camera_model: pinhole\n  intrinsics: [1500, 1500, 620, 877]\n"
-       "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n  resolution: [1240, 1754]\n"},
+       "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n  resolution: [1240, "
+       "1754]\n"},
       {"opencv.json",
        "{\"camera_matrix\": {\"type_id\": \"opencv-matrix\", \"rows\": 3, \"cols\": 3, "
        "\"dt\": \"d\", \"data\": [1500, 0, 620, 0, 1500, 877, 0, 0, 1]}}"}};

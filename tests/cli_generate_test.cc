@@ -63,17 +63,18 @@ TEST(CliGenerateTest, WritesPdfAndSidecarByteIdenticallyTwice) {
 // Issue 11: --format png -o x.pdf wrote a PNG named x.pdf.
 TEST(CliGenerateTest, FormatThatDisagreesWithTheExtensionIsRefused) {
   const std::string dir = MakeDir("mismatch");
-  const auto result = Chromatag({"generate", "--ids", "0", "--format", "png", "-o", dir + "/x.pdf"});
+  const auto result =
+      Chromatag({"generate", "--ids", "0", "--format", "png", "-o", dir + "/x.pdf"});
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_EQ(CountLines(result.err), 1) << result.err;
   EXPECT_NE(result.err.find("the format is png but"), std::string::npos) << result.err;
   EXPECT_TRUE(ListDir(dir).empty());
   // Agreeing, or an extension that names no format, is fine.
-  EXPECT_EQ(Chromatag({"generate", "--ids", "0", "--format", "pdf", "-o", dir + "/x.pdf"}).exit_code,
-            0);
-  EXPECT_EQ(Chromatag({"generate", "--ids", "0", "--format", "svg", "-o", dir + "/x.drawing"})
-                .exit_code,
-            0);
+  EXPECT_EQ(
+      Chromatag({"generate", "--ids", "0", "--format", "pdf", "-o", dir + "/x.pdf"}).exit_code, 0);
+  EXPECT_EQ(
+      Chromatag({"generate", "--ids", "0", "--format", "svg", "-o", dir + "/x.drawing"}).exit_code,
+      0);
 }
 
 TEST(CliGenerateTest, PngAndSvgFollowTheExtension) {

@@ -1,8 +1,8 @@
 // `chromatag detect` on videos and streams (issue 11): frames in order on
 // any number of threads, overlay names that cannot collide, timestamps on
 // live frames, and Ctrl-C ending a run cleanly with its summary.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -29,7 +29,8 @@ constexpr auto Chromatag = testing::RunChromatag;
 // An MJPG clip of `frames` frames with 16h5 ID 3 sliding across a grey frame.
 std::string MakeClip(const std::string& dir, const std::string& name, int frames) {
   const auto family = TagFamily::Load("16h5");
-  const RgbImage tag = RasterizeTag(*family, 3, TagColors::FromPalette(*BuiltinPalette("default")), 6);
+  const RgbImage tag =
+      RasterizeTag(*family, 3, TagColors::FromPalette(*BuiltinPalette("default")), 6);
   const cv::Mat rgb(tag.height, tag.width, CV_8UC3, const_cast<uint8_t*>(tag.pixels.data()));
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
@@ -64,8 +65,7 @@ TEST(CliLiveTest, FramesComeInInputOrderOnAnyNumberOfThreads) {
   cv::imwrite(dir + "/clip.png", cv::Mat(100, 100, CV_8UC3, cv::Scalar(90, 90, 90)));
   std::string reference;
   for (const char* jobs : {"1", "4"}) {
-    const auto run =
-        Chromatag({"detect", "--json", "-j", jobs, clip, dir + "/clip.png", clip});
+    const auto run = Chromatag({"detect", "--json", "-j", jobs, clip, dir + "/clip.png", clip});
     ASSERT_EQ(run.exit_code, 0) << run.err;
     const auto lines = JsonLines(run.out);
     ASSERT_EQ(lines.size(), 121u);
@@ -170,16 +170,17 @@ TEST(CliLiveTest, InterruptEndsALiveRunCleanly) {
 }
 
 TEST(CliLiveTest, BadLiveUsageIsExitTwo) {
-  const auto show = testing::RunCommand("/usr/bin/env", {"-u", "DISPLAY", "-u", "WAYLAND_DISPLAY",
-                                                         CHROMATAG_CLI_PATH, "detect", "--show",
-                                                         "--camera-index", "0"});
+  const auto show = testing::RunCommand(
+      "/usr/bin/env", {"-u", "DISPLAY", "-u", "WAYLAND_DISPLAY", CHROMATAG_CLI_PATH, "detect",
+                       "--show", "--camera-index", "0"});
   EXPECT_EQ(show.exit_code, 2);
   EXPECT_NE(show.err.find("--show needs a display"), std::string::npos) << show.err;
   const auto missing = Chromatag({"detect", "--json", "/nonexistent/a.png", "/nonexistent/b.avi"});
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_TRUE(missing.out.empty()) << missing.out;
   EXPECT_EQ(CountLines(missing.err), 1) << missing.err;
-  EXPECT_NE(missing.err.find("'/nonexistent/a.png' (and 1 more)"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("'/nonexistent/a.png' (and 1 more)"), std::string::npos)
+      << missing.err;
 }
 
 }  // namespace

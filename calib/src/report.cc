@@ -371,7 +371,8 @@ void DrawReport(cairo_t* cr, const CalibrationResult& r) {
 
 PageSize ReportPage(const CalibrationResult& result) {
   const std::string& name = result.layout.page.name;
-  if (name == "a4" || name == "letter" || name == "a3" || name == "legal") return result.layout.page;
+  if (name == "a4" || name == "letter" || name == "a3" || name == "legal")
+    return result.layout.page;
   return {"a4", 210.0, 297.0};
 }
 
@@ -382,8 +383,8 @@ std::string RenderReportPdf(const CalibrationResult& result) {
   constexpr double kPointsPerMm = 72.0 / 25.4;
   const double width = page.width_mm * kPointsPerMm, height = page.height_mm * kPointsPerMm;
   const double margin = 10.0 * kPointsPerMm;
-  const double scale = std::min((width - 2 * margin) / kReportWidth,
-                                (height - 2 * margin) / ReportHeight(result));
+  const double scale =
+      std::min((width - 2 * margin) / kReportWidth, (height - 2 * margin) / ReportHeight(result));
   std::string bytes;
   cairo_surface_t* surface =
       cairo_pdf_surface_create_for_stream(AppendToString, &bytes, width, height);

@@ -97,7 +97,8 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
 
     RingHits hits;
     candidate->scan_directions.push_back(best_direction);
-    if (!ScanRings(image, options, candidate->centre, best_direction, candidate->reference_red, &hits)) {
+    if (!ScanRings(image, options, candidate->centre, best_direction, candidate->reference_red,
+                   &hits)) {
       *why = RejectReason::kPolygonScan;
       return false;
     }

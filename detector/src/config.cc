@@ -96,14 +96,14 @@ bool ParseDetectorConfig(const std::string& text, DetectorOptions* options, std:
     // The kind of file first: another tool's JSON (a sheet's sidecar, a
     // palette) is named as such, not as a detector config with odd members.
     if (!root.contains("schema") || root["schema"] != kDetectorConfigSchema) {
-      const std::string kind =
-          root.contains("schema") && root["schema"].is_string()
-              ? "a \"" + root["schema"].get<std::string>() + "\" file"
-          : root.contains("format") && root["format"].is_string()
-              ? "a \"" + root["format"].get<std::string>() + "\" file"
-              : "a JSON file without \"schema\"";
+      const std::string kind = root.contains("schema") && root["schema"].is_string()
+                                   ? "a \"" + root["schema"].get<std::string>() + "\" file"
+                               : root.contains("format") && root["format"].is_string()
+                                   ? "a \"" + root["format"].get<std::string>() + "\" file"
+                                   : "a JSON file without \"schema\"";
       throw ConfigError{"this is " + kind + ", not a detector config (\"schema\": \"" +
-                        kDetectorConfigSchema + "\", as 'chromatag calibrate' writes detector.json)"};
+                        kDetectorConfigSchema +
+                        "\", as 'chromatag calibrate' writes detector.json)"};
     }
     for (const auto& [key, value] : root.items()) {
       if (key != "schema" && key != "schema_version" && key != "options" && key != "calibration")

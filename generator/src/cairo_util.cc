@@ -24,8 +24,8 @@ cairo_status_t AppendToString(void* closure, const unsigned char* data, unsigned
 namespace {
 
 void AppendPngBytes(png_structp png, png_bytep data, png_size_t length) {
-  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data),
-                                                         length);
+  static_cast<std::string*>(png_get_io_ptr(png))
+      ->append(reinterpret_cast<const char*>(data), length);
 }
 
 }  // namespace

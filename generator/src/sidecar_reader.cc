@@ -57,8 +57,7 @@ SheetRecord Parse(const json& root, const std::string& folder) {
     if (!record.family->IsValidId(placed.id, &error)) throw FieldError{error};
     placed.page = Integer(tag, "page", 1, 100000) - 1;
     if (placed.page < 0 || placed.page >= record.num_pages) {
-      throw FieldError{"tag ID " + std::to_string(placed.id) +
-                         " is on a page that does not exist"};
+      throw FieldError{"tag ID " + std::to_string(placed.id) + " is on a page that does not exist"};
     }
     placed.center_mm = Point(Member(tag, "center_mm"));
     const json& corners = Member(tag, "corners_mm");

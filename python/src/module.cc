@@ -40,17 +40,19 @@ struct Error : std::runtime_error {
 PixelOrder OrderFrom(const std::string& order) {
   if (order == "bgr" || order == "BGR") return PixelOrder::kBgr;
   if (order == "rgb" || order == "RGB") return PixelOrder::kRgb;
-  throw Error("unknown pixel order '" + order + "' (allowed: \"bgr\", as OpenCV reads, or \"rgb\")");
+  throw Error("unknown pixel order '" + order +
+              "' (allowed: \"bgr\", as OpenCV reads, or \"rgb\")");
 }
 
 // A numpy image as a cv::Mat. 8-bit, H x W x 3 (or x 4, whose alpha is
 // dropped); shares the array's memory when it is C-contiguous, copies it
 // otherwise. *keep holds what the Mat points into.
 cv::Mat ColourImage(const py::array& image, py::object* keep) {
-  if (!py::isinstance<py::array_t<uint8_t>>(image) ||
-      image.dtype().kind() != 'u' || image.itemsize() != 1) {
+  if (!py::isinstance<py::array_t<uint8_t>>(image) || image.dtype().kind() != 'u' ||
+      image.itemsize() != 1) {
     throw Error("the image must be 8-bit (dtype uint8), not " +
-                std::string(py::str(image.dtype())) + ": convert it, e.g. with cv2.convertScaleAbs");
+                std::string(py::str(image.dtype())) +
+                ": convert it, e.g. with cv2.convertScaleAbs");
   }
   if (image.ndim() == 2 || (image.ndim() == 3 && image.shape(2) == 1)) {
     throw Error(
@@ -59,8 +61,8 @@ cv::Mat ColourImage(const py::array& image, py::object* keep) {
   }
   if (image.ndim() != 3 || (image.shape(2) != 3 && image.shape(2) != 4)) {
     throw Error("the image must be H x W x 3 (or x 4), not of shape " +
-                std::string(py::str(py::tuple(py::cast(std::vector<py::ssize_t>(
-                    image.shape(), image.shape() + image.ndim()))))));
+                std::string(py::str(py::tuple(py::cast(
+                    std::vector<py::ssize_t>(image.shape(), image.shape() + image.ndim()))))));
   }
   auto contiguous = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>::ensure(image);
   *keep = contiguous;
@@ -158,8 +160,8 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
       {"schema", kDetectorConfigSchema}, {"schema_version", 1}, {"options", fields}};
   if (!ParseDetectorConfig(text.dump(), &options, &error)) throw Error(error);
   if (!camera_matrix.is_none()) {
-    const auto k = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(
-        camera_matrix);
+    const auto k =
+        py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(camera_matrix);
     if (!k || k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3)
       throw Error("camera_matrix must be 3 x 3 ([[fx, 0, cx], [0, fy, cy], [0, 0, 1]])");
     CameraIntrinsics camera;
@@ -371,10 +373,12 @@ PYBIND11_MODULE(_chromatag, m) {
   });
 
   py::class_<TagPose>(m, "Pose", "A tag's pose in the camera frame (metres)")
-      .def_property_readonly("rvec", [](const TagPose& p) { return Vector(p.rvec.val, 3); },
-                             "Rodrigues rotation of camera_from_tag")
-      .def_property_readonly("tvec", [](const TagPose& p) { return Vector(p.tvec.val, 3); },
-                             "the tag's centre in the camera frame")
+      .def_property_readonly(
+          "rvec", [](const TagPose& p) { return Vector(p.rvec.val, 3); },
+          "Rodrigues rotation of camera_from_tag")
+      .def_property_readonly(
+          "tvec", [](const TagPose& p) { return Vector(p.tvec.val, 3); },
+          "the tag's centre in the camera frame")
       .def_property_readonly("rotation",
                              [](const TagPose& p) {
                                cv::Matx33d r;
@@ -390,8 +394,8 @@ PYBIND11_MODULE(_chromatag, m) {
   py::class_<PyDetection>(m, "Detection")
       .def_property_readonly("family", [](const PyDetection& d) { return d.d.family->name(); })
       .def_property_readonly("id", [](const PyDetection& d) { return d.d.id; })
-      .def_property_readonly("hamming", [](const PyDetection& d) { return d.d.hamming; },
-                             "bits corrected")
+      .def_property_readonly(
+          "hamming", [](const PyDetection& d) { return d.d.hamming; }, "bits corrected")
       .def_property_readonly("decision_margin",
                              [](const PyDetection& d) { return d.d.decision_margin; })
       .def_property_readonly(
@@ -416,13 +420,14 @@ PYBIND11_MODULE(_chromatag, m) {
                ", hamming=" + std::to_string(d.d.hamming) + ")";
       });
 
-  py::class_<PyDetector>(m, "Detector",
-                         "Detector(families=('16h5', '36h11'), *, config=None, camera_matrix=None,\n"
-                         "         dist_coeffs=None, tag_size=0.0, **options)\n\n"
-                         "options are DetectorOptions' fields (step, adiff_thresh, border_thresh,\n"
-                         "min_decision_margin, ...; docs/calibration.md); config a file written by\n"
-                         "'chromatag calibrate'. With camera_matrix and tag_size (metres, side of\n"
-                         "the black square) each detection has a pose.")
+  py::class_<PyDetector>(
+      m, "Detector",
+      "Detector(families=('16h5', '36h11'), *, config=None, camera_matrix=None,\n"
+      "         dist_coeffs=None, tag_size=0.0, **options)\n\n"
+      "options are DetectorOptions' fields (step, adiff_thresh, border_thresh,\n"
+      "min_decision_margin, ...; docs/calibration.md); config a file written by\n"
+      "'chromatag calibrate'. With camera_matrix and tag_size (metres, side of\n"
+      "the black square) each detection has a pose.")
       .def(py::init([](const py::object& families, const py::kwargs& kwargs) {
              return MakeDetector(families, kwargs);
            }),
@@ -447,8 +452,7 @@ PYBIND11_MODULE(_chromatag, m) {
         py::arg("margin") = "10mm", py::arg("gap") = "5mm", py::arg("quiet_zone") = 2,
         py::arg("palette") = "default", py::arg("palette_file") = "", py::arg("color_lut") = "",
         py::arg("format") = "", py::arg("dpi") = 300.0, py::arg("label") = true,
-        py::arg("crop_marks") = false, py::arg("cut_ring") = false,
-        py::arg("one_per_page") = false,
+        py::arg("crop_marks") = false, py::arg("cut_ring") = false, py::arg("one_per_page") = false,
         "Writes a print-ready sheet (PDF, SVG or PNG, from the extension) and its sidecar\n"
         "(output + '.json'), as 'chromatag generate' does; ids: a list, '0-9,12', or None for\n"
         "every kept ID. Returns the paths written.");

@@ -140,7 +140,8 @@ std::optional<SheetVerdict> VerifySheetFile(const std::string& sheet_path,
   if (!names_sheet) {
     if (error) {
       *error = "sidecar '" + record->sidecar_path + "' does not describe '" + sheet_path +
-               "' (it lists " + (record->files.empty() ? "no file" : "'" + record->files[0].path + "'") +
+               "' (it lists " +
+               (record->files.empty() ? "no file" : "'" + record->files[0].path + "'") +
                "); regenerate the sheet to get its own sidecar";
     }
     return std::nullopt;
