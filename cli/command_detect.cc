@@ -351,7 +351,17 @@ class Run {
         tasks_.pop_front();
         ++working_;
       }
-      Outcome outcome = Process(item.second, &result);
+      Outcome outcome;
+      try {
+        outcome = Process(item.second, &result);
+      } catch (const std::exception& e) {
+        // OpenCV throws on images it cannot hold (a 40000 x 40000 PNG): one
+        // line for that input, and the run goes on.
+        outcome = Outcome();
+        outcome.err = "chromatag detect: cannot process '" + sources_[item.second.source].name +
+                      "': " + e.what() + ", skipped\n";
+        outcome.failed = true;
+      }
       {
         std::lock_guard<std::mutex> lock(mutex_);
         --working_;

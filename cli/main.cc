@@ -46,5 +46,14 @@ int main(int argc, char** argv) {
     std::cerr << "chromatag: error: " << e.what() << " (see chromatag --help)\n";
     return chromatag::cli::kExitUsage;
   }
-  return action ? action() : chromatag::cli::kExitUsage;
+  if (!action) return chromatag::cli::kExitUsage;
+  try {
+    return action();
+  } catch (const std::exception& e) {
+    // A library threw where it should have returned an error: still one
+    // line and a failed exit, never an abort.
+    return chromatag::cli::Fail(
+        app.get_subcommands().empty() ? "error" : app.get_subcommands().front()->get_name().c_str(),
+        std::string("unexpected error: ") + e.what(), chromatag::cli::kExitFailure);
+  }
 }
