@@ -159,6 +159,116 @@ Patch MakePatch(PatchKind kind, Shade shade, const Lab& lab) {
   return patch;
 }
 
+// The four corner tags, each centred in its block of grid slots.
+std::array<CornerTag, 4> CornerTags(const Grid& grid, const CalibSheetOptions& options,
+                                    const std::array<int, 4>& ids) {
+  std::array<CornerTag, 4> tags;
+  const double block = grid.tag_block * grid.pitch - options.gap_mm;
+  const double inset = (block - options.tag_size_mm) / 2.0;
+  const double right = grid.x0 + (grid.columns - grid.tag_block) * grid.pitch + inset;
+  const double bottom = grid.y0 + (grid.rows - grid.tag_block) * grid.pitch + inset;
+  const std::array<std::array<double, 2>, 4> origins = {{{grid.x0 + inset, grid.y0 + inset},
+                                                         {right, grid.y0 + inset},
+                                                         {right, bottom},
+                                                         {grid.x0 + inset, bottom}}};
+  for (int k = 0; k < 4; ++k) {
+    const double x = origins[k][0], y = origins[k][1], s = options.tag_size_mm;
+    tags[k].id = ids[k];
+    tags[k].corners_mm = {{{x, y}, {x + s, y}, {x + s, y + s}, {x, y + s}}};
+  }
+  return tags;
+}
+
+// Per slot (row by row): whether a corner tag takes it.
+std::vector<bool> TagSlots(const Grid& grid) {
+  std::vector<bool> taken(grid.rows * grid.columns, false);
+  for (int r = 0; r < grid.rows; ++r) {
+    for (int c = 0; c < grid.columns; ++c) taken[r * grid.columns + c] = InTagBlock(grid, r, c);
+  }
+  return taken;
+}
+
+// The slots nothing has taken, row by row.
+std::vector<std::pair<int, int>> FreeSlots(const Grid& grid, const std::vector<bool>& taken) {
+  std::vector<std::pair<int, int>> free_slots;
+  for (int r = 0; r < grid.rows; ++r) {
+    for (int c = 0; c < grid.columns; ++c) {
+      if (!taken[r * grid.columns + c]) free_slots.push_back({r, c});
+    }
+  }
+  return free_slots;
+}
+
+// The coloured patches, one per free slot; refuses (nullopt, *error) when they do not fit.
+std::optional<std::vector<Patch>> SlotContents(const CalibSheetOptions& options, size_t free_count,
+                                               std::string* error) {
+  // What goes into the free slots: the palette's colours, the grey ramp and
+  // the candidates; then more palette repeats in what is left.
+  const std::array<Shade, 5> shades = {Shade::kRed1, Shade::kRed0, Shade::kGreen1, Shade::kGreen0,
+                                       Shade::kBlack};
+  std::vector<Patch> contents;
+  for (int k = 0; k < options.palette_repeats; ++k) {
+    for (Shade shade : shades)
+      contents.push_back(MakePatch(PatchKind::kPalette, shade, options.palette[shade]));
+  }
+  for (int k = 1; k <= options.grey_levels; ++k) {
+    const double v = static_cast<double>(k) / (options.grey_levels + 1);
+    contents.push_back(MakePatch(PatchKind::kGrey, Shade::kWhite, SrgbToLab(Rgb{v, v, v})));
+  }
+  std::vector<Patch> candidates;
+  for (const Lab& lab : CandidateColours(options, Shade::kRed1, Shade::kRed0))
+    candidates.push_back(MakePatch(PatchKind::kCandidate, Shade::kRed1, lab));
+  for (const Lab& lab : CandidateColours(options, Shade::kGreen1, Shade::kGreen0))
+    candidates.push_back(MakePatch(PatchKind::kCandidate, Shade::kGreen1, lab));
+  const size_t room = free_count - std::min(free_count, contents.size());
+  if (candidates.size() > room) {
+    // Keep an evenly spread subset, so both colours and every a* offset stay.
+    std::vector<Patch> kept;
+    for (size_t i = 0; i < room; ++i) kept.push_back(candidates[i * candidates.size() / room]);
+    candidates = kept;
+  }
+  contents.insert(contents.end(), candidates.begin(), candidates.end());
+  for (size_t k = 0; contents.size() < free_count; ++k) {
+    const Shade shade = shades[k % shades.size()];
+    contents.push_back(MakePatch(PatchKind::kPalette, shade, options.palette[shade]));
+  }
+  if (contents.size() > free_count) {
+    if (error) *error = "page too small for the palette repeats and the grey ramp";
+    return std::nullopt;
+  }
+  return contents;
+}
+
+// Shuffles the contents by the sheet ID into the free slots, adds the paper and sizes each patch.
+std::vector<Patch> PlacePatches(const Grid& grid, const CalibSheetOptions& options, int sheet_id,
+                                std::vector<Patch> contents,
+                                std::vector<std::pair<int, int>> free_slots,
+                                const std::vector<std::pair<int, int>>& paper_slots) {
+  std::mt19937 rng(static_cast<uint32_t>(sheet_id));
+  Shuffle(&contents, &rng);
+  for (const auto& [r, c] : paper_slots) {
+    contents.push_back(MakePatch(PatchKind::kPaper, Shade::kWhite, Lab{100.0, 0.0, 0.0}));
+    free_slots.push_back({r, c});
+  }
+  for (size_t i = 0; i < contents.size(); ++i) {
+    Patch& patch = contents[i];
+    patch.row = free_slots[i].first;
+    patch.col = free_slots[i].second;
+    patch.origin_mm = {grid.x0 + patch.col * grid.pitch, grid.y0 + patch.row * grid.pitch};
+    patch.size_mm = options.patch_mm;
+  }
+  return contents;
+}
+
+// Reading order (row by row) for the sidecar and the report.
+std::vector<Patch> InReadingOrder(std::vector<Patch> patches) {
+  std::sort(patches.begin(), patches.end(), [](const Patch& a, const Patch& b) {
+    return a.row != b.row ? a.row < b.row : a.col < b.col;
+  });
+  for (size_t i = 0; i < patches.size(); ++i) patches[i].index = static_cast<int>(i);
+  return patches;
+}
+
 }  // namespace
 
 const char* PatchKindName(PatchKind kind) {
@@ -210,88 +320,15 @@ std::optional<CalibSheetLayout> LayoutCalibSheet(const CalibSheetOptions& option
   layout.tag_size_mm = options.tag_size_mm;
   layout.rows = grid->rows;
   layout.columns = grid->columns;
+  layout.tags = CornerTags(*grid, options, CornerIds(layout.sheet_id, *family));
 
-  const std::array<int, 4> ids = CornerIds(layout.sheet_id, *family);
-  const double block = grid->tag_block * grid->pitch - options.gap_mm;
-  const double inset = (block - options.tag_size_mm) / 2.0;
-  const double right = grid->x0 + (grid->columns - grid->tag_block) * grid->pitch + inset;
-  const double bottom = grid->y0 + (grid->rows - grid->tag_block) * grid->pitch + inset;
-  const std::array<std::array<double, 2>, 4> origins = {{{grid->x0 + inset, grid->y0 + inset},
-                                                         {right, grid->y0 + inset},
-                                                         {right, bottom},
-                                                         {grid->x0 + inset, bottom}}};
-  for (int k = 0; k < 4; ++k) {
-    const double x = origins[k][0], y = origins[k][1], s = options.tag_size_mm;
-    layout.tags[k].id = ids[k];
-    layout.tags[k].corners_mm = {{{x, y}, {x + s, y}, {x + s, y + s}, {x, y + s}}};
-  }
-
-  std::vector<bool> taken(grid->rows * grid->columns, false);
-  for (int r = 0; r < grid->rows; ++r) {
-    for (int c = 0; c < grid->columns; ++c) taken[r * grid->columns + c] = InTagBlock(*grid, r, c);
-  }
+  std::vector<bool> taken = TagSlots(*grid);
   const auto paper_slots = PaperSlots(*grid, &taken);
-  std::vector<std::pair<int, int>> free_slots;
-  for (int r = 0; r < grid->rows; ++r) {
-    for (int c = 0; c < grid->columns; ++c) {
-      if (!taken[r * grid->columns + c]) free_slots.push_back({r, c});
-    }
-  }
-
-  // What goes into the free slots: the palette's colours, the grey ramp and
-  // the candidates; then more palette repeats in what is left.
-  const std::array<Shade, 5> shades = {Shade::kRed1, Shade::kRed0, Shade::kGreen1, Shade::kGreen0,
-                                       Shade::kBlack};
-  std::vector<Patch> contents;
-  for (int k = 0; k < options.palette_repeats; ++k) {
-    for (Shade shade : shades)
-      contents.push_back(MakePatch(PatchKind::kPalette, shade, options.palette[shade]));
-  }
-  for (int k = 1; k <= options.grey_levels; ++k) {
-    const double v = static_cast<double>(k) / (options.grey_levels + 1);
-    contents.push_back(MakePatch(PatchKind::kGrey, Shade::kWhite, SrgbToLab(Rgb{v, v, v})));
-  }
-  std::vector<Patch> candidates;
-  for (const Lab& lab : CandidateColours(options, Shade::kRed1, Shade::kRed0))
-    candidates.push_back(MakePatch(PatchKind::kCandidate, Shade::kRed1, lab));
-  for (const Lab& lab : CandidateColours(options, Shade::kGreen1, Shade::kGreen0))
-    candidates.push_back(MakePatch(PatchKind::kCandidate, Shade::kGreen1, lab));
-  const size_t room = free_slots.size() - std::min(free_slots.size(), contents.size());
-  if (candidates.size() > room) {
-    // Keep an evenly spread subset, so both colours and every a* offset stay.
-    std::vector<Patch> kept;
-    for (size_t i = 0; i < room; ++i) kept.push_back(candidates[i * candidates.size() / room]);
-    candidates = kept;
-  }
-  contents.insert(contents.end(), candidates.begin(), candidates.end());
-  for (size_t k = 0; contents.size() < free_slots.size(); ++k) {
-    const Shade shade = shades[k % shades.size()];
-    contents.push_back(MakePatch(PatchKind::kPalette, shade, options.palette[shade]));
-  }
-  if (contents.size() > free_slots.size()) {
-    if (error) *error = "page too small for the palette repeats and the grey ramp";
-    return std::nullopt;
-  }
-
-  std::mt19937 rng(static_cast<uint32_t>(layout.sheet_id));
-  Shuffle(&contents, &rng);
-  for (const auto& [r, c] : paper_slots) {
-    contents.push_back(MakePatch(PatchKind::kPaper, Shade::kWhite, Lab{100.0, 0.0, 0.0}));
-    free_slots.push_back({r, c});
-  }
-  for (size_t i = 0; i < contents.size(); ++i) {
-    Patch& patch = contents[i];
-    patch.row = free_slots[i].first;
-    patch.col = free_slots[i].second;
-    patch.origin_mm = {grid->x0 + patch.col * grid->pitch, grid->y0 + patch.row * grid->pitch};
-    patch.size_mm = options.patch_mm;
-  }
-  // Reading order (row by row) for the sidecar and the report.
-  std::sort(contents.begin(), contents.end(), [](const Patch& a, const Patch& b) {
-    return a.row != b.row ? a.row < b.row : a.col < b.col;
-  });
-  for (size_t i = 0; i < contents.size(); ++i) contents[i].index = static_cast<int>(i);
-  layout.patches = std::move(contents);
+  std::vector<std::pair<int, int>> free_slots = FreeSlots(*grid, taken);
+  auto contents = SlotContents(options, free_slots.size(), error);
+  if (!contents) return std::nullopt;
+  layout.patches = InReadingOrder(PlacePatches(
+      *grid, options, layout.sheet_id, std::move(*contents), std::move(free_slots), paper_slots));
   return layout;
 }
 

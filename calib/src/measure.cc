@@ -100,6 +100,143 @@ std::string Fail(std::string* error, const std::string& message) {
   return message;
 }
 
+// Samples every patch and records what is known before the white: as shot, local flags.
+std::vector<internal::PatchPixels> SamplePatches(const cv::Mat& bgr, const SheetLocation& location,
+                                                 const CalibSheetLayout& layout,
+                                                 const MeasureOptions& options,
+                                                 std::vector<PatchMeasurement>* patches) {
+  std::vector<internal::PatchPixels> pixels;
+  for (const Patch& patch : layout.patches) {
+    pixels.push_back(internal::SamplePatch(bgr, location.image_from_page, patch, options));
+    PatchMeasurement m;
+    m.index = patch.index;
+    m.pixels = pixels.back().pixels;
+    m.flags = LocalFlags(pixels.back(), options);
+    m.noise_a = pixels.back().noise_a;
+    m.noise_b = pixels.back().noise_b;
+    const Rgb& lin = pixels.back().linear_mean;
+    m.camera_rgb = {LinearToSrgb(lin.r), LinearToSrgb(lin.g), LinearToSrgb(lin.b)};
+    m.as_shot = XyzToLab(LinearRgbToXyz(lin));
+    patches->push_back(m);
+  }
+  return pixels;
+}
+
+// Refuses (false, *error) a photo with the paper clipped in half or more of the paper patches.
+bool CheckNotOverexposed(const CalibSheetLayout& layout,
+                         const std::vector<PatchMeasurement>& patches, std::string* error) {
+  int paper = 0, paper_clipped = 0;
+  for (const Patch& patch : layout.patches) {
+    if (patch.kind != PatchKind::kPaper) continue;
+    ++paper;
+    paper_clipped += (patches[patch.index].flags & kFlagClipped) != 0;
+  }
+  if (paper_clipped * 2 >= paper) {
+    Fail(error, "overexposed: the paper white is clipped (255) in " +
+                    std::to_string(paper_clipped) + " of " + std::to_string(paper) +
+                    " white patches; lower the exposure until the paper is light grey to white "
+                    "without clipping");
+    return false;
+  }
+  return true;
+}
+
+// The exposure: the median over the usable paper patches of their brightest channel, 8-bit.
+double WhiteLevel(const CalibSheetLayout& layout, const std::vector<PatchMeasurement>& patches) {
+  std::vector<double> levels;
+  for (const Patch& patch : layout.patches) {
+    if (patch.kind != PatchKind::kPaper || patches[patch.index].flags) continue;
+    const Rgb& c = patches[patch.index].camera_rgb;
+    levels.push_back(255.0 * std::max({c.r, c.g, c.b}));
+  }
+  std::nth_element(levels.begin(), levels.begin() + levels.size() / 2, levels.end());
+  return levels[levels.size() / 2];
+}
+
+// Refuses (false, *error) a white level below options.min_white_level.
+bool CheckNotUnderexposed(double white_level, const MeasureOptions& options, std::string* error) {
+  if (white_level < options.min_white_level) {
+    char text[200];
+    std::snprintf(text, sizeof(text),
+                  "underexposed: the paper white reads only %.0f of 255 (at least %d needed); add "
+                  "light or raise the exposure",
+                  white_level, options.min_white_level);
+    Fail(error, text);
+    return false;
+  }
+  return true;
+}
+
+// Normalise, then the flags that need the white: glare and blur.
+void NormaliseAndFlag(const CalibSheetLayout& layout,
+                      const std::vector<internal::PatchPixels>& pixels, const WhiteField& field,
+                      const MeasureOptions& options, std::vector<PatchMeasurement>* patches) {
+  for (const Patch& patch : layout.patches) {
+    PatchMeasurement& m = (*patches)[patch.index];
+    const internal::PatchPixels& px = pixels[patch.index];
+    const Rgb white = field.At(patch.CenterMm());
+    m.lab = Normalised(px.linear_mean, white);
+    if (!(m.flags & kFlagTooSmall)) {
+      const double tail = px.y_p98 - px.y_p50;
+      if (tail > options.glare_tail * Luminance(white) && tail > 3 * (px.y_p50 - px.y_p02))
+        m.flags |= kFlagGlare;
+      if (Ciede2000(m.lab, Normalised(px.inner_linear_mean, white)) > options.max_inner_delta_e)
+        m.flags |= kFlagBlurred;
+    }
+  }
+}
+
+// The colour (not paper) patches: how many, how many flagged and for what, usable per shade.
+struct FlagTally {
+  int colour = 0;
+  int flagged = 0;
+  int counts[4] = {0, 0, 0, 0};                // Per flag bit: clipped, glare, blurred, too small.
+  std::array<int, kNumShades> usable_shade{};  // Palette patches only.
+};
+
+// Tallies the colour patches' flags and the usable palette patches of each shade.
+FlagTally TallyFlags(const CalibSheetLayout& layout, const std::vector<PatchMeasurement>& patches) {
+  FlagTally tally;
+  for (const Patch& patch : layout.patches) {
+    if (patch.kind == PatchKind::kPaper) continue;
+    const PatchMeasurement& m = patches[patch.index];
+    ++tally.colour;
+    if (!m.usable()) {
+      ++tally.flagged;
+      for (int bit = 0; bit < 4; ++bit) tally.counts[bit] += (m.flags >> bit) & 1;
+    } else if (patch.kind == PatchKind::kPalette) {
+      ++tally.usable_shade[static_cast<int>(patch.shade)];
+    }
+  }
+  return tally;
+}
+
+// Refuses (false, *error) too many flagged colour patches, or a shade with no usable patch.
+bool CheckEnoughUsable(const FlagTally& tally, const MeasureOptions& options, std::string* error) {
+  const int* counts = tally.counts;
+  if (tally.flagged > options.max_flagged_fraction * tally.colour) {
+    char text[320];
+    std::snprintf(text, sizeof(text),
+                  "%d of %d colour patches are unusable (clipped %d, glare %d, blurred %d, too "
+                  "small %d): retake the photo %s",
+                  tally.flagged, tally.colour, counts[0], counts[1], counts[2], counts[3],
+                  counts[3] > counts[2] ? "closer to the sheet"
+                  : counts[1] > 0       ? "without glare (light from the side, not behind you)"
+                  : counts[0] > 0       ? "with a lower exposure"
+                                        : "in focus and without motion");
+    Fail(error, text);
+    return false;
+  }
+  for (Shade shade : {Shade::kRed1, Shade::kRed0, Shade::kGreen1, Shade::kGreen0, Shade::kBlack}) {
+    if (tally.usable_shade[static_cast<int>(shade)] == 0) {
+      Fail(error, std::string("no usable patch of ") + ShadeName(shade) +
+                      " (all flagged): retake the photo");
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 bool MeasureOptions::IsValid(std::string* error) const {
@@ -144,32 +281,9 @@ std::optional<PhotoMeasurement> MeasurePhoto(const cv::Mat& bgr, const CalibShee
   if (!location) return std::nullopt;
   out.location = *location;
 
-  std::vector<internal::PatchPixels> pixels;
-  int paper = 0, paper_clipped = 0;
-  for (const Patch& patch : layout.patches) {
-    pixels.push_back(internal::SamplePatch(bgr, location->image_from_page, patch, options));
-    PatchMeasurement m;
-    m.index = patch.index;
-    m.pixels = pixels.back().pixels;
-    m.flags = LocalFlags(pixels.back(), options);
-    m.noise_a = pixels.back().noise_a;
-    m.noise_b = pixels.back().noise_b;
-    const Rgb& lin = pixels.back().linear_mean;
-    m.camera_rgb = {LinearToSrgb(lin.r), LinearToSrgb(lin.g), LinearToSrgb(lin.b)};
-    m.as_shot = XyzToLab(LinearRgbToXyz(lin));
-    out.patches.push_back(m);
-    if (patch.kind == PatchKind::kPaper) {
-      ++paper;
-      paper_clipped += (m.flags & kFlagClipped) != 0;
-    }
-  }
-  if (paper_clipped * 2 >= paper) {
-    Fail(error, "overexposed: the paper white is clipped (255) in " +
-                    std::to_string(paper_clipped) + " of " + std::to_string(paper) +
-                    " white patches; lower the exposure until the paper is light grey to white "
-                    "without clipping");
-    return std::nullopt;
-  }
+  const std::vector<internal::PatchPixels> pixels =
+      SamplePatches(bgr, *location, layout, options, &out.patches);
+  if (!CheckNotOverexposed(layout, out.patches, error)) return std::nullopt;
   WhiteField field;
   if (!FitWhite(layout, pixels, options, &out.patches, &field)) {
     Fail(error,
@@ -177,68 +291,13 @@ std::optional<PhotoMeasurement> MeasurePhoto(const cv::Mat& bgr, const CalibShee
          "without glare or shadows");
     return std::nullopt;
   }
-  std::vector<double> levels;
-  for (const Patch& patch : layout.patches) {
-    if (patch.kind != PatchKind::kPaper || out.patches[patch.index].flags) continue;
-    const Rgb& c = out.patches[patch.index].camera_rgb;
-    levels.push_back(255.0 * std::max({c.r, c.g, c.b}));
-  }
-  std::nth_element(levels.begin(), levels.begin() + levels.size() / 2, levels.end());
-  out.white_level = levels[levels.size() / 2];
-  if (out.white_level < options.min_white_level) {
-    char text[200];
-    std::snprintf(text, sizeof(text),
-                  "underexposed: the paper white reads only %.0f of 255 (at least %d needed); add "
-                  "light or raise the exposure",
-                  out.white_level, options.min_white_level);
-    Fail(error, text);
-    return std::nullopt;
-  }
+  out.white_level = WhiteLevel(layout, out.patches);
+  if (!CheckNotUnderexposed(out.white_level, options, error)) return std::nullopt;
 
-  // Normalise, then the flags that need the white: glare and blur.
-  int colour = 0, counts[4] = {0, 0, 0, 0};
-  std::array<int, kNumShades> usable_shade{};
-  for (const Patch& patch : layout.patches) {
-    PatchMeasurement& m = out.patches[patch.index];
-    const internal::PatchPixels& px = pixels[patch.index];
-    const Rgb white = field.At(patch.CenterMm());
-    m.lab = Normalised(px.linear_mean, white);
-    if (!(m.flags & kFlagTooSmall)) {
-      const double tail = px.y_p98 - px.y_p50;
-      if (tail > options.glare_tail * Luminance(white) && tail > 3 * (px.y_p50 - px.y_p02))
-        m.flags |= kFlagGlare;
-      if (Ciede2000(m.lab, Normalised(px.inner_linear_mean, white)) > options.max_inner_delta_e)
-        m.flags |= kFlagBlurred;
-    }
-    if (patch.kind == PatchKind::kPaper) continue;
-    ++colour;
-    if (!m.usable()) {
-      ++out.flagged;
-      for (int bit = 0; bit < 4; ++bit) counts[bit] += (m.flags >> bit) & 1;
-    } else if (patch.kind == PatchKind::kPalette) {
-      ++usable_shade[static_cast<int>(patch.shade)];
-    }
-  }
-  if (out.flagged > options.max_flagged_fraction * colour) {
-    char text[320];
-    std::snprintf(text, sizeof(text),
-                  "%d of %d colour patches are unusable (clipped %d, glare %d, blurred %d, too "
-                  "small %d): retake the photo %s",
-                  out.flagged, colour, counts[0], counts[1], counts[2], counts[3],
-                  counts[3] > counts[2] ? "closer to the sheet"
-                  : counts[1] > 0       ? "without glare (light from the side, not behind you)"
-                  : counts[0] > 0       ? "with a lower exposure"
-                                        : "in focus and without motion");
-    Fail(error, text);
-    return std::nullopt;
-  }
-  for (Shade shade : {Shade::kRed1, Shade::kRed0, Shade::kGreen1, Shade::kGreen0, Shade::kBlack}) {
-    if (usable_shade[static_cast<int>(shade)] == 0) {
-      Fail(error, std::string("no usable patch of ") + ShadeName(shade) +
-                      " (all flagged): retake the photo");
-      return std::nullopt;
-    }
-  }
+  NormaliseAndFlag(layout, pixels, field, options, &out.patches);
+  const FlagTally tally = TallyFlags(layout, out.patches);
+  out.flagged = tally.flagged;
+  if (!CheckEnoughUsable(tally, options, error)) return std::nullopt;
   return out;
 }
 

@@ -112,6 +112,108 @@ double Score(double a_gap, double red_b, double green_b, const PaletteChoiceOpti
   return std::min({a_gap / o.a_goal, red_b / o.b_goal, green_b / o.b_goal});
 }
 
+// The best set found by the search: its red pair, its green pair (none: nullptr) and a* gap.
+struct BestSet {
+  const Pair* red = nullptr;
+  const Pair* green = nullptr;
+  double a_gap = 0;
+};
+
+// Scores every red pair with every green pair; the best's score and spread go into *best.
+BestSet SearchSets(const std::vector<Option>& reds, const std::vector<Option>& greens,
+                   const std::vector<Pair>& red_pairs, const std::vector<Pair>& green_pairs,
+                   size_t photos, const PaletteChoiceOptions& o, PaletteChoice* best) {
+  BestSet set;
+  best->score = -1e300;
+  double best_total = -1e300;
+  for (const Pair& r : red_pairs) {
+    for (const Pair& g : green_pairs) {
+      const double file_a_gap = std::min(reds[r.one].intended.a, reds[r.zero].intended.a) -
+                                std::max(greens[g.one].intended.a, greens[g.zero].intended.a);
+      if (file_a_gap < 25.0) continue;  // The palette file's required a* gap.
+      double a_gap = 1e300;
+      for (size_t p = 0; p < photos; ++p) a_gap = std::min(a_gap, r.a_bound[p] - g.a_bound[p]);
+      const double score = Score(a_gap, r.worst_b_gap, g.worst_b_gap, o);
+      ++best->combinations;
+      // The smallest margin decides; among sets it ranks equal (common: one
+      // colour's b* gap limits every set), the larger sum of all three, then
+      // the smaller a* spread between shades.
+      const double total = a_gap / o.a_goal + r.worst_b_gap / o.b_goal + g.worst_b_gap / o.b_goal;
+      const double spread = std::max(r.worst_a_spread, g.worst_a_spread);
+      const bool tie = std::abs(score - best->score) <= 1e-9;
+      if (score > best->score + 1e-9 || (tie && total > best_total + 1e-9) ||
+          (tie && std::abs(total - best_total) <= 1e-9 && spread < best->a_spread)) {
+        best->score = score;
+        best->a_spread = spread;
+        best_total = total;
+        set.red = &r;
+        set.green = &g;
+        set.a_gap = a_gap;
+      }
+    }
+  }
+  return set;
+}
+
+// Why no palette could be chosen.
+std::string NoSetMessage(const PaletteChoiceOptions& o) {
+  return "no set of printed reds and greens keeps the shades apart (b* order as in the "
+         "file, a* within " +
+         std::to_string(static_cast<int>(o.max_a_spread)) +
+         " between shades, L* clear of black and white): this printer cannot print a "
+         "ChromaTag palette from these candidates";
+}
+
+// Writes the chosen set's margins, shades and palette (named and described) into *best.
+void FillChoice(const CalibSheetLayout& layout, size_t photos, const std::vector<Option>& reds,
+                const std::vector<Option>& greens, const BestSet& set, PaletteChoice* best) {
+  best->a_gap = set.a_gap;
+  best->red_b_gap = set.red->worst_b_gap;
+  best->green_b_gap = set.green->worst_b_gap;
+  const Option* chosen[4] = {&reds[set.red->one], &reds[set.red->zero], &greens[set.green->one],
+                             &greens[set.green->zero]};
+  const Shade shades[4] = {Shade::kRed1, Shade::kRed0, Shade::kGreen1, Shade::kGreen0};
+  best->palette = layout.palette;
+  for (int k = 0; k < 4; ++k) {
+    best->shades[k] = ChosenShade{chosen[k]->intended, chosen[k]->patch, chosen[k]->measured};
+    best->palette[shades[k]] = chosen[k]->intended;
+  }
+  best->palette.name = "sheet-" + std::to_string(layout.sheet_id) + "-calibrated";
+  char description[300];
+  std::snprintf(description, sizeof(description),
+                "Chosen by chromatag calibrate from sheet %d in %zu photo(s): worst-case printed "
+                "a* gap %.1f, b* gaps %.1f (reds) and %.1f (greens)",
+                layout.sheet_id, photos, best->a_gap, best->red_b_gap, best->green_b_gap);
+  best->palette.description = description;
+}
+
+// The sheet's own palette, scored the same way, for comparison (0 if a shade has no reading).
+double SheetPaletteScore(const CalibSheetLayout& layout, size_t photos,
+                         const std::vector<Option>& reds, const std::vector<Option>& greens,
+                         const PaletteChoiceOptions& o) {
+  auto find = [](const std::vector<Option>& options, const Lab& lab) {
+    for (size_t i = 0; i < options.size(); ++i) {
+      if (options[i].patch < 0 && LabToSrgb8(options[i].intended) == LabToSrgb8(lab))
+        return static_cast<int>(i);
+    }
+    return -1;
+  };
+  const int r1 = find(reds, layout.palette[Shade::kRed1]);
+  const int r0 = find(reds, layout.palette[Shade::kRed0]);
+  const int g1 = find(greens, layout.palette[Shade::kGreen1]);
+  const int g0 = find(greens, layout.palette[Shade::kGreen0]);
+  if (r1 < 0 || r0 < 0 || g1 < 0 || g0 < 0) return 0;
+  double a_gap = 1e300, rb = 1e300, gb = 1e300;
+  for (size_t p = 0; p < photos; ++p) {
+    const Lab &l1 = reds[r1].measured[p], &l0 = reds[r0].measured[p];
+    const Lab &m1 = greens[g1].measured[p], &m0 = greens[g0].measured[p];
+    a_gap = std::min(a_gap, std::min(l1.a, l0.a) - std::max(m1.a, m0.a));
+    rb = std::min(rb, l1.b - l0.b);
+    gb = std::min(gb, m0.b - m1.b);
+  }
+  return Score(a_gap, rb, gb, o);
+}
+
 }  // namespace
 
 bool PaletteChoiceOptions::IsValid(std::string* error) const {
@@ -134,91 +236,13 @@ std::optional<PaletteChoice> ChoosePalette(const CalibSheetLayout& layout,
   const std::vector<Pair> green_pairs = Pairs(greens, false, photos.size(), o);
 
   PaletteChoice best;
-  best.score = -1e300;
-  const Pair* best_red = nullptr;
-  const Pair* best_green = nullptr;
-  double best_a_gap = 0, best_total = -1e300;
-  for (const Pair& r : red_pairs) {
-    for (const Pair& g : green_pairs) {
-      const double file_a_gap = std::min(reds[r.one].intended.a, reds[r.zero].intended.a) -
-                                std::max(greens[g.one].intended.a, greens[g.zero].intended.a);
-      if (file_a_gap < 25.0) continue;  // The palette file's required a* gap.
-      double a_gap = 1e300;
-      for (size_t p = 0; p < photos.size(); ++p)
-        a_gap = std::min(a_gap, r.a_bound[p] - g.a_bound[p]);
-      const double score = Score(a_gap, r.worst_b_gap, g.worst_b_gap, o);
-      ++best.combinations;
-      // The smallest margin decides; among sets it ranks equal (common: one
-      // colour's b* gap limits every set), the larger sum of all three, then
-      // the smaller a* spread between shades.
-      const double total = a_gap / o.a_goal + r.worst_b_gap / o.b_goal + g.worst_b_gap / o.b_goal;
-      const double spread = std::max(r.worst_a_spread, g.worst_a_spread);
-      const bool tie = std::abs(score - best.score) <= 1e-9;
-      if (score > best.score + 1e-9 || (tie && total > best_total + 1e-9) ||
-          (tie && std::abs(total - best_total) <= 1e-9 && spread < best.a_spread)) {
-        best.score = score;
-        best.a_spread = spread;
-        best_total = total;
-        best_red = &r;
-        best_green = &g;
-        best_a_gap = a_gap;
-      }
-    }
-  }
-  if (!best_red) {
-    if (error) {
-      *error =
-          "no set of printed reds and greens keeps the shades apart (b* order as in the "
-          "file, a* within " +
-          std::to_string(static_cast<int>(o.max_a_spread)) +
-          " between shades, L* clear of black and white): this printer cannot print a "
-          "ChromaTag palette from these candidates";
-    }
+  const BestSet set = SearchSets(reds, greens, red_pairs, green_pairs, photos.size(), o, &best);
+  if (!set.red) {
+    if (error) *error = NoSetMessage(o);
     return std::nullopt;
   }
-  best.a_gap = best_a_gap;
-  best.red_b_gap = best_red->worst_b_gap;
-  best.green_b_gap = best_green->worst_b_gap;
-  const Option* chosen[4] = {&reds[best_red->one], &reds[best_red->zero], &greens[best_green->one],
-                             &greens[best_green->zero]};
-  const Shade shades[4] = {Shade::kRed1, Shade::kRed0, Shade::kGreen1, Shade::kGreen0};
-  best.palette = layout.palette;
-  for (int k = 0; k < 4; ++k) {
-    best.shades[k] = ChosenShade{chosen[k]->intended, chosen[k]->patch, chosen[k]->measured};
-    best.palette[shades[k]] = chosen[k]->intended;
-  }
-  best.palette.name = "sheet-" + std::to_string(layout.sheet_id) + "-calibrated";
-  char description[300];
-  std::snprintf(description, sizeof(description),
-                "Chosen by chromatag calibrate from sheet %d in %zu photo(s): worst-case printed "
-                "a* gap %.1f, b* gaps %.1f (reds) and %.1f (greens)",
-                layout.sheet_id, photos.size(), best.a_gap, best.red_b_gap, best.green_b_gap);
-  best.palette.description = description;
-
-  // The sheet's own palette, scored the same way, for comparison.
-  auto find = [](const std::vector<Option>& options, const Lab& lab) {
-    for (size_t i = 0; i < options.size(); ++i) {
-      if (options[i].patch < 0 && LabToSrgb8(options[i].intended) == LabToSrgb8(lab))
-        return static_cast<int>(i);
-    }
-    return -1;
-  };
-  const int r1 = find(reds, layout.palette[Shade::kRed1]);
-  const int r0 = find(reds, layout.palette[Shade::kRed0]);
-  const int g1 = find(greens, layout.palette[Shade::kGreen1]);
-  const int g0 = find(greens, layout.palette[Shade::kGreen0]);
-  best.sheet_palette_score = 0;
-  if (r1 >= 0 && r0 >= 0 && g1 >= 0 && g0 >= 0) {
-    double a_gap = 1e300, rb = 1e300, gb = 1e300;
-    for (size_t p = 0; p < photos.size(); ++p) {
-      const Lab &l1 = reds[r1].measured[p], &l0 = reds[r0].measured[p];
-      const Lab &m1 = greens[g1].measured[p], &m0 = greens[g0].measured[p];
-      a_gap = std::min(a_gap, std::min(l1.a, l0.a) - std::max(m1.a, m0.a));
-      rb = std::min(rb, l1.b - l0.b);
-      gb = std::min(gb, m0.b - m1.b);
-    }
-    best.sheet_palette_score = Score(a_gap, rb, gb, o);
-  }
+  FillChoice(layout, photos.size(), reds, greens, set, &best);
+  best.sheet_palette_score = SheetPaletteScore(layout, photos.size(), reds, greens, o);
   return best;
 }
 

@@ -112,8 +112,8 @@ Plane PlaneFor(const CalibrationResult& r) {
   return plane;
 }
 
-void DrawPlane(cairo_t* cr, const CalibrationResult& r) {
-  const Plane plane = PlaneFor(r);
+// The plane's grid lines every 20 units, their values and the axis names.
+void DrawAxes(cairo_t* cr, const Plane& plane) {
   cairo_set_line_width(cr, 0.4);
   for (double v = plane.lo; v <= plane.hi + 1e-9; v += 20) {
     cairo_set_source_rgb(cr, v == 0 ? 0.5 : 0.85, v == 0 ? 0.5 : 0.85, v == 0 ? 0.5 : 0.85);
@@ -127,7 +127,10 @@ void DrawPlane(cairo_t* cr, const CalibrationResult& r) {
   }
   Text(cr, plane.X(plane.hi) - 12, plane.Y(plane.lo) + 22, 9, "a*", true);
   Text(cr, plane.X(plane.lo) - 30, plane.Y(plane.hi) - 6, 9, "b*", true);
+}
 
+// Every candidate patch, as meant and as printed in each photo.
+void DrawCandidates(cairo_t* cr, const CalibrationResult& r, const Plane& plane) {
   // Candidates: where they were meant to be (grey) and where they printed
   // (their own colour, every photo).
   for (const Patch& p : r.layout.patches) {
@@ -144,7 +147,10 @@ void DrawPlane(cairo_t* cr, const CalibrationResult& r) {
       cairo_fill(cr);
     }
   }
-  // The palette: target (large disc) -> each photo's mean (marker).
+}
+
+// The palette: target (large disc) -> each photo's mean (marker).
+void DrawPaletteShades(cairo_t* cr, const CalibrationResult& r, const Plane& plane) {
   for (int s = 0; s < 4; ++s) {
     const Shade shade = static_cast<Shade>(s);
     const Lab& target = r.layout.palette[shade];
@@ -172,22 +178,28 @@ void DrawPlane(cairo_t* cr, const CalibrationResult& r) {
     cairo_stroke(cr);
     Text(cr, plane.X(target.a) + 9, plane.Y(target.b) - 6, 8, ShadeName(shade), true);
   }
-  // The chosen palette, as printed (mean over photos): rings.
-  if (r.palette) {
-    for (int s = 0; s < 4; ++s) {
-      Lab mean;
-      const auto& measured = r.palette->shades[s].measured;
-      for (const Lab& m : measured) {
-        mean.a += m.a / measured.size();
-        mean.b += m.b / measured.size();
-      }
-      cairo_new_sub_path(cr);
-      cairo_arc(cr, plane.X(mean.a), plane.Y(mean.b), 6, 0, 2 * kPi);
-      cairo_set_source_rgb(cr, 0, 0, 0);
-      cairo_set_line_width(cr, 2.0);
-      cairo_stroke(cr);
+}
+
+// The chosen palette, as printed (mean over photos): rings.
+void DrawChosenPalette(cairo_t* cr, const CalibrationResult& r, const Plane& plane) {
+  if (!r.palette) return;
+  for (int s = 0; s < 4; ++s) {
+    Lab mean;
+    const auto& measured = r.palette->shades[s].measured;
+    for (const Lab& m : measured) {
+      mean.a += m.a / measured.size();
+      mean.b += m.b / measured.size();
     }
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, plane.X(mean.a), plane.Y(mean.b), 6, 0, 2 * kPi);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 2.0);
+    cairo_stroke(cr);
   }
+}
+
+// Below the plane: what its marks mean, and each photo's marker with the photo's name.
+void DrawPlaneLegend(cairo_t* cr, const CalibrationResult& r) {
   // Legend.
   double y = kPlotY + kPlotSide + 30;
   Text(cr, kPlotX, y, 8,
@@ -207,6 +219,15 @@ void DrawPlane(cairo_t* cr, const CalibrationResult& r) {
     x += 100;
     if (x > kPlotX + 700) break;
   }
+}
+
+void DrawPlane(cairo_t* cr, const CalibrationResult& r) {
+  const Plane plane = PlaneFor(r);
+  DrawAxes(cr, plane);
+  DrawCandidates(cr, r, plane);
+  DrawPaletteShades(cr, r, plane);
+  DrawChosenPalette(cr, r, plane);
+  DrawPlaneLegend(cr, r);
 }
 
 double Row(cairo_t* cr, double y, const std::string& label, const std::string& value,

@@ -27,6 +27,101 @@ double CellSpread(const ShadeReading& one, const ShadeReading& zero) {
   return std::sqrt(repeat + pixel * pixel);
 }
 
+// The derived detector options, unrounded; warns when BorderThresh has too little room.
+DetectorOptions DeriveOptions(const Margins& w, const ThresholdOptions& o,
+                              std::vector<std::string>* warnings) {
+  const double s = o.safety_factor;
+  DetectorOptions d;
+  d.adiff_thresh = std::clamp(w.a_gap / s, o.min_adiff, o.max_adiff);
+  // BorderThresh must stay above the a* step between two shades of one
+  // colour (with the safety factor) plus twice the pixel noise (the scan
+  // needs M pixels in a row past it, so rarer noise does not count), or the
+  // scan stops inside the red; and
+  // below the red-green gap and the quiet zone's L* lead (or it never sees
+  // the border). The upper bound wins: a scan that never leaves the red
+  // finds nothing at all.
+  const double need = s * w.a_spread + 2.0 * w.noise_a;
+  const double room = std::max(o.min_border, std::min(w.a_gap, w.l_gap_white) / s);
+  d.border_thresh = std::clamp(need, o.min_border, room);
+  if (need > room) {
+    warnings->push_back(Format(
+        "BorderThresh: the two shades of a colour differ by %.1f in a* (noise %.1f), too close "
+        "to the red-green gap of %.1f: scans may stop at a shade change",
+        w.a_spread, w.noise_a, w.a_gap));
+    warnings->back() += Format("; BorderThresh set to %.1f (wanted %.1f)", d.border_thresh, need);
+  }
+  d.min_decision_margin =
+      std::clamp(w.decision() / s, o.min_decision_margin, o.max_decision_margin);
+  // A tag's green ring, one cell wide, reads redder through blur and JPEG's
+  // chroma than a patch of it: past the red, the detector meets the greens'
+  // a* plus a share of the red-green gap. Never below the default, which
+  // allows for that on the benchmark's casts.
+  d.max_green_a = std::clamp(w.max_green_a + w.a_gap / (2.0 * s), DetectorOptions{}.max_green_a,
+                             kMaxGreenALimit);
+  return d;
+}
+
+// The verdict on the red-green a* gap, which ADiffThresh (unrounded) seeds on.
+PairVerdict AGapVerdict(const Margins& w, double adiff_thresh, const ThresholdOptions& o) {
+  const double s = o.safety_factor;
+  PairVerdict a_pair{"reds / greens (a*)", w.a_gap, Verdict::kGood, ""};
+  if (w.a_gap / s < o.min_adiff) {
+    a_pair.verdict = Verdict::kFail;
+    a_pair.why =
+        Format("a* gap %.1f: too small to seed on with a safety factor of %.1f", w.a_gap, s);
+  } else if (w.min_red_a < kMinTagRedA + 2) {
+    a_pair.verdict = Verdict::kFail;
+    a_pair.why = Format(
+        "the reds print at a* %.1f, at the detector's floor of %.0f for a red: "
+        "tags in dimmer or cooler light will not be found",
+        w.min_red_a, kMinTagRedA);
+  } else if (w.a_gap / s < o.thin_adiff) {
+    a_pair.verdict = Verdict::kThin;
+    a_pair.why = Format(
+        "ADiffThresh %.1f is below %.1f, where natural scenes begin to seed "
+        "candidates: expect more false candidates (slower, not wrong)",
+        w.a_gap / s, o.thin_adiff);
+  } else {
+    a_pair.why = Format("ADiffThresh %.1f", adiff_thresh);
+  }
+  return a_pair;
+}
+
+// The verdict on one colour's b* gap between its shades and its expected decision margin.
+PairVerdict BGapVerdict(const char* name, double gap, double decision, const ThresholdOptions& o) {
+  const double s = o.safety_factor;
+  PairVerdict v{name, gap, Verdict::kGood, ""};
+  if (gap <= 0) {
+    v.verdict = Verdict::kFail;
+    v.why = Format(
+        "the shades print in the wrong b* order (gap %.1f): tags decode as wrong "
+        "IDs; use the calibrated palette",
+        gap);
+  } else if (decision < s * o.min_decision_margin) {
+    v.verdict = Verdict::kFail;
+    v.why = Format(
+        "b* gap %.1f, expected decision margin %.1f: below %.1f, decoding is a coin "
+        "toss",
+        gap, decision, s * o.min_decision_margin);
+  } else if (gap < o.thin_b_gap || decision < o.thin_decision) {
+    v.verdict = Verdict::kThin;
+    v.why = Format(
+        "b* gap %.1f, expected decision margin %.1f: decodes, but blur or a cast "
+        "will cost IDs",
+        gap, decision);
+  } else {
+    v.why = Format("b* gap %.1f, expected decision margin %.1f", gap, decision);
+  }
+  return v;
+}
+
+// Rounds the derived options to tenths.
+void RoundToTenths(DetectorOptions* d) {
+  // Tenths: finer than any of this is measured, and readable in the file.
+  for (double* v : {&d->adiff_thresh, &d->border_thresh, &d->min_decision_margin, &d->max_green_a})
+    *v = std::round(*v * 10.0) / 10.0;
+}
+
 }  // namespace
 
 bool ThresholdOptions::IsValid(std::string* error) const {
@@ -125,93 +220,11 @@ DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
   Margins w = per_photo_worst[0];
   for (const Margins& m : per_photo_worst) w = Worst(w, m);
   out.worst = w;
-  const double s = o.safety_factor;
-  DetectorOptions& d = out.options;
-
-  d.adiff_thresh = std::clamp(w.a_gap / s, o.min_adiff, o.max_adiff);
-  // BorderThresh must stay above the a* step between two shades of one
-  // colour (with the safety factor) plus twice the pixel noise (the scan
-  // needs M pixels in a row past it, so rarer noise does not count), or the
-  // scan stops inside the red; and
-  // below the red-green gap and the quiet zone's L* lead (or it never sees
-  // the border). The upper bound wins: a scan that never leaves the red
-  // finds nothing at all.
-  const double need = s * w.a_spread + 2.0 * w.noise_a;
-  const double room = std::max(o.min_border, std::min(w.a_gap, w.l_gap_white) / s);
-  d.border_thresh = std::clamp(need, o.min_border, room);
-  if (need > room) {
-    out.warnings.push_back(Format(
-        "BorderThresh: the two shades of a colour differ by %.1f in a* (noise %.1f), too close "
-        "to the red-green gap of %.1f: scans may stop at a shade change",
-        w.a_spread, w.noise_a, w.a_gap));
-    out.warnings.back() +=
-        Format("; BorderThresh set to %.1f (wanted %.1f)", d.border_thresh, need);
-  }
-  d.min_decision_margin =
-      std::clamp(w.decision() / s, o.min_decision_margin, o.max_decision_margin);
-  // A tag's green ring, one cell wide, reads redder through blur and JPEG's
-  // chroma than a patch of it: past the red, the detector meets the greens'
-  // a* plus a share of the red-green gap. Never below the default, which
-  // allows for that on the benchmark's casts.
-  d.max_green_a = std::clamp(w.max_green_a + w.a_gap / (2.0 * s), DetectorOptions{}.max_green_a,
-                             kMaxGreenALimit);
-
-  PairVerdict a_pair{"reds / greens (a*)", w.a_gap, Verdict::kGood, ""};
-  if (w.a_gap / s < o.min_adiff) {
-    a_pair.verdict = Verdict::kFail;
-    a_pair.why =
-        Format("a* gap %.1f: too small to seed on with a safety factor of %.1f", w.a_gap, s);
-  } else if (w.min_red_a < kMinTagRedA + 2) {
-    a_pair.verdict = Verdict::kFail;
-    a_pair.why = Format(
-        "the reds print at a* %.1f, at the detector's floor of %.0f for a red: "
-        "tags in dimmer or cooler light will not be found",
-        w.min_red_a, kMinTagRedA);
-  } else if (w.a_gap / s < o.thin_adiff) {
-    a_pair.verdict = Verdict::kThin;
-    a_pair.why = Format(
-        "ADiffThresh %.1f is below %.1f, where natural scenes begin to seed "
-        "candidates: expect more false candidates (slower, not wrong)",
-        w.a_gap / s, o.thin_adiff);
-  } else {
-    a_pair.why = Format("ADiffThresh %.1f", d.adiff_thresh);
-  }
-  out.verdicts.push_back(a_pair);
-
-  const struct {
-    const char* name;
-    double gap;
-    double decision;
-  } shade_pairs[2] = {{"red-1 / red-0 (b*)", w.red_b_gap, w.red_decision},
-                      {"green-1 / green-0 (b*)", w.green_b_gap, w.green_decision}};
-  for (const auto& p : shade_pairs) {
-    PairVerdict v{p.name, p.gap, Verdict::kGood, ""};
-    if (p.gap <= 0) {
-      v.verdict = Verdict::kFail;
-      v.why = Format(
-          "the shades print in the wrong b* order (gap %.1f): tags decode as wrong "
-          "IDs; use the calibrated palette",
-          p.gap);
-    } else if (p.decision < s * o.min_decision_margin) {
-      v.verdict = Verdict::kFail;
-      v.why = Format(
-          "b* gap %.1f, expected decision margin %.1f: below %.1f, decoding is a coin "
-          "toss",
-          p.gap, p.decision, s * o.min_decision_margin);
-    } else if (p.gap < o.thin_b_gap || p.decision < o.thin_decision) {
-      v.verdict = Verdict::kThin;
-      v.why = Format(
-          "b* gap %.1f, expected decision margin %.1f: decodes, but blur or a cast "
-          "will cost IDs",
-          p.gap, p.decision);
-    } else {
-      v.why = Format("b* gap %.1f, expected decision margin %.1f", p.gap, p.decision);
-    }
-    out.verdicts.push_back(v);
-  }
-  // Tenths: finer than any of this is measured, and readable in the file.
-  for (double* v : {&d.adiff_thresh, &d.border_thresh, &d.min_decision_margin, &d.max_green_a})
-    *v = std::round(*v * 10.0) / 10.0;
+  out.options = DeriveOptions(w, o, &out.warnings);
+  out.verdicts.push_back(AGapVerdict(w, out.options.adiff_thresh, o));
+  out.verdicts.push_back(BGapVerdict("red-1 / red-0 (b*)", w.red_b_gap, w.red_decision, o));
+  out.verdicts.push_back(BGapVerdict("green-1 / green-0 (b*)", w.green_b_gap, w.green_decision, o));
+  RoundToTenths(&out.options);
   for (const PairVerdict& v : out.verdicts) {
     if (v.verdict != Verdict::kGood)
       out.warnings.push_back(v.pair + " " + VerdictName(v.verdict) + ": " + v.why);
