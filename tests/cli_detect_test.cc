@@ -143,6 +143,10 @@ TEST(CliDetectTest, CameraFilesInTheLayoutsPeopleHave) {
                                                          "intrinsics: [1, 1, 1, 1]\n"
                                                          "distortion_model: equidistant\n"},
                                                         {"nan.json", "{\"camera_matrix\": [1]}"},
+                                                        // OpenCV logged its own line first.
+                                                        {"broken.xml",
+                                                         "<?xml version=\"1.0\"?>\n"
+                                                         "<opencv_storage><camera_m"},
                                                         {"notes.txt", "fx 1500"}}) {
     std::ofstream(dir + "/" + name) << text;
     const auto result = Chromatag(
