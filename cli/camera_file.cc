@@ -1,12 +1,15 @@
 #include "camera_file.h"
 
+#include "chromatag/families/input_file.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -138,31 +141,60 @@ bool FromJson(const std::string& text, CameraIntrinsics* camera, std::string* er
   return false;
 }
 
-bool FromXml(const std::string& path, CameraIntrinsics* camera, std::string* error) {
-  cv::Mat k, d;
-  try {
-    cv::FileStorage file(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_XML);
-    if (!file.isOpened()) {
-      *error = "is not OpenCV XML";
+// The text between <tag ...> and </tag> inside `text`; nullopt if either is missing.
+std::optional<std::string> Element(const std::string& text, const std::string& tag) {
+  size_t open = text.find("<" + tag);
+  while (open != std::string::npos) {
+    const char next = open + tag.size() + 1 < text.size() ? text[open + tag.size() + 1] : '\0';
+    if (next == '>' || next == ' ' || next == '\t' || next == '\n' || next == '\r') break;
+    open = text.find("<" + tag, open + 1);
+  }
+  if (open == std::string::npos) return std::nullopt;
+  const size_t body = text.find('>', open);
+  const size_t close = text.find("</" + tag + ">", body);
+  if (body == std::string::npos || close == std::string::npos) return std::nullopt;
+  return text.substr(body + 1, close - body - 1);
+}
+
+// Numbers separated by white space; nullopt on anything else.
+std::optional<std::vector<double>> Numbers(const std::string& text) {
+  std::vector<double> out;
+  std::istringstream in(text);
+  for (std::string word; in >> word;) {
+    char* end = nullptr;
+    const double value = std::strtod(word.c_str(), &end);
+    if (end == word.c_str() || *end != '\0') return std::nullopt;
+    out.push_back(value);
+  }
+  return out;
+}
+
+// OpenCV's XML layout, read here for the two matrices it needs:
+// cv::FileStorage crashed on a truncated file (issue 12).
+bool FromXml(const std::string& text, CameraIntrinsics* camera, std::string* error) {
+  const auto storage = Element(text, "opencv_storage");
+  if (!storage) {
+    *error = "is not OpenCV XML (no complete <opencv_storage> element)";
+    return false;
+  }
+  const auto matrix = Element(*storage, "camera_matrix");
+  const auto k = matrix ? Element(*matrix, "data") : std::nullopt;
+  const auto k_numbers = k ? Numbers(*k) : std::nullopt;
+  if (!k_numbers) {
+    *error = "needs a camera_matrix with 9 numbers in its <data>";
+    return false;
+  }
+  std::vector<double> d;
+  if (const auto distortion = Element(*storage, "distortion_coefficients")) {
+    const auto data = Element(*distortion, "data");
+    const auto numbers = data ? Numbers(*data) : std::nullopt;
+    if (!numbers) {
+      *error = "has distortion_coefficients without numbers in their <data>";
       return false;
     }
-    file["camera_matrix"] >> k;
-    file["distortion_coefficients"] >> d;
-  } catch (const cv::Exception&) {
-    *error = "is not OpenCV XML";
-    return false;
+    d = *numbers;
   }
-  if (k.total() != 9) {
-    *error = "needs a 3x3 camera_matrix";
-    return false;
-  }
-  k.convertTo(k, CV_64F);
-  std::vector<double> kv(k.begin<double>(), k.end<double>()), dv;
-  if (!d.empty()) {
-    d.convertTo(d, CV_64F);
-    dv.assign(d.begin<double>(), d.end<double>());
-  }
-  return FromMatrix(kv, dv, camera, error);
+  return FromMatrix(*k_numbers, d, camera, error);
 }
 
 }  // namespace
@@ -173,21 +205,15 @@ bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::stri
     *error = "camera file '" + path + "' " + what;
     return false;
   };
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return fail("does not exist or is not a file");
-  if (std::filesystem::file_size(path, ec) > kMaxCameraFileBytes)
-    return fail("is over 1 MiB: not a camera file");
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  if (!in) return fail("cannot be read");
-  const std::string text = buffer.str();
+  const auto contents = ReadInputFile(path, "camera file", kMaxCameraFileBytes, error);
+  if (!contents) return false;
+  const std::string& text = *contents;
   const std::string ext = Lower(std::filesystem::path(path).extension().string());
   bool ok = false;
   if (ext == ".json") {
     ok = FromJson(text, camera, &why);
   } else if (ext == ".xml") {
-    ok = FromXml(path, camera, &why);
+    ok = FromXml(text, camera, &why);
   } else if (ext == ".yaml" || ext == ".yml") {
     ok = FromYaml(text, camera, &why);
   } else {

@@ -8,8 +8,9 @@
 // - Kalibr's camchain YAML (cam0: intrinsics [fu, fv, pu, pv],
 //   distortion_model radtan or none, distortion_coeffs).
 //
-// YAML and JSON are parsed here (yaml-cpp, nlohmann-json), not by
-// cv::FileStorage; only XML still goes through FileStorage.
+// Parsed here (yaml-cpp, nlohmann-json, and the two matrices of OpenCV's
+// XML read directly), never by cv::FileStorage, which crashed on truncated
+// XML; files over 1 MiB or not regular files are refused.
 #ifndef CHROMATAG_CLI_CAMERA_FILE_H_
 #define CHROMATAG_CLI_CAMERA_FILE_H_
 

@@ -11,6 +11,7 @@
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/calib/calibrate.h"
 #include "chromatag/families/palette.h"
+#include "chromatag/generator/cairo_util.h"
 #include "chromatag/generator/file_util.h"
 #include "chromatag/generator/units.h"
 #include "commands.h"
@@ -73,6 +74,9 @@ int RunCalibSheet(const CalibSheetArgs& args) {
                            " name or leave the format out");
   }
   if (!(args.dpi >= 50 && args.dpi <= 1200)) return Fail(kName, "--dpi must be in [50, 1200]");
+  if (format == "png" &&
+      std::max(options.page.width_mm, options.page.height_mm) / 25.4 * args.dpi > kMaxRasterSidePx)
+    return Fail(kName, "a PNG page that large is over Cairo's 32767 pixels a side; lower --dpi");
   const auto layout = LayoutCalibSheet(options, &error);
   if (!layout) return Fail(kName, error);
   const auto files =

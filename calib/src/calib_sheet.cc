@@ -302,7 +302,9 @@ bool CalibSheetOptions::IsValid(std::string* error) const {
       !(candidate_b_reach >= 0 && candidate_b_reach <= 60)) {
     return fail("candidate grid: at least one a* offset, 2 to 30 b* steps, b* reach in [0, 60]");
   }
-  if (!(page.width_mm > 0 && page.height_mm > 0)) return fail("page size must be positive");
+  if (!(page.width_mm > 0 && page.height_mm > 0 && page.width_mm <= kMaxPageSideMm &&
+        page.height_mm <= kMaxPageSideMm))
+    return fail("page sides must be greater than zero and at most 10 m");
   return true;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "chromatag/families/family.h"
+#include "chromatag/families/input_file.h"
 #include "chromatag/families/version.h"
 #include "chromatag/generator/json_fields.h"
 
@@ -176,6 +177,10 @@ std::string CalibSidecarJson(const CalibSheetLayout& layout,
 }
 
 std::optional<CalibSheetLayout> ParseCalibSidecar(const std::string& text, std::string* error) {
+  if (JsonDeeperThan(text, kMaxJsonDepth)) {
+    if (error) *error = "nests deeper than a calibration sidecar does";
+    return std::nullopt;
+  }
   try {
     return Parse(Json::parse(text));
   } catch (const Json::exception& e) {
@@ -187,15 +192,10 @@ std::optional<CalibSheetLayout> ParseCalibSidecar(const std::string& text, std::
 }
 
 std::optional<CalibSheetLayout> ReadCalibSidecar(const std::string& path, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    if (error) *error = "cannot read calibration sheet sidecar '" + path + "'";
-    return std::nullopt;
-  }
-  std::stringstream text;
-  text << in.rdbuf();
+  const auto text = ReadInputFile(path, "calibration sheet sidecar", kMaxJsonFileBytes, error);
+  if (!text) return std::nullopt;
   std::string why;
-  auto layout = ParseCalibSidecar(text.str(), &why);
+  auto layout = ParseCalibSidecar(*text, &why);
   if (!layout && error) *error = "calibration sheet sidecar '" + path + "': " + why;
   return layout;
 }

@@ -1,7 +1,11 @@
 // Detector config files (config.h).
 #include "chromatag/detector/config.h"
 
+#include "chromatag/families/input_file.h"
+
 #include <algorithm>
+#include <climits>
+#include <cstdint>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -22,6 +26,11 @@ double Number(const Json& value, const std::string& key) {
 
 int Integer(const Json& value, const std::string& key) {
   if (!value.is_number_integer()) throw ConfigError{"\"" + key + "\" must be an integer"};
+  // Range first: 4294967300 would wrap to 4 in the cast.
+  const bool fits = value.is_number_unsigned()
+                        ? value.get<uint64_t>() <= static_cast<uint64_t>(INT_MAX)
+                        : value.get<int64_t>() >= INT_MIN && value.get<int64_t>() <= INT_MAX;
+  if (!fits) throw ConfigError{"\"" + key + "\" is out of range"};
   return value.get<int>();
 }
 
@@ -90,6 +99,10 @@ std::string DetectorConfigToJson(const DetectorOptions& options,
 
 bool ParseDetectorConfig(const std::string& text, DetectorOptions* options, std::string* error) {
   DetectorOptions result = *options;
+  if (JsonDeeperThan(text, kMaxJsonDepth)) {
+    if (error) *error = "nests deeper than a detector config does";
+    return false;
+  }
   try {
     const Json root = Json::parse(text);
     if (!root.is_object()) throw ConfigError{"the file must hold a JSON object"};
@@ -127,15 +140,10 @@ bool ParseDetectorConfig(const std::string& text, DetectorOptions* options, std:
 }
 
 bool LoadDetectorConfig(const std::string& path, DetectorOptions* options, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    if (error) *error = "cannot read detector config '" + path + "'";
-    return false;
-  }
-  std::stringstream text;
-  text << in.rdbuf();
+  const auto text = ReadInputFile(path, "detector config", kMaxJsonFileBytes, error);
+  if (!text) return false;
   std::string why;
-  if (!ParseDetectorConfig(text.str(), options, &why)) {
+  if (!ParseDetectorConfig(*text, options, &why)) {
     if (error) *error = "detector config '" + path + "': " + why;
     return false;
   }

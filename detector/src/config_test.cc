@@ -66,6 +66,12 @@ TEST(DetectorConfigTest, RefusesBadFilesAndLeavesOptionsAlone) {
       {R"({"schema": "chromatag-detector-config", "schema_version": 1})", "missing \"options\""},
       {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"adif_thresh": 3}})",
        "unknown option \"adif_thresh\""},
+      // Issue 12: 4294967300 wrapped to a step of 4; max_hamming 50 passed here
+      // and was refused only by Detector::Create.
+      {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"step": 4294967300}})",
+       "\"step\" is out of range"},
+      {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"max_hamming": 50}})",
+       "max_hamming 50 is unsafe for 16h5: at most 2"},
       {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"step": 2.5}})",
        "\"step\" must be an integer"},
       {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"adiff_thresh": -1}})",

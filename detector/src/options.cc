@@ -47,6 +47,16 @@ bool DetectorOptions::IsValid(std::string* error) const {
   if (!(conv_thresh > 0.0 && conv_thresh < 1.0))
     return fail("conv_thresh (ConvThresh) must be in (0, 1)");
   if (max_hamming < -1) return fail("max_hamming must be -1 (family default) or at least 0");
+  // The same limit Detector::Create (CodeDecoder) holds it to, so that options
+  // that pass here are never refused there.
+  for (const auto& name : families) {
+    const auto family = TagFamily::Load(name);
+    if (max_hamming > family->max_safe_radius()) {
+      return fail("max_hamming " + std::to_string(max_hamming) + " is unsafe for " +
+                  family->name() + ": at most " + std::to_string(family->max_safe_radius()) +
+                  " (-1: the family's default)");
+    }
+  }
   if (!(min_decision_margin >= 0.0) || !std::isfinite(min_decision_margin)) {
     return fail("min_decision_margin must be a finite number >= 0");
   }

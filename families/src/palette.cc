@@ -1,5 +1,7 @@
 #include "chromatag/families/palette.h"
 
+#include "chromatag/families/input_file.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -182,17 +184,20 @@ std::optional<Palette> ParsePalette(const std::string& json_text, const std::str
     if (error) *error = message;
     return std::nullopt;
   };
+  if (JsonDeeperThan(json_text, kMaxJsonDepth))
+    return fail("palette nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
   const json root = json::parse(json_text, nullptr, /*allow_exceptions=*/false);
   if (root.is_discarded()) return fail("palette is not valid JSON");
   if (!root.is_object()) return fail("palette must be a JSON object with a \"lab\" member");
-  for (const auto& [key, value] : root.items()) {
+  for (const auto& item : root.items()) {
+    // Not a structured binding: a lambda capturing one is C++20 (clang refuses it).
+    const std::string& key = item.key();
     static const char* kKnown[] = {"format", "version", "name", "description", "lab"};
     if (std::find_if(std::begin(kKnown), std::end(kKnown),
                      [&](const char* k) { return key == k; }) == std::end(kKnown)) {
       return fail("palette has an unknown member \"" + key +
                   "\" (allowed: format, version, name, description, lab)");
     }
-    (void)value;
   }
   if (root.contains("format") && root["format"] != kFormatName) {
     return fail(std::string("palette \"format\" must be \"") + kFormatName + "\"");
@@ -249,17 +254,12 @@ std::optional<Palette> ParsePalette(const std::string& json_text, const std::str
 }
 
 std::optional<Palette> LoadPaletteFile(const std::string& path, std::string* error) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    if (error) *error = "cannot read palette file '" + path + "'";
-    return std::nullopt;
-  }
-  std::stringstream buffer;
-  buffer << file.rdbuf();
+  const auto text = ReadInputFile(path, "palette file", kMaxJsonFileBytes, error);
+  if (!text) return std::nullopt;
   std::string stem = path.substr(path.find_last_of('/') + 1);
   stem = stem.substr(0, stem.rfind('.'));
   std::string parse_error;
-  auto palette = ParsePalette(buffer.str(), stem, &parse_error);
+  auto palette = ParsePalette(*text, stem, &parse_error);
   if (!palette && error) *error = path + ": " + parse_error;
   return palette;
 }

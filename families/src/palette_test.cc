@@ -126,7 +126,7 @@ TEST(PaletteTest, RefusesMalformedFilesWithOneClearMessage) {
 TEST(PaletteTest, LoadsFilesAndNamesUnreadableOnes) {
   std::string error;
   EXPECT_FALSE(LoadPaletteFile("/nonexistent/p.json", &error));
-  EXPECT_EQ(error, "cannot read palette file '/nonexistent/p.json'");
+  EXPECT_EQ(error, "cannot read palette file '/nonexistent/p.json': no such file");
   const std::string path = testing::TempDir() + "/printer.json";
   {
     std::ofstream file(path);

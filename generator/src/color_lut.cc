@@ -1,5 +1,7 @@
 #include "chromatag/generator/color_lut.h"
 
+#include "chromatag/families/input_file.h"
+
 #include <OpenColorIO/OpenColorIO.h>
 
 #include <algorithm>
@@ -16,10 +18,10 @@ struct ColorLut::Impl {
 ColorLut::~ColorLut() = default;
 
 std::unique_ptr<ColorLut> ColorLut::Load(const std::string& path, std::string* error) {
-  if (!std::ifstream(path)) {
-    if (error) *error = "cannot read colour LUT '" + path + "'";
-    return nullptr;
-  }
+  // OpenColorIO reads the file itself; checked here first, so that a
+  // FIFO, a device or a huge file is one clear error.
+  constexpr std::uintmax_t kMaxLutBytes = 64u << 20;  // A 65^3 .cube is about 10 MiB.
+  if (!ReadInputFile(path, "colour LUT", kMaxLutBytes, error)) return nullptr;
   try {
     OCIO::FileTransformRcPtr transform = OCIO::FileTransform::Create();
     transform->setSrc(path.c_str());

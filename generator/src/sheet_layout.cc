@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "chromatag/generator/cairo_util.h"
 #include "chromatag/generator/sheet.h"
 #include "sheet_internal.h"
 
@@ -55,23 +56,27 @@ bool SheetOptions::IsValid(std::string* error) const {
     std::string why;
     if (!family->IsValidId(id, &why)) return fail(why);
   }
-  if (!std::isfinite(tag_size_mm) || tag_size_mm <= 0.0) {
-    return fail("the tag size must be greater than zero");
+  if (!(tag_size_mm >= 1.0 && tag_size_mm <= kMaxPageSideMm)) {
+    return fail("the tag size must be from 1 mm to 10 m");
   }
-  if (!(page.width_mm > 0.0 && page.height_mm > 0.0)) return fail("the page size must be positive");
+  if (!(page.width_mm > 0.0 && page.height_mm > 0.0 && page.width_mm <= kMaxPageSideMm &&
+        page.height_mm <= kMaxPageSideMm)) {
+    return fail("the page sides must be greater than zero and at most 10 m");
+  }
   if (!(margin_mm >= 0.0) || 2.0 * margin_mm >= std::fmin(page.width_mm, page.height_mm)) {
     return fail("the margin must be >= 0 and leave room on the page");
   }
-  if (!(gap_mm >= 0.0)) return fail("the gap between tags must be >= 0");
+  if (!(gap_mm >= 0.0 && gap_mm <= kMaxPageSideMm))
+    return fail("the gap between tags must be from 0 to 10 m");
   if (tag.quiet_zone_cells < 1 || tag.quiet_zone_cells > 20) {
     return fail("the quiet zone must be 1 to 20 cells (the detector needs at least 1)");
   }
   if (format == SheetFormat::kPng) {
     if (!(dpi >= 10.0 && dpi <= 4800.0)) return fail("--dpi must be in [10, 4800]");
     const double longest_px = std::fmax(page.width_mm, page.height_mm) / 25.4 * dpi;
-    if (longest_px > 40000.0) {
-      return fail("a PNG page of " + internal::Mm(longest_px) +
-                  " pixels is too large (limit 40000); lower --dpi");
+    if (longest_px > kMaxRasterSidePx) {
+      return fail("a PNG page of " + internal::Mm(longest_px) + " pixels is too large (limit " +
+                  internal::Mm(kMaxRasterSidePx) + ", Cairo's); lower --dpi");
     }
   }
   return true;

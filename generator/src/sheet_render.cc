@@ -222,6 +222,11 @@ std::optional<std::vector<OutputFile>> RenderSheet(const SheetOptions& options,
       files.push_back({path, options.format == SheetFormat::kSvg
                                  ? RenderSvgPage(options, *layout, colors, page)
                                  : RenderPngPage(options, *layout, colors, page)});
+      if (files.back().contents.empty()) {
+        // Cairo could not hold the page (memory): refused, not written empty.
+        if (error) *error = "cannot render page " + std::to_string(page + 1) + " of '" + path + "'";
+        return std::nullopt;
+      }
     }
   }
   files.push_back({SidecarPath(output_path), internal::SidecarJson(options, *layout, files)});

@@ -346,7 +346,7 @@ TEST(SheetTest, MalformedLutIsRefused) {
   EXPECT_FALSE(ColorLut::Load(lut_path, &error));
   EXPECT_NE(error.find("is not a LUT OpenColorIO can read"), std::string::npos) << error;
   EXPECT_FALSE(ColorLut::Load("/nonexistent.cube", &error));
-  EXPECT_EQ(error, "cannot read colour LUT '/nonexistent.cube'");
+  EXPECT_EQ(error, "cannot read colour LUT '/nonexistent.cube': no such file");
   std::remove(lut_path.c_str());
 }
 
@@ -423,7 +423,7 @@ TEST(SidecarTest, RefusesBrokenSidecarsNamingTheProblem) {
   EXPECT_FALSE(ReadSidecar(path, &error));
   EXPECT_NE(error.find("missing \"family\""), std::string::npos) << error;
   EXPECT_FALSE(ReadSidecar("/nonexistent.json", &error));
-  EXPECT_EQ(error, "cannot read sidecar '/nonexistent.json'");
+  EXPECT_EQ(error, "cannot read sidecar '/nonexistent.json': no such file");
   std::remove(path.c_str());
 }
 

@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "chromatag/families/input_file.h"
 #include "chromatag/generator/json_fields.h"
 #include "chromatag/generator/sidecar.h"
 
@@ -71,14 +72,13 @@ SheetRecord Parse(const json& root, const std::string& folder) {
 }  // namespace
 
 std::optional<SheetRecord> ReadSidecar(const std::string& path, std::string* error) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    if (error) *error = "cannot read sidecar '" + path + "'";
+  const auto text = ReadInputFile(path, "sidecar", kMaxJsonFileBytes, error);
+  if (!text) return std::nullopt;
+  if (JsonDeeperThan(*text, kMaxJsonDepth)) {
+    if (error) *error = "sidecar '" + path + "' nests deeper than any sidecar does";
     return std::nullopt;
   }
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  const json root = json::parse(buffer.str(), nullptr, /*allow_exceptions=*/false);
+  const json root = json::parse(*text, nullptr, /*allow_exceptions=*/false);
   if (root.is_discarded()) {
     if (error) *error = "sidecar '" + path + "' is not valid JSON";
     return std::nullopt;

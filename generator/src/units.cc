@@ -100,6 +100,8 @@ std::optional<PageSize> ParsePageSize(const std::string& input, std::string* err
   const Unit* unit = FindUnit(unit_name);
   if (unit == nullptr) return fail("unknown unit '" + unit_name + "'");
   if (!std::isfinite(width) || width <= 0.0) return fail("the width must be greater than zero");
+  if (width * unit->mm > kMaxPageSideMm || height->mm > kMaxPageSideMm)
+    return fail("a page side may be at most 10 m");
   return PageSize{"custom", width * unit->mm, height->mm};
 }
 

@@ -9,6 +9,9 @@
 
 namespace chromatag {
 
+// The largest side of a Cairo image surface, in pixels.
+inline constexpr double kMaxRasterSidePx = 32767.0;
+
 // The font of every label and note (Debian's fonts-dejavu-core).
 inline constexpr const char* kLabelFont = "DejaVu Sans";
 

@@ -18,6 +18,10 @@ struct Length {
 // unknown unit, a zero, negative or non-finite value.
 std::optional<Length> ParseLength(const std::string& text, std::string* error = nullptr);
 
+// The largest page side the toolkit lays out or draws (10 m; A0 is 1.19 m):
+// beyond it sizes are typing mistakes, and counts of tags overflow.
+inline constexpr double kMaxPageSideMm = 10000.0;
+
 struct PageSize {
   std::string name;  // "a4", or "custom" for WxH.
   double width_mm = 0.0;

@@ -1,0 +1,32 @@
+// Reading the files a user hands the toolkit (palettes, sidecars, detector
+// configs, camera files, LUTs): only regular files, under a size cap, and
+// JSON no deeper than a cap, so that /dev/zero, a FIFO, a folder or a
+// 100,000-deep array is one clear error, not memory exhaustion, a hang or a
+// stack overflow.
+#ifndef CHROMATAG_FAMILIES_INPUT_FILE_H_
+#define CHROMATAG_FAMILIES_INPUT_FILE_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace chromatag {
+
+// The largest JSON file the toolkit reads (a 587-tag sheet's sidecar is
+// about 0.3 MiB) and the deepest nesting any of its formats uses (4).
+inline constexpr std::uintmax_t kMaxJsonFileBytes = 16u << 20;
+inline constexpr int kMaxJsonDepth = 32;
+
+// The whole file, or nullopt with *error "cannot read <kind> '<path>': why"
+// (no such file, not a regular file, over `max_bytes`, a read error).
+std::optional<std::string> ReadInputFile(const std::string& path, const std::string& kind,
+                                         std::uintmax_t max_bytes, std::string* error);
+
+// Whether `json_text` nests arrays and objects deeper than `max_depth`
+// (brackets inside strings not counted). Run before parsing: the parser's
+// callers (dumps, validators) recurse.
+bool JsonDeeperThan(const std::string& json_text, int max_depth);
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_FAMILIES_INPUT_FILE_H_
