@@ -10,6 +10,7 @@
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/calib/calibrate.h"
+#include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/cairo_util.h"
 #include "chromatag/generator/file_util.h"
@@ -62,6 +63,8 @@ int RunCalibSheet(const CalibSheetArgs& args) {
   if (!tag_size) return Fail(kName, error);
   options.tag_size_mm = tag_size->mm;
   options.sheet_id = args.sheet_id;
+  if (!IsValidUtf8(args.output))
+    return Fail(kName, "the output name must be UTF-8 (the sidecar records it)");
   const std::string extension = Extension(args.output);
   const std::string format = args.format.empty() ? extension : args.format;
   if (format != "pdf" && format != "png") {

@@ -26,6 +26,7 @@
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/families/family.h"
+#include "chromatag/generator/file_util.h"
 #include "chromatag/generator/units.h"
 #include "commands.h"
 #include "progress.h"
@@ -137,6 +138,10 @@ bool GatherSources(const DetectOptions& options, std::vector<Source>* sources, s
             MakeSource(IsVideo(file) ? SourceKind::kVideo : SourceKind::kImage, file.string()));
     } else if (!fs::exists(path, ec)) {
       missing.push_back(input);
+    } else if (!fs::is_regular_file(path, ec)) {
+      // A FIFO named .png would block the run forever; a device is not an image.
+      *error = "'" + input + "' is not a regular file, a folder, /dev/videoN or a URL";
+      return false;
     } else {
       sources->push_back(
           MakeSource(IsVideo(path) ? SourceKind::kVideo : SourceKind::kImage, input));
@@ -404,8 +409,13 @@ class Run {
             (fs::path(options_.overlay_dir) /
              (source.overlay_stem + (source.kind == SourceKind::kImage ? "" : suffix) + ".png"))
                 .string();
-        if (!cv::imwrite(overlay, canvas)) {
-          outcome.err = "chromatag detect: cannot write overlay '" + overlay + "'\n";
+        // Through the same all-or-nothing writer as every other output.
+        std::vector<uchar> png;
+        std::string why;
+        if (!cv::imencode(".png", canvas, png) ||
+            !WriteFilesAtomically({{overlay, std::string(png.begin(), png.end())}}, &why)) {
+          outcome.err = "chromatag detect: cannot write overlay '" + overlay + "'" +
+                        (why.empty() ? "" : ": " + why.substr(why.find("': ") + 3)) + "\n";
           outcome.failed = true;
           overlay.clear();
         }

@@ -1,5 +1,6 @@
 #include "chromatag/generator/sheet_request.h"
 
+#include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/id_list.h"
 
@@ -7,6 +8,10 @@ namespace chromatag {
 
 bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, SheetOptions* out,
                     std::string* error) {
+  if (!IsValidUtf8(output_path)) {
+    *error = "the output name must be UTF-8 (the sidecar records it)";
+    return false;
+  }
   out->family = TagFamily::Load(in.family, error);
   if (!out->family) return false;
   if (in.all == !in.ids.empty()) {

@@ -46,7 +46,15 @@ SheetRecord Parse(const json& root, const std::string& folder) {
   record.palette = *parsed;
 
   for (const json& file : Member(root, "files")) {
-    record.files.push_back({folder + String(file, "path"), String(file, "sha256")});
+    // A plain file name beside the sidecar: a sidecar must not make verify
+    // read (and hash) ../../etc/passwd or any file outside its folder.
+    const std::string name = String(file, "path");
+    if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
+        name.find('\\') != std::string::npos) {
+      throw FieldError{"a file's \"path\" must be a file name beside the sidecar, not \"" + name +
+                       "\""};
+    }
+    record.files.push_back({folder + name, String(file, "sha256")});
   }
   const size_t expected_files = record.format == SheetFormat::kPdf ? 1 : record.num_pages;
   if (record.files.size() != expected_files) {

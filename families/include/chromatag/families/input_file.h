@@ -27,6 +27,10 @@ std::optional<std::string> ReadInputFile(const std::string& path, const std::str
 // callers (dumps, validators) recurse.
 bool JsonDeeperThan(const std::string& json_text, int max_depth);
 
+// Whether `text` is well-formed UTF-8 (file names go into JSON sidecars,
+// which must be UTF-8).
+bool IsValidUtf8(const std::string& text);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_FAMILIES_INPUT_FILE_H_

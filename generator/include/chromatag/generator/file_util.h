@@ -13,9 +13,18 @@ struct OutputFile {
   std::string contents;
 };
 
-// Writes every file to "<path>.tmp-<pid>" and then renames them all into
-// place. If any write fails, removes the temporaries, leaves every existing
-// target untouched, and returns false with *error naming the path.
+// Writes all the files of one command, all or nothing:
+// - every target is checked first (its folder exists and is writable, the
+//   target is not a folder or a device, no path twice);
+// - each file goes to a new temporary file with a short unpredictable name
+//   in the target's folder (mkostemp: O_EXCL, never through a symlink),
+//   mode 0644, synced to disk;
+// - the existing targets are kept as hard-linked backups, the temporaries
+//   renamed into place, the backups dropped and the folders synced;
+// - Ctrl-C, SIGTERM, SIGHUP and SIGQUIT are held back in this thread until
+//   it is over.
+// On any failure the old files are left as they were, no temporary remains,
+// and *error names the target and why.
 bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* error = nullptr);
 
 // SHA-256 of `data`, as 64 lower-case hex digits (FIPS 180-4).
