@@ -14,6 +14,8 @@ pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
 # GLib's SHA-256 and libpng's encoder (both already there through Cairo).
 pkg_check_modules(GLIB REQUIRED IMPORTED_TARGET glib-2.0)
 pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
+# zlib's crc32, for the tests' hand-made PNG headers.
+pkg_check_modules(ZLIB REQUIRED IMPORTED_TARGET zlib)
 # Camera files for `detect --camera` (ROS camera_info, Kalibr and OpenCV YAML).
 pkg_check_modules(YAML_CPP REQUIRED IMPORTED_TARGET yaml-cpp)
 pkg_check_modules(POPPLER_CPP REQUIRED IMPORTED_TARGET poppler-cpp)

@@ -12,7 +12,7 @@ packages=(
   # Libraries (brief: Cairo, OpenCV, Eigen, Ceres, OpenColorIO, CLI11,
   # libapriltag, nlohmann-json, poppler).
   libapriltag-dev libcairo2-dev libopencv-dev libopencv-contrib-dev libeigen3-dev libceres-dev
-  libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev librsvg2-dev libglib2.0-dev libpng-dev
+  libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev librsvg2-dev libglib2.0-dev libpng-dev zlib1g-dev
   # Camera files (ROS camera_info, Kalibr, OpenCV YAML) for detect --camera.
   libyaml-cpp-dev
   # Fonts for the labels and notes on generated sheets.

@@ -1,0 +1,229 @@
+// Issue 12: bad and hostile input, as a careless or hostile user gives it.
+// Each case ends with exit 1 or 2 and one line on stderr naming what was
+// wrong: never a signal, never a PASS on the wrong file, never a
+// half-replaced output.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <zlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+
+#include "test_util.h"
+
+namespace chromatag {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CountLines;
+using testing::ReadFile;
+constexpr auto Chromatag = testing::RunChromatag;
+
+class CliHardeningTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = ::testing::TempDir() + "/cli_hardening";
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    ASSERT_EQ(Chromatag({"generate", "--ids", "0-1", "--size", "30mm", "-o", dir_ + "/sheet.pdf"})
+                  .exit_code,
+              0);
+    ASSERT_EQ(Chromatag({"calib-sheet", "-o", dir_ + "/calib.pdf"}).exit_code, 0);
+    ASSERT_EQ(
+        Chromatag({"generate", "--ids", "3", "--dpi", "100", "-o", dir_ + "/page.png"}).exit_code,
+        0);
+  }
+  static std::string dir_;
+};
+std::string CliHardeningTest::dir_;
+
+void Write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+// A PNG that claims 40000 x 40000 pixels (no image data).
+std::string HugePngHeader() {
+  std::string png = "\x89PNG\r\n\x1a\n";
+  auto chunk = [&](const std::string& type, const std::string& data) {
+    for (int s = 24; s >= 0; s -= 8) png.push_back(static_cast<char>(data.size() >> s));
+    const std::string body = type + data;
+    png += body;
+    const uLong crc = crc32(0, reinterpret_cast<const Bytef*>(body.data()), body.size());
+    for (int s = 24; s >= 0; s -= 8) png.push_back(static_cast<char>(crc >> s));
+  };
+  std::string ihdr;
+  for (uint32_t side : {40000u, 40000u})
+    for (int s = 24; s >= 0; s -= 8) ihdr.push_back(static_cast<char>(side >> s));
+  ihdr += std::string("\x08\x02\x00\x00\x00", 5);
+  chunk("IHDR", ihdr);
+  chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8));  // An empty zlib stream.
+  chunk("IEND", "");
+  return png;
+}
+
+struct Case {
+  std::string name;
+  std::function<std::vector<std::string>(const std::string& dir)> args;  // Sets up, returns args.
+  int exit_code;
+  std::string says;
+};
+
+TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
+  const std::vector<Case> cases = {
+      {"sidecar naming a file outside its folder",
+       [](const std::string& d) {
+         auto json = nlohmann::json::parse(ReadFile(d + "/sheet.pdf.json"));
+         json["files"][0]["path"] = "../../../etc/passwd";
+         fs::copy_file(d + "/sheet.pdf", d + "/evil.pdf", fs::copy_options::overwrite_existing);
+         Write(d + "/evil.pdf.json", json.dump());
+         return std::vector<std::string>{"verify", d + "/evil.pdf"};
+       },
+       2, "must be a file name beside the sidecar"},
+      {"sidecar with a 100,000-deep array",
+       [](const std::string& d) {
+         auto text = ReadFile(d + "/sheet.pdf.json");
+         text.insert(text.rfind('}'),
+                     ", \"x\": " + std::string(100000, '[') + std::string(100000, ']'));
+         fs::copy_file(d + "/sheet.pdf", d + "/deep.pdf", fs::copy_options::overwrite_existing);
+         Write(d + "/deep.pdf.json", text);
+         return std::vector<std::string>{"verify", d + "/deep.pdf"};
+       },
+       2, "nests deeper"},
+      {"sidecar number 1e300 cast to int",
+       [](const std::string& d) {
+         auto json = nlohmann::json::parse(ReadFile(d + "/sheet.pdf.json"));
+         json["quiet_zone_cells"] = 1e300;
+         fs::copy_file(d + "/sheet.pdf", d + "/big.pdf", fs::copy_options::overwrite_existing);
+         Write(d + "/big.pdf.json", json.dump());
+         return std::vector<std::string>{"verify", d + "/big.pdf"};
+       },
+       2, "\"quiet_zone_cells\" must be an integer in [1, 20]"},
+      {"calibration sidecar with a deep array",
+       [](const std::string& d) {
+         Write(d + "/deep-calib.json", std::string(100000, '[') + std::string(100000, ']'));
+         return std::vector<std::string>{
+             "calibrate", d + "/sheet.pdf", "--sheet", d + "/deep-calib.json", "-o", d + "/out"};
+       },
+       2, "nests deeper"},
+      {"page of 1e12 mm",
+       [](const std::string& d) {
+         return std::vector<std::string>{"generate",   "--ids", "0",         "--page",
+                                         "1e12x297mm", "-o",    d + "/x.pdf"};
+       },
+       2, "at most 10 m"},
+      {"PNG past Cairo's 32767 px",
+       [](const std::string& d) {
+         return std::vector<std::string>{"generate", "--ids", "0",         "--dpi",
+                                         "3000",     "-o",    d + "/x.png"};
+       },
+       2, "too large"},
+      {"calibration sheet PNG past Cairo's limit",
+       [](const std::string& d) {
+         return std::vector<std::string>{"calib-sheet", "--page", "1000x1000mm", "--dpi",
+                                         "1200",        "-o",     d + "/c.png"};
+       },
+       2, "lower --dpi"},
+      {"truncated camera XML",
+       [](const std::string& d) {
+         Write(d + "/cut.xml", "<?xml version=\"1.0\"?>\n<opencv_storage>\n<camera_matrix type");
+         return std::vector<std::string>{"detect",     "--camera", d + "/cut.xml",
+                                         "--tag-size", "3cm",      d + "/sheet.pdf"};
+       },
+       2, "is not OpenCV XML"},
+      {"config from /dev/zero",
+       [](const std::string& d) {
+         return std::vector<std::string>{"detect", "--config", "/dev/zero", d + "/sheet.pdf"};
+       },
+       2, "not a regular file"},
+      {"palette file from /dev/zero",
+       [](const std::string& d) {
+         return std::vector<std::string>{"generate",  "--ids", "0",         "--palette-file",
+                                         "/dev/zero", "-o",    d + "/x.pdf"};
+       },
+       2, "not a regular file"},
+      {"colour LUT from /dev/zero",
+       [](const std::string& d) {
+         return std::vector<std::string>{"generate",  "--ids", "0",         "--color-lut",
+                                         "/dev/zero", "-o",    d + "/x.pdf"};
+       },
+       2, "not a regular file"},
+      {"a FIFO named .png",
+       [](const std::string& d) {
+         mkfifo((d + "/fifo.png").c_str(), 0600);
+         return std::vector<std::string>{"detect", d + "/fifo.png"};
+       },
+       2, "is not a regular file"},
+      {"config step 4294967300",
+       [](const std::string& d) {
+         Write(d + "/step.json",
+               R"({"schema": "chromatag-detector-config", "schema_version": 1,
+                   "options": {"step": 4294967300}})");
+         return std::vector<std::string>{"detect", "--config", d + "/step.json", d + "/sheet.pdf"};
+       },
+       2, "out of range"},
+      {"config max_hamming 50",
+       [](const std::string& d) {
+         Write(d + "/hamming.json",
+               R"({"schema": "chromatag-detector-config", "schema_version": 1,
+                   "options": {"max_hamming": 50}})");
+         return std::vector<std::string>{"detect", "--config", d + "/hamming.json",
+                                         d + "/sheet.pdf"};
+       },
+       2, "unsafe"},
+      {"an output name that is not UTF-8",
+       [](const std::string& d) {
+         return std::vector<std::string>{"generate", "--ids", "0", "-o", d + "/bad\xff.pdf"};
+       },
+       2, "must be UTF-8"},
+      {"an image too large to decode",
+       [](const std::string& d) {
+         Write(d + "/huge.png", HugePngHeader());
+         return std::vector<std::string>{"detect", d + "/huge.png"};
+       },
+       1, "40000 x 40000 pixels"},
+      {"a LUT name with escape sequences",
+       [](const std::string& d) {
+         return std::vector<std::string>{
+             "generate", "--ids", "0", "--color-lut", d + "/\x1b[31mred.cube", "-o", d + "/x.pdf"};
+       },
+       2, "?[31mred.cube"},
+  };
+  for (const Case& c : cases) {
+    const auto result = Chromatag(c.args(dir_));
+    EXPECT_EQ(result.exit_code, c.exit_code) << c.name << ": " << result.err;
+    // The detect summary line follows a skipped input's message.
+    const int lines = CountLines(result.err) - (c.exit_code == 1 ? 1 : 0);
+    EXPECT_EQ(lines, 1) << c.name << ": " << result.err;
+    EXPECT_NE(result.err.find(c.says), std::string::npos) << c.name << ": " << result.err;
+    EXPECT_EQ(result.err.find('\x1b'), std::string::npos) << c.name;
+  }
+  EXPECT_FALSE(fs::exists(dir_ + "/x.pdf"));
+  EXPECT_FALSE(fs::exists(dir_ + "/x.png"));
+}
+
+// A non-UTF-8 file name is written into JSON with U+FFFD, not thrown on.
+TEST_F(CliHardeningTest, JsonOfANameThatIsNotUtf8) {
+  const std::string odd = dir_ + "/odd\xff.png";
+  fs::copy_file(dir_ + "/page.png", odd, fs::copy_options::overwrite_existing);
+  const auto result = Chromatag({"detect", "--json", "--family", "16h5", odd});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(nlohmann::json::parse(result.out)["file"].get<std::string>().find("\xef\xbf\xbd"),
+            std::string::npos);
+}
+
+// A sidecar that is a folder: the old sheet stays, nothing else appears.
+TEST_F(CliHardeningTest, AFailedWriteLeavesTheOldFiles) {
+  const std::string d = dir_ + "/keep";
+  fs::create_directories(d + "/x.pdf.json");
+  Write(d + "/x.pdf", "old sheet");
+  const auto result = Chromatag({"generate", "--ids", "0", "-o", d + "/x.pdf"});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_EQ(CountLines(result.err), 1) << result.err;
+  EXPECT_EQ(ReadFile(d + "/x.pdf"), "old sheet");
+  size_t entries = 0;
+  for (const auto& entry : fs::directory_iterator(d)) entries += entry.exists() ? 1 : 0;
+  EXPECT_EQ(entries, 2u);
+}
+
+}  // namespace
+}  // namespace chromatag
