@@ -199,28 +199,31 @@ bool FromXml(const std::string& text, CameraIntrinsics* camera, std::string* err
 
 }  // namespace
 
-bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error) {
-  std::string why;
-  const auto fail = [&](const std::string& what) {
-    *error = "camera file '" + path + "' " + what;
-    return false;
-  };
-  const auto contents = ReadInputFile(path, "camera file", kMaxCameraFileBytes, error);
-  if (!contents) return false;
-  const std::string& text = *contents;
-  const std::string ext = Lower(std::filesystem::path(path).extension().string());
+bool ParseCameraFile(const std::string& text, const std::string& extension,
+                     CameraIntrinsics* camera, std::string* why) {
+  const std::string ext = Lower(extension);
   bool ok = false;
   if (ext == ".json") {
-    ok = FromJson(text, camera, &why);
+    ok = FromJson(text, camera, why);
   } else if (ext == ".xml") {
-    ok = FromXml(text, camera, &why);
+    ok = FromXml(text, camera, why);
   } else if (ext == ".yaml" || ext == ".yml") {
-    ok = FromYaml(text, camera, &why);
+    ok = FromYaml(text, camera, why);
   } else {
-    return fail("must be .yaml/.yml (OpenCV, ROS camera_info, Kalibr), .json or .xml (OpenCV)");
+    *why = "must be .yaml/.yml (OpenCV, ROS camera_info, Kalibr), .json or .xml (OpenCV)";
+    return false;
   }
-  if (!ok) return fail(why);
-  if (!camera->IsValid(&why)) return fail(why);
+  return ok && camera->IsValid(why);
+}
+
+bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error) {
+  const auto text = ReadInputFile(path, "camera file", kMaxCameraFileBytes, error);
+  if (!text) return false;
+  std::string why;
+  if (!ParseCameraFile(*text, std::filesystem::path(path).extension().string(), camera, &why)) {
+    *error = "camera file '" + path + "' " + why;
+    return false;
+  }
   return true;
 }
 

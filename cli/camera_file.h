@@ -23,6 +23,11 @@ namespace chromatag::cli {
 // False with *error naming the file and what was wrong or missing.
 bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error);
 
+// The same from the file's text and extension (".yaml", ".json", ".xml");
+// *why says what was wrong, without the file's name.
+bool ParseCameraFile(const std::string& text, const std::string& extension,
+                     CameraIntrinsics* camera, std::string* why);
+
 }  // namespace chromatag::cli
 
 #endif  // CHROMATAG_CLI_CAMERA_FILE_H_

@@ -4,6 +4,7 @@
 // half-replaced output.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <filesystem>
@@ -24,7 +25,8 @@ constexpr auto Chromatag = testing::RunChromatag;
 class CliHardeningTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = ::testing::TempDir() + "/cli_hardening";
+    // One folder per process: ctest runs each test of this suite in its own.
+    dir_ = ::testing::TempDir() + "/cli_hardening_" + std::to_string(getpid());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     ASSERT_EQ(Chromatag({"generate", "--ids", "0-1", "--size", "30mm", "-o", dir_ + "/sheet.pdf"})
@@ -35,6 +37,7 @@ class CliHardeningTest : public ::testing::Test {
         Chromatag({"generate", "--ids", "3", "--dpi", "100", "-o", dir_ + "/page.png"}).exit_code,
         0);
   }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
   static std::string dir_;
 };
 std::string CliHardeningTest::dir_;

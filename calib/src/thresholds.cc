@@ -8,9 +8,6 @@
 namespace chromatag {
 namespace {
 
-constexpr std::array<Shade, 4> kChromatic = {Shade::kRed1, Shade::kRed0, Shade::kGreen1,
-                                             Shade::kGreen0};
-
 std::string Format(const char* format, double a, double b = 0, double c = 0) {
   char text[400];
   std::snprintf(text, sizeof(text), format, a, b, c);

@@ -79,30 +79,43 @@ SheetRecord Parse(const json& root, const std::string& folder) {
 
 }  // namespace
 
+std::optional<SheetRecord> ParseSidecar(const std::string& text, const std::string& folder,
+                                        std::string* error) {
+  if (JsonDeeperThan(text, kMaxJsonDepth)) {
+    if (error) *error = "nests deeper than any sidecar does";
+    return std::nullopt;
+  }
+  const json root = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (root.is_discarded()) {
+    if (error) *error = "is not valid JSON";
+    return std::nullopt;
+  }
+  try {
+    return Parse(root, folder);
+  } catch (const FieldError& e) {
+    if (error) *error = e.message;
+  } catch (const json::exception& e) {
+    if (error) *error = std::string("malformed (") + e.what() + ")";
+  }
+  return std::nullopt;
+}
+
 std::optional<SheetRecord> ReadSidecar(const std::string& path, std::string* error) {
   const auto text = ReadInputFile(path, "sidecar", kMaxJsonFileBytes, error);
   if (!text) return std::nullopt;
-  if (JsonDeeperThan(*text, kMaxJsonDepth)) {
-    if (error) *error = "sidecar '" + path + "' nests deeper than any sidecar does";
-    return std::nullopt;
-  }
-  const json root = json::parse(*text, nullptr, /*allow_exceptions=*/false);
-  if (root.is_discarded()) {
-    if (error) *error = "sidecar '" + path + "' is not valid JSON";
-    return std::nullopt;
-  }
   const auto slash = path.find_last_of('/');
   const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-  try {
-    SheetRecord record = Parse(root, folder);
-    record.sidecar_path = path;
-    return record;
-  } catch (const FieldError& e) {
-    if (error) *error = "sidecar '" + path + "': " + e.message;
-  } catch (const json::exception& e) {
-    if (error) *error = "sidecar '" + path + "': malformed (" + e.what() + ")";
+  std::string why;
+  auto record = ParseSidecar(*text, folder, &why);
+  if (!record) {
+    // "sidecar 'x' is not valid JSON", "sidecar 'x': missing ..."
+    if (error)
+      *error = "sidecar '" + path + "'" +
+               (why.rfind("is ", 0) == 0 || why.rfind("nests", 0) == 0 ? " " : ": ") + why;
+    return std::nullopt;
   }
-  return std::nullopt;
+  record->sidecar_path = path;
+  return record;
 }
 
 }  // namespace chromatag

@@ -36,6 +36,11 @@ struct SheetRecord {
 // else, naming the path and what is wrong.
 std::optional<SheetRecord> ReadSidecar(const std::string& path, std::string* error = nullptr);
 
+// The same from the sidecar's text; `folder` ("dir/" or "") is where its
+// files are.
+std::optional<SheetRecord> ParseSidecar(const std::string& text, const std::string& folder,
+                                        std::string* error = nullptr);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_GENERATOR_SIDECAR_H_

@@ -1,0 +1,45 @@
+// The toolkit's file parsers on arbitrary text. One source, built once per
+// parser (CHROMATAG_FUZZ_TARGET chooses which): palette, sheet sidecar,
+// calibration sidecar, detector config, camera file, .cube LUT.
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+#include "camera_file.h"
+#include "chromatag/calib/calib_sidecar.h"
+#include "chromatag/detector/config.h"
+#include "chromatag/families/palette.h"
+#include "chromatag/generator/color_lut.h"
+#include "chromatag/generator/sidecar.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  std::string error;
+#if CHROMATAG_FUZZ_TARGET == 1
+  chromatag::ParsePalette(text, "fuzz", &error);
+#elif CHROMATAG_FUZZ_TARGET == 2
+  chromatag::ParseSidecar(text, "/nonexistent/", &error);
+#elif CHROMATAG_FUZZ_TARGET == 3
+  chromatag::ParseCalibSidecar(text, &error);
+#elif CHROMATAG_FUZZ_TARGET == 4
+  chromatag::DetectorOptions options;
+  chromatag::ParseDetectorConfig(text, &options, &error);
+#elif CHROMATAG_FUZZ_TARGET == 5
+  // The first byte picks the layout, as the extension does.
+  if (text.empty()) return 0;
+  static const char* kExtensions[] = {".yaml", ".json", ".xml"};
+  chromatag::CameraIntrinsics camera;
+  chromatag::cli::ParseCameraFile(text.substr(1), kExtensions[data[0] % 3], &camera, &error);
+#elif CHROMATAG_FUZZ_TARGET == 6
+  // OpenColorIO reads LUTs from files only.
+  static const std::string path =
+      "/tmp/chromatag-fuzz-" + std::to_string(getpid()) + ".cube";
+  std::ofstream(path, std::ios::binary) << text;
+  auto lut = chromatag::ColorLut::Load(path, &error);
+  if (lut) lut->Apply({0.5, 0.2, 0.9});
+#endif
+  return 0;
+}
