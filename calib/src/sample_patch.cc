@@ -63,10 +63,15 @@ std::vector<cv::Vec3b> PixelsInSquare(const cv::Mat& bgr, const cv::Matx33d& ima
     y_max = std::max(y_max, p.y);
   }
   std::vector<cv::Vec3b> out;
-  const int x0 = std::max(0, static_cast<int>(std::floor(x_min)));
-  const int x1 = std::min(bgr.cols - 1, static_cast<int>(std::ceil(x_max)));
-  const int y0 = std::max(0, static_cast<int>(std::floor(y_min)));
-  const int y1 = std::min(bgr.rows - 1, static_cast<int>(std::ceil(y_max)));
+  // Bounded to the image as doubles before the casts (NaN: nothing to sample).
+  if (!(x_min <= x_max && y_min <= y_max)) return {};
+  auto inside = [](double v, int size) {
+    return static_cast<int>(std::clamp(v, -1.0, static_cast<double>(size)));
+  };
+  const int x0 = std::max(0, inside(std::floor(x_min), bgr.cols));
+  const int x1 = std::min(bgr.cols - 1, inside(std::ceil(x_max), bgr.cols));
+  const int y0 = std::max(0, inside(std::floor(y_min), bgr.rows));
+  const int y1 = std::min(bgr.rows - 1, inside(std::ceil(y_max), bgr.rows));
   for (int y = y0; y <= y1; ++y) {
     const cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
     for (int x = x0; x <= x1; ++x) {

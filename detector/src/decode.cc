@@ -455,8 +455,9 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   const int cells = family.black_square_cells();
   // Grid pixels one apart across the sampled middle of the cell.
   const double cell_px = std::sqrt(QuadArea(candidate.quads[kBlackWhite])) / cells;
-  const int samples = std::clamp(static_cast<int>(2 * kCellSampleReach * cell_px) + 1,
-                                 kMinCellSamples, kMaxCellSamples);
+  // Clamped in double: a degenerate quad's area can be anything.
+  const int samples = static_cast<int>(
+      std::clamp<double>(2 * kCellSampleReach * cell_px + 1, kMinCellSamples, kMaxCellSamples));
   // The payload and, read only when needed, the black ring around it.
   const int w = d + 2;
   std::vector<CellSample> grid(w * w);

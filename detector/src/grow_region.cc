@@ -242,10 +242,14 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
   }
   Grid grid;
   grid.step = std::max(1, static_cast<int>(half_width / kGridStepsPerRedHalfWidth));
-  grid.x0 = std::max(0, static_cast<int>(min_x) - kWindowMarginPx);
-  grid.y0 = std::max(0, static_cast<int>(min_y) - kWindowMarginPx);
-  const int x1 = std::min(image.width() - 1, static_cast<int>(max_x) + kWindowMarginPx);
-  const int y1 = std::min(image.height() - 1, static_cast<int>(max_y) + kWindowMarginPx);
+  // Bounded to the frame as floats before the casts.
+  auto inside = [](float v, int size) {
+    return static_cast<int>(std::clamp(v, -1.f, static_cast<float>(size)));
+  };
+  grid.x0 = std::max(0, inside(min_x, image.width()) - kWindowMarginPx);
+  grid.y0 = std::max(0, inside(min_y, image.height()) - kWindowMarginPx);
+  const int x1 = std::min(image.width() - 1, inside(max_x, image.width()) + kWindowMarginPx);
+  const int y1 = std::min(image.height() - 1, inside(max_y, image.height()) + kWindowMarginPx);
   grid.width = (x1 - grid.x0) / grid.step + 1;
   grid.height = (y1 - grid.y0) / grid.step + 1;
   if (grid.width < 3 || grid.height < 3) return false;

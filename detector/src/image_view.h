@@ -17,12 +17,22 @@ namespace chromatag::internal {
 
 // Nearest integer (halves round up), inline: std::lround is a library call,
 // and the scans round two coordinates for every pixel they visit.
+// Values beyond +-2^30 (and NaN, taken as the lower bound) are clamped
+// first, so that the cast is always defined (issue 12): such points lie far
+// outside any frame either way. Two instructions, on every scanned pixel.
 inline int RoundToInt(float v) {
+  constexpr float kLimit = 1073741824.f;
+  v = v > -kLimit ? v : -kLimit;
+  v = v < kLimit ? v : kLimit;
   const float shifted = v + 0.5f;
   const int truncated = static_cast<int>(shifted);
   return truncated - (shifted < static_cast<float>(truncated) ? 1 : 0);
 }
-inline int RoundToInt(double v) { return RoundToInt(static_cast<float>(v)); }
+inline int RoundToInt(double v) {
+  // Clamped as a double first: a double beyond the float range does not convert.
+  constexpr double kLimit = 1073741824.0;
+  return RoundToInt(static_cast<float>(v > -kLimit ? (v < kLimit ? v : kLimit) : -kLimit));
+}
 
 // A linear combination of the encoded R, G, B values. Edges are located on
 // such channels because blending (antialiasing, blur) is linear in them, so the
@@ -137,8 +147,9 @@ class ImageView {
   // Whether Sample can read (x, y): its four pixels lie inside the frame
   // (false for NaN).
   bool CanSample(float x, float y) const {
-    if (!(x >= 0.f && y >= 0.f)) return false;
-    return static_cast<int>(x) + 1 < width_ && static_cast<int>(y) + 1 < height_;
+    // The same as (int)x + 1 < width for x >= 0, without a cast of a huge x.
+    return x >= 0.f && y >= 0.f && x < static_cast<float>(width_ - 1) &&
+           y < static_cast<float>(height_ - 1);
   }
   // Whether Sample can read every point of the segment from (x, y) to
   // (last_x, last_y): both ends strictly inside [0, width - 1) x

@@ -69,7 +69,9 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
                const ProfileSpec& spec, float min_contrast, cv::Point2d* edge) {
   const cv::Point2d middle = spec.middle, outward = spec.outward;
   const double half = spec.half, level_offset = spec.level_offset;
-  const int steps = std::min(kMaxProfileSteps, static_cast<int>(std::ceil(half / kProfileStep)));
+  // In double until bounded: a degenerate side could make `half` huge.
+  const int steps =
+      static_cast<int>(std::min<double>(kMaxProfileSteps, std::ceil(half / kProfileStep)));
   const int n = 2 * steps + 1;
   const float mx = static_cast<float>(middle.x), my = static_cast<float>(middle.y);
   const float ox = static_cast<float>(outward.x) * kProfileStep,
@@ -151,8 +153,8 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
     out[l].found = false;
     const float ox = static_cast<float>(spec[l].outward.x) * kProfileStep,
                 oy = static_cast<float>(spec[l].outward.y) * kProfileStep;
-    const int s =
-        std::min(kMaxProfileSteps, static_cast<int>(std::ceil(spec[l].half / kProfileStep)));
+    const int s = static_cast<int>(
+        std::min<double>(kMaxProfileSteps, std::ceil(spec[l].half / kProfileStep)));
     const int n = 2 * s + 1;
     const float first = static_cast<float>(-s);
     const float x = static_cast<float>(spec[l].middle.x) + first * ox;
@@ -359,7 +361,7 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
     const double cell_p = cell_at((*quad)[(i + 3) % 4], p);
     const double cell_q = cell_at((*quad)[(i + 2) % 4], q);
     const int samples =
-        std::max(kMinProfiles, std::min(static_cast<int>(length / 2.0), max_samples));
+        std::max(kMinProfiles, static_cast<int>(std::min<double>(length / 2.0, max_samples)));
     first[i + 1] = first[i] + samples;
     for (int j = 0; j < samples; ++j) {
       // Keep clear of the corners, where the neighbouring side interferes.

@@ -35,8 +35,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   chromatag::cli::ParseCameraFile(text.substr(1), kExtensions[data[0] % 3], &camera, &error);
 #elif CHROMATAG_FUZZ_TARGET == 6
   // OpenColorIO reads LUTs from files only.
-  static const std::string path =
-      "/tmp/chromatag-fuzz-" + std::to_string(getpid()) + ".cube";
+  static const std::string path = "/tmp/chromatag-fuzz-" + std::to_string(getpid()) + ".cube";
   std::ofstream(path, std::ios::binary) << text;
   auto lut = chromatag::ColorLut::Load(path, &error);
   if (lut) lut->Apply({0.5, 0.2, 0.9});
