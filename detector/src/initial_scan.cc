@@ -228,8 +228,10 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     converged =
         std::abs(next.x - centre.x) < kConvergedPx && std::abs(next.y - centre.y) < kConvergedPx;
     centre = next;
-    const int cx = RoundToInt(centre.x);
-    const int cy = RoundToInt(centre.y);
+    // The clamping overload: the centroid of a nearly flat polygon can be
+    // anywhere.
+    const int cx = RoundToInt(static_cast<double>(centre.x));
+    const int cy = RoundToInt(static_cast<double>(centre.y));
     if (!image.Contains(cx, cy)) return reject(RejectReason::kCentreNotRed);
     const float centre_red = image.MeanA3x3(cx, cy);
     // The centre of a tag is red: if re-centring left the red, this is not one.
