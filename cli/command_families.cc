@@ -75,7 +75,10 @@ int RunFamilies(const FamiliesOptions& options) {
       PrintFamily(*family, *decoder);
     }
   }
-  if (options.json) std::cout << nlohmann::json{{"families", all}}.dump(2) << "\n";
+  if (options.json)
+    std::cout << nlohmann::json{{"families", all}}.dump(2, ' ', false,
+                                                        nlohmann::json::error_handler_t::replace)
+              << "\n";
   return kExitOk;
 }
 

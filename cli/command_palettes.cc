@@ -81,7 +81,9 @@ int RunPalettes(const PalettesOptions& options) {
   if (options.json) {
     nlohmann::json all = nlohmann::json::array();
     for (const auto& palette : palettes) all.push_back(PaletteJson(palette));
-    std::cout << nlohmann::json{{"palettes", all}}.dump(2) << "\n";
+    std::cout << nlohmann::json{{"palettes", all}}.dump(2, ' ', false,
+                                                        nlohmann::json::error_handler_t::replace)
+              << "\n";
   } else {
     for (size_t i = 0; i < palettes.size(); ++i) {
       if (i) std::cout << "\n";

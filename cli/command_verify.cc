@@ -241,7 +241,7 @@ int RunVerify(const VerifyCommandOptions& o) {
   }
   if (o.json) {
     if (o.stress) out["stress"] = StressJson(stresses);
-    std::cout << out.dump() << "\n";
+    std::cout << out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
   } else {
     PrintStress(stresses);
   }

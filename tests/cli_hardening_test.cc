@@ -214,6 +214,20 @@ TEST_F(CliHardeningTest, JsonOfANameThatIsNotUtf8) {
             std::string::npos);
 }
 
+// A palette file whose name (its default palette name) is not UTF-8: the
+// JSON report writes U+FFFD instead of throwing.
+TEST_F(CliHardeningTest, PaletteNamedByANameThatIsNotUtf8) {
+  const std::string path = dir_ + "/p\xff.json";
+  Write(path, R"({"lab": {"red-1": [52, 79, 18.25], "red-0": [50, 71, -52.8],
+                  "green-1": [50, -36, 3.5], "green-0": [54, -36, 55],
+                  "black": [5, 0, 0], "white": [98, 0, 0]}})");
+  const auto result = Chromatag({"palettes", "--json", "--palette-file", path});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(nlohmann::json::parse(result.out)["palettes"][0]["name"].get<std::string>().find(
+                "\xef\xbf\xbd"),
+            std::string::npos);
+}
+
 // A sidecar that is a folder: the old sheet stays, nothing else appears.
 TEST_F(CliHardeningTest, AFailedWriteLeavesTheOldFiles) {
   const std::string d = dir_ + "/keep";

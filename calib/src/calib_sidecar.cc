@@ -173,7 +173,7 @@ std::string CalibSidecarJson(const CalibSheetLayout& layout,
                {"files", files},
                {"corner_tags", tags},
                {"patches", patches}};
-  return root.dump(2) + "\n";
+  return root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 std::optional<CalibSheetLayout> ParseCalibSidecar(const std::string& text, std::string* error) {

@@ -62,7 +62,7 @@ std::string Provenance(const CalibrationResult& r) {
                      {"worst_margins", MarginsJson(r.thresholds.worst)},
                      {"verdicts", verdicts},
                      {"warnings", r.warnings}};
-  return root.dump();
+  return root.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 std::string MeasurementsJson(const CalibrationResult& r) {
@@ -101,7 +101,7 @@ std::string MeasurementsJson(const CalibrationResult& r) {
                      {"schema_version", 1},
                      {"sheet_id", r.layout.sheet_id},
                      {"photos", photos}};
-  return root.dump(1) + "\n";
+  return root.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 std::string Join(const std::string& folder, const char* name) {

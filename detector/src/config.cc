@@ -94,7 +94,7 @@ std::string DetectorConfigToJson(const DetectorOptions& options,
   }
   Json root = {{"schema", kDetectorConfigSchema}, {"schema_version", 1}, {"options", chosen}};
   if (!provenance_json.empty()) root["calibration"] = Json::parse(provenance_json);
-  return root.dump(2) + "\n";
+  return root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 bool ParseDetectorConfig(const std::string& text, DetectorOptions* options, std::string* error) {

@@ -278,7 +278,7 @@ std::string PaletteToJson(const Palette& palette) {
                                  {"name", palette.name},
                                  {"description", palette.description},
                                  {"lab", lab}};
-  return root.dump(2) + "\n";
+  return root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace chromatag

@@ -70,7 +70,7 @@ std::string SidecarJson(const SheetOptions& options, const SheetLayout& layout,
       {"dpi", options.format == SheetFormat::kPng ? Json(options.dpi) : Json(nullptr)},
       {"files", files},
       {"tags", tags}};
-  return root.dump(2) + "\n";
+  return root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace chromatag::internal
