@@ -50,7 +50,8 @@ tsan: deps
 	@cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCHROMATAG_TSAN=ON \
 	  $(SANITIZER_FLAGS) >/dev/null
 	@cmake --build build-tsan -j $(JOBS) --target detector_scene_test cli_test chromatag
-	@cd build-tsan && TSAN_OPTIONS=halt_on_error=1 ctest --output-on-failure -j $(JOBS) \
+	@cd build-tsan && TSAN_OPTIONS="halt_on_error=1 suppressions=$(CURDIR)/cmake/tsan.supp" \
+	  ctest --output-on-failure -j $(JOBS) \
 	  -R "OneDetectorServesSeveralThreads|CliLiveTest"
 
 # libFuzzer harnesses (tests/fuzz), FUZZ_SECONDS each (scripts/fuzz.sh).
