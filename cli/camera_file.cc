@@ -1,6 +1,7 @@
 #include "camera_file.h"
 
 #include "chromatag/families/input_file.h"
+#include "commands.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -18,11 +19,6 @@ namespace {
 
 // Camera files are a few hundred bytes; anything far larger is something else.
 constexpr std::uintmax_t kMaxCameraFileBytes = 1 << 20;
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 // Fills *camera from a row-major 3x3 matrix and distortion coefficients.
 bool FromMatrix(const std::vector<double>& k, const std::vector<double>& d,

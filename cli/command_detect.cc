@@ -65,11 +65,6 @@ void OnInterrupt(int) {
   std::signal(SIGINT, SIG_DFL);
 }
 
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
 bool IsVideo(const fs::path& path) {
   const std::string ext = Lower(path.extension().string());
   for (const char* v : {".avi", ".mp4", ".mkv", ".mov", ".webm", ".mpg", ".mpeg", ".m4v"})

@@ -5,6 +5,7 @@
 #define CHROMATAG_CLI_COMMANDS_H_
 
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <functional>
 #include <string>
 
@@ -19,6 +20,12 @@ inline constexpr int kExitUsage = 2;
 // stderr, control characters replaced (a message may quote the bytes of a
 // broken file, escape sequences included). Returns `code`.
 int Fail(const char* command, const std::string& message, int code = kExitUsage);
+
+// `text` in lower case (ASCII), for file extensions.
+inline std::string Lower(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
 
 // A subcommand's action, run after parsing; returns an exit code.
 using Action = std::function<int()>;

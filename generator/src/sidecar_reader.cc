@@ -87,7 +87,7 @@ std::optional<SheetRecord> ParseSidecar(const std::string& text, const std::stri
   }
   const json root = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (root.is_discarded()) {
-    if (error) *error = "is not valid JSON";
+    if (error) *error = "not valid JSON";
     return std::nullopt;
   }
   try {
@@ -108,10 +108,7 @@ std::optional<SheetRecord> ReadSidecar(const std::string& path, std::string* err
   std::string why;
   auto record = ParseSidecar(*text, folder, &why);
   if (!record) {
-    // "sidecar 'x' is not valid JSON", "sidecar 'x': missing ..."
-    if (error)
-      *error = "sidecar '" + path + "'" +
-               (why.rfind("is ", 0) == 0 || why.rfind("nests", 0) == 0 ? " " : ": ") + why;
+    if (error) *error = "sidecar '" + path + "': " + why;
     return std::nullopt;
   }
   record->sidecar_path = path;
