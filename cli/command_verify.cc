@@ -1,12 +1,18 @@
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "camera_file.h"
+#include "chromatag/detector/config.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/sidecar.h"
 #include "chromatag/generator/units.h"
 #include "chromatag/verify/family_check.h"
+#include "chromatag/verify/print_check.h"
 #include "chromatag/verify/sheet_check.h"
 #include "chromatag/verify/stress.h"
 #include "commands.h"
@@ -27,6 +33,14 @@ struct VerifyCommandOptions {
   std::string palette = "default";
   std::string palette_file;
   bool json = false;
+  // --print: scans or photos of the printed sheet.
+  std::vector<std::string> prints;
+  bool scan = false;
+  double scan_dpi = 0.0;
+  std::string scale_tolerance = "0.5%";
+  std::string config;
+  std::string camera_file;
+  std::string report;
 };
 
 Json SheetJson(const SheetVerdict& verdict) {
@@ -177,8 +191,199 @@ std::vector<TagStress> RunStress(const TagFamily& family, const std::vector<int>
   return stresses;
 }
 
+Json ShadesJson(const PrintedShades& c) {
+  Json shades = Json::object();
+  if (!c.measured) return shades;
+  for (int s = 0; s < 4; ++s) {
+    const Lab& lab = c.shades[s].lab;
+    shades[ShadeName(static_cast<Shade>(s))] = {lab.L, lab.a, lab.b};
+  }
+  const Margins& m = c.margins;
+  return {{"lab", shades},
+          {"a_gap", m.a_gap},
+          {"red_b_gap", m.red_b_gap},
+          {"green_b_gap", m.green_b_gap},
+          {"red_decision", m.red_decision},
+          {"green_decision", m.green_decision}};
+}
+
+Json PrintJson(const SheetRecord& record, const PrintVerdict& verdict) {
+  Json images = Json::array();
+  for (const PrintPageResult& r : verdict.images) {
+    Json tags = Json::array();
+    for (const PrintTagResult& t : r.tags) {
+      Json tag = {{"id", t.expected.id},
+                  {"grade", GradeName(t.grade)},
+                  {"found", t.found},
+                  {"found_id", t.found_id},
+                  {"hamming", t.hamming},
+                  {"margin", t.margin},
+                  {"position_error_mm", t.position_error_mm},
+                  {"shades", ShadesJson(t.colours)},
+                  {"problems", t.problems}};
+      if (r.scan) tag["size_mm"] = t.size_mm;
+      tags.push_back(tag);
+    }
+    Json image = {{"image", r.image},
+                  {"page", r.page + 1},
+                  {"kind", r.scan ? "scan" : "photo"},
+                  {"grade", GradeName(r.grade)},
+                  {"tags_found", r.tags_found},
+                  {"rms_mm", r.rms_mm}};
+    if (r.scan) {
+      image["dpi"] = {r.dpi_x, r.dpi_y};
+      image["scale"] = {{"x", r.scale_x},
+                        {"y", r.scale_y},
+                        {"x_error", r.scale_x_error},
+                        {"y_error", r.scale_y_error},
+                        {"skew_deg", r.skew_deg}};
+    } else {
+      image["aspect"] = {{"x_over_y", r.aspect},
+                         {"error", r.aspect_error},
+                         {"focal_px", r.focal_px},
+                         {"focal_estimated", r.focal_estimated}};
+    }
+    Json unexpected = Json::array();
+    for (const auto& u : r.unexpected) {
+      unexpected.push_back(
+          {{"family", u.family}, {"id", u.id}, {"center_mm", {u.center_mm[0], u.center_mm[1]}}});
+    }
+    image["problems"] = r.problems;
+    image["unexpected"] = unexpected;
+    image["tags"] = tags;
+    images.push_back(image);
+  }
+  Json not_seen = Json::array();
+  for (int p : verdict.pages_not_seen) not_seen.push_back(p + 1);
+  return {{"sheet", record.sidecar_path},       {"grade", GradeName(verdict.grade)},
+          {"passed", verdict.passed()},         {"tags_checked", verdict.tags_checked},
+          {"tags_passed", verdict.tags_passed}, {"tags_warned", verdict.tags_warned},
+          {"pages_not_seen", not_seen},         {"images", images}};
+}
+
+void PrintPrintCheck(const SheetRecord& record, const PrintVerdict& verdict) {
+  for (const PrintPageResult& r : verdict.images) {
+    if (r.page < 0) {
+      std::printf("%s: page not recognised\n", r.image.c_str());
+    } else if (r.scan) {
+      std::printf(
+          "%s: page %d of %d, scan at %.0f dpi, %d of %zu tags found; scale x %.3f ± %.3f, "
+          "y %.3f ± %.3f\n",
+          r.image.c_str(), r.page + 1, record.num_pages, r.dpi_x, r.tags_found, r.tags.size(),
+          r.scale_x, std::max(0.001, 2 * r.scale_x_error), r.scale_y,
+          std::max(0.001, 2 * r.scale_y_error));
+    } else {
+      std::printf(
+          "%s: page %d of %d, photo, %d of %zu tags found; aspect x/y %.3f ± %.3f (the size "
+          "cannot be told from a photo: scan the page, or measure the scale bar)\n",
+          r.image.c_str(), r.page + 1, record.num_pages, r.tags_found, r.tags.size(), r.aspect,
+          2 * r.aspect_error);
+    }
+    for (const std::string& p : r.problems)
+      std::printf("  %s: %s\n", r.grade == Grade::kFail ? "FAIL" : "warn", p.c_str());
+    if (r.tags.empty()) continue;
+    std::printf("  %5s %5s %7s %6s %6s %6s %6s  %s\n", "ID", "found", "hamming", "a* gap", "red b*",
+                "grn b*", "margin", "verdict");
+    for (const PrintTagResult& t : r.tags) {
+      const Margins& m = t.colours.margins;
+      std::printf("  %5d %5s %7d %6.1f %6.1f %6.1f %6.1f  %s%s%s\n", t.expected.id,
+                  t.found ? (t.found_id == t.expected.id ? "yes" : "wrong") : "no", t.hamming,
+                  m.a_gap, m.red_b_gap, m.green_b_gap, t.margin, GradeName(t.grade),
+                  t.problems.empty() ? "" : ": ", t.problems.empty() ? "" : t.problems[0].c_str());
+      for (size_t i = 1; i < t.problems.size(); ++i)
+        std::printf("  %50s%s\n", "", t.problems[i].c_str());
+    }
+  }
+  for (int p : verdict.pages_not_seen)
+    std::printf("page %d: no scan or photo shows it (not checked)\n", p + 1);
+  std::printf("%d of %d tag%s pass%s. %s\n", verdict.tags_passed, verdict.tags_checked,
+              verdict.tags_checked == 1 ? "" : "s",
+              verdict.tags_warned
+                  ? (" (" + std::to_string(verdict.tags_warned) + " with warnings)").c_str()
+                  : "",
+              verdict.grade == Grade::kFail   ? "FAIL"
+              : verdict.grade == Grade::kWarn ? "PASS with warnings"
+                                              : "PASS");
+}
+
+// "0.5%" or "0.005": a relative tolerance.
+std::optional<double> ParseFraction(const std::string& text, std::string* error) {
+  std::string number = text;
+  const bool percent = !number.empty() && number.back() == '%';
+  if (percent) number.pop_back();
+  char* end = nullptr;
+  const double value = number.empty() ? 0.0 : std::strtod(number.c_str(), &end);
+  if (number.empty() || end != number.c_str() + number.size() || !std::isfinite(value)) {
+    *error = "'" + text + "' is not a fraction (0.005) or a percentage (0.5%)";
+    return std::nullopt;
+  }
+  return percent ? value / 100.0 : value;
+}
+
+// The sidecar of `sheet`: the sheet file (its sidecar beside it) or the
+// sidecar itself.
+std::optional<SheetRecord> ReadSheetRecord(const std::string& sheet, std::string* error) {
+  const bool is_sidecar = sheet.size() > 5 && Lower(sheet.substr(sheet.size() - 5)) == ".json";
+  return ReadSidecar(is_sidecar ? sheet : SidecarPath(sheet), error);
+}
+
+int RunPrintCheck(const VerifyCommandOptions& o) {
+  std::string error;
+  if (o.sheet.empty()) {
+    return Fail("verify",
+                "--print needs the sheet that was printed: chromatag verify tags.pdf --print "
+                "scan.png (or the sidecar, tags.pdf.json)");
+  }
+  PrintCheckOptions options;
+  options.scans = o.scan || o.scan_dpi > 0;
+  options.scan_dpi = o.scan_dpi;
+  const auto tolerance = ParseFraction(o.scale_tolerance, &error);
+  if (!tolerance) return Fail("verify", "--scale-tolerance: " + error);
+  options.max_scale_error = *tolerance;
+  if (!o.config.empty() && !LoadDetectorConfig(o.config, &options.detector, &error))
+    return Fail("verify", error);
+  if (!o.camera_file.empty()) {
+    CameraIntrinsics camera;
+    if (!LoadCameraFile(o.camera_file, &camera, &error)) return Fail("verify", error);
+    options.camera = camera;
+  }
+  if (!options.IsValid(&error)) return Fail("verify", error);
+  std::string report_format;
+  if (!o.report.empty()) {
+    const std::string ext = Lower(std::filesystem::path(o.report).extension().string());
+    if (ext != ".pdf" && ext != ".png") {
+      return Fail("verify", "--report '" + o.report +
+                                "': the report is a .pdf or a .png (from its extension)");
+    }
+    report_format = ext;
+  }
+  const auto record = ReadSheetRecord(o.sheet, &error);
+  if (!record) return Fail("verify", error);
+  const auto verdict = CheckPrintFiles(*record, o.prints, options, &error);
+  if (!verdict) return Fail("verify", error);
+  if (!o.report.empty()) {
+    const std::string bytes = report_format == ".pdf" ? RenderPrintReportPdf(*record, *verdict)
+                                                      : RenderPrintReportPng(*record, *verdict);
+    if (!WriteFilesAtomically({{o.report, bytes}}, &error)) return Fail("verify", error);
+  }
+  if (o.json) {
+    std::cout << PrintJson(*record, *verdict)
+                     .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+              << "\n";
+  } else {
+    std::printf("Printed sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s\n",
+                o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
+                record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
+                record->num_pages == 1 ? "" : "s", record->palette.name.c_str());
+    PrintPrintCheck(*record, *verdict);
+    if (!o.report.empty()) std::printf("Report: %s\n", o.report.c_str());
+  }
+  return verdict->passed() ? kExitOk : kExitFailure;
+}
+
 int RunVerify(const VerifyCommandOptions& o) {
   std::string error;
+  if (!o.prints.empty()) return RunPrintCheck(o);
   VerifyOptions options;
   options.dpi = o.dpi;
   const auto tolerance = ParseLength(o.tolerance, &error);
@@ -269,6 +474,27 @@ void RegisterVerify(CLI::App& app, Action* action) {
       c->add_option("--palette", o->palette, "Palette for --all")->capture_default_str();
   c->add_option("--palette-file", o->palette_file, "Palette file for --all")->excludes(palette);
   c->add_flag("--json", o->json, "Print one JSON object");
+  const char* kPrintGroup = "Checking a print (--print)";
+  c->add_option("--print", o->prints,
+                "Scans or photos of the printed sheet's pages: check the print itself")
+      ->group(kPrintGroup)
+      ->expected(1, -1);
+  c->add_option("--sheet", o->sheet, "The sheet that was printed (or its sidecar .json)")
+      ->group(kPrintGroup);
+  c->add_flag("--scan", o->scan,
+              "The images are flatbed scans: check the printed size (resolution from the file)")
+      ->group(kPrintGroup);
+  c->add_option("--scan-dpi", o->scan_dpi, "The scans' resolution, when the files lack it")
+      ->group(kPrintGroup);
+  c->add_option("--scale-tolerance", o->scale_tolerance, "Largest accepted scale error of a scan")
+      ->capture_default_str()
+      ->group(kPrintGroup);
+  c->add_option("--config", o->config, "Detector config (chromatag calib) to judge the shades by")
+      ->group(kPrintGroup);
+  c->add_option("--camera", o->camera_file, "Camera file for photos (OpenCV, ROS, Kalibr)")
+      ->group(kPrintGroup);
+  c->add_option("--report", o->report, "Write a drawn report: .pdf (a page per image) or .png")
+      ->group(kPrintGroup);
   c->callback([o, action] { *action = [o] { return RunVerify(*o); }; });
 }
 

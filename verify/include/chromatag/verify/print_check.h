@@ -1,0 +1,180 @@
+// `chromatag verify --print`: checking the printed sheet itself from scans
+// and photos of its pages (issue 13). The file's own round trip
+// (sheet_check.h) proves that the file decodes; this finds what printing did
+// to it: a page shrunk by "fit to page", a stretched axis, shades washed out
+// until the detector cannot split them, a tag printed with its shades
+// swapped.
+//
+// Per image: the tags of the sheet are detected, the page they belong to is
+// found from their IDs, and one transform from page millimetres to pixels is
+// fitted over all of them (robust to a misread or missing tag): an affine map
+// for a flatbed scan, whose resolution is known, so its scale is absolute; a
+// homography for a photo, where only the page's aspect can be told. Every
+// tag of that page is then measured where the fit puts it, found or not: its
+// four shades in CIELAB normalised to the white of its own quiet zone, and
+// their gaps against what the detector needs.
+#ifndef CHROMATAG_VERIFY_PRINT_CHECK_H_
+#define CHROMATAG_VERIFY_PRINT_CHECK_H_
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "chromatag/calib/thresholds.h"
+#include "chromatag/detector/detector.h"
+#include "chromatag/generator/sidecar.h"
+#include "chromatag/verify/sheet_check.h"
+
+namespace chromatag {
+
+struct PrintCheckOptions {
+  // The images are flatbed scans: their resolution is known, so the printed
+  // size is checked. Otherwise they are photos (any perspective).
+  bool scans = false;
+  // Resolution of the scans, pixels per inch; 0 reads it from each file (a
+  // PNG's pHYs chunk, a JPEG's JFIF density). [50, 4800] when set.
+  double scan_dpi = 0.0;
+  // Largest accepted error of a scan's printed scale, relative: 0.005 lets a
+  // 40 mm tag print between 39.8 and 40.2 mm. (0, 0.2].
+  double max_scale_error = 0.005;
+  // Largest accepted difference between the page's x and y scales in a
+  // photo, relative (photos tell the aspect, not the size). (0, 0.2].
+  double max_aspect_error = 0.02;
+  // Largest distance, mm, between a found tag's corners and where the fit
+  // over the other tags puts them before the tag is flagged as misplaced
+  // (a sheet not flat, a page slipped in the printer). (0, 50].
+  double max_position_error_mm = 1.0;
+  // The detector whose needs the shades are judged against (thresholds from
+  // `--config`); its families are ignored: both are looked for.
+  DetectorOptions detector;
+  // Photos: the camera's intrinsics make the aspect exact; without them the
+  // focal length is estimated from the page's perspective.
+  std::optional<CameraIntrinsics> camera;
+  // Margins below these (ThresholdOptions' "thin") warn: the tag decodes
+  // here but has little to spare for dimmer light, blur or a cast.
+  double thin_b_gap = 8.0;
+  // A gap under this factor times what the detector needs warns.
+  double thin_factor = 2.0;
+
+  bool IsValid(std::string* error) const;
+};
+
+enum class Grade { kPass = 0, kWarn, kFail };
+const char* GradeName(Grade grade);  // "pass", "warn", "fail".
+
+// One tag's shades as printed and seen.
+struct PrintedShades {
+  bool measured = false;
+  // Index: Shade (red-1, red-0, green-1, green-0); lab normalised to the
+  // paper white of the tag's quiet zone, as_shot as the image holds it.
+  std::array<ShadeReading, 4> shades;
+  Lab paper_as_shot;  // The quiet zone's white, as shot.
+  Margins margins;    // MarginsOf the normalised shades.
+};
+
+struct PrintTagResult {
+  PlacedTag expected;
+  bool found = false;  // A detection of the sheet's family lies on it.
+  int found_id = -1;
+  int hamming = 0;
+  double margin = 0.0;  // The detector's decision margin.
+  // The tag's place in the image is known: found, or placed by the fit.
+  bool located = false;
+  std::array<cv::Point2d, 4> corners_px{};  // Black square, spec order.
+  PrintedShades colours;
+  // Scans: the black square's mean side as printed, mm, and over the sidecar's.
+  double size_mm = 0.0;
+  double size_ratio = 0.0;
+  // Found tags: worst corner's distance from where the page fit puts it, mm.
+  double position_error_mm = 0.0;
+  Grade grade = Grade::kPass;
+  std::vector<std::string> problems;  // Worst first; empty when it passes.
+};
+
+// A tag-like candidate that did not decode, in an image where no tag of the
+// sheet did: its red and green cells' b* splits tell why.
+struct UndecodedCandidate {
+  std::array<cv::Point2d, 4> corners_px{};
+  double red_b_split = 0.0;  // Largest gap between the red cells' sorted b*.
+  double green_b_split = 0.0;
+  double a_gap = 0.0;  // Median red a* minus median green a*.
+};
+
+struct PrintPageResult {
+  std::string image;  // Its name, as given.
+  cv::Size image_size;
+  int page = -1;  // The sheet's page (from 0) it shows; -1 if none was recognised.
+  bool scan = false;
+  double dpi_x = 0.0, dpi_y = 0.0;  // Scans.
+  // Page millimetres (sidecar convention) to image pixels (centres at
+  // integers): affine for scans, projective for photos.
+  cv::Matx33d image_from_page = cv::Matx33d::eye();
+  int tags_found = 0;   // With the right ID.
+  int tags_in_fit = 0;  // Tags whose corners the fit kept.
+  double rms_mm = 0.0;  // Fit residual over those corners, on the page.
+  // Scans: printed size over the sidecar's along the page's x and y axes,
+  // their standard errors from the fit, and how far the axes are from
+  // square, degrees.
+  double scale_x = 0.0, scale_y = 0.0;
+  double scale_x_error = 0.0, scale_y_error = 0.0;
+  double skew_deg = 0.0;
+  // Photos: the page's x scale over its y scale, and its uncertainty (from
+  // the focal length when it is estimated).
+  double aspect = 0.0;
+  double aspect_error = 0.0;
+  double focal_px = 0.0;
+  bool focal_estimated = false;
+  Grade grade = Grade::kPass;
+  std::vector<std::string> problems;  // About the page as a whole.
+  std::vector<PrintTagResult> tags;   // The page's tags, in sidecar order.
+  std::vector<UnexpectedDetection> unexpected;
+  std::vector<UndecodedCandidate> undecoded;
+  // The image resampled onto the page at kPrintViewPxPerMm (BGR), for
+  // reports; empty when the page was not recognised.
+  cv::Mat page_view;
+};
+
+inline constexpr double kPrintViewPxPerMm = 3.0;
+
+struct PrintVerdict {
+  std::vector<PrintPageResult> images;
+  std::vector<int> pages_not_seen;  // Pages (from 0) no image showed.
+  int tags_checked = 0;
+  int tags_passed = 0;  // Pass or warn.
+  int tags_warned = 0;
+  Grade grade = Grade::kPass;
+  bool passed() const { return grade != Grade::kFail; }
+};
+
+// Checks one image (CV_8UC3 BGR) of a printed page of `record`'s sheet. For
+// a scan, `dpi_x` and `dpi_y` are its resolution; for a photo both are 0.
+// `detector` should look for both families.
+PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
+                                const std::string& name, double dpi_x, double dpi_y,
+                                const Detector& detector, const PrintCheckOptions& options);
+
+// Reads each image and checks it. Refuses (nullopt, *error) bad options, an
+// unreadable image, or a scan whose resolution is neither given nor in its
+// file.
+std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
+                                            const std::vector<std::string>& paths,
+                                            const PrintCheckOptions& options,
+                                            std::string* error = nullptr);
+
+// The resolution an image file records, pixels per inch (x, y): a PNG's
+// pHYs chunk in pixels per metre, a JPEG's JFIF density in dots per inch or
+// centimetre. nullopt when it records none (or only an aspect ratio).
+std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes);
+
+// The report drawn: per image, the page as seen with every tag marked pass,
+// warn or fail and the page's numbers. PDF one page per image; PNG all
+// images side by side. Returns the file's bytes.
+std::string RenderPrintReportPdf(const SheetRecord& record, const PrintVerdict& verdict);
+std::string RenderPrintReportPng(const SheetRecord& record, const PrintVerdict& verdict);
+
+}  // namespace chromatag
+
+#endif  // CHROMATAG_VERIFY_PRINT_CHECK_H_

@@ -1,0 +1,944 @@
+#include "chromatag/verify/print_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <numeric>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "chromatag/families/input_file.h"
+
+namespace chromatag {
+namespace {
+
+// The largest image file read (a 1200 dpi A4 scan as PNG is about 60 MiB).
+constexpr std::uintmax_t kMaxImageFileBytes = 512u << 20;
+constexpr double kMmPerInch = 25.4;
+constexpr double kPi = 3.14159265358979323846;
+
+std::string Format(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string Format(const char* format, ...) {
+  char buffer[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buffer, sizeof(buffer), format, args);
+  va_end(args);
+  return buffer;
+}
+
+// ---------------------------------------------------------------------------
+// Sampling colours.
+
+// Linear light of every 8-bit sRGB value.
+const std::array<double, 256>& LinearTable() {
+  static const std::array<double, 256> table = [] {
+    std::array<double, 256> t{};
+    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0);
+    return t;
+  }();
+  return table;
+}
+
+// Bilinear sample of `bgr` at `p` in linear light (R, G, B); false outside.
+bool SampleLinear(const cv::Mat& bgr, const cv::Point2d& p, Rgb* out) {
+  const int x0 = static_cast<int>(std::floor(p.x)), y0 = static_cast<int>(std::floor(p.y));
+  if (!(p.x >= 0 && p.y >= 0) || x0 + 1 >= bgr.cols || y0 + 1 >= bgr.rows) return false;
+  const double fx = p.x - x0, fy = p.y - y0;
+  const auto& lin = LinearTable();
+  double c[3] = {0, 0, 0};
+  const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+  const cv::Vec3b* q[4] = {&bgr.at<cv::Vec3b>(y0, x0), &bgr.at<cv::Vec3b>(y0, x0 + 1),
+                           &bgr.at<cv::Vec3b>(y0 + 1, x0), &bgr.at<cv::Vec3b>(y0 + 1, x0 + 1)};
+  for (int k = 0; k < 4; ++k) {
+    for (int ch = 0; ch < 3; ++ch) c[ch] += w[k] * lin[(*q[k])[2 - ch]];
+  }
+  *out = Rgb{c[0], c[1], c[2]};
+  return true;
+}
+
+cv::Point2d Apply(const cv::Matx33d& h, const cv::Point2d& p) {
+  const cv::Vec3d v = h * cv::Vec3d(p.x, p.y, 1.0);
+  return {v[0] / v[2], v[1] / v[2]};
+}
+
+Lab NormalisedLab(const Rgb& linear, const Rgb& white) {
+  return XyzToLab(
+      LinearRgbToXyz({linear.r / std::max(white.r, 1e-6), linear.g / std::max(white.g, 1e-6),
+                      linear.b / std::max(white.b, 1e-6)}));
+}
+
+Rgb Mean(const std::vector<Rgb>& values) {
+  Rgb m;
+  for (const Rgb& v : values) {
+    m.r += v.r / values.size();
+    m.g += v.g / values.size();
+    m.b += v.b / values.size();
+  }
+  return m;
+}
+
+double StdDev(const std::vector<double>& values) {
+  if (values.size() < 2) return 0.0;
+  const double mean = std::accumulate(values.begin(), values.end(), 0.0) / values.size();
+  double sum = 0.0;
+  for (double v : values) sum += (v - mean) * (v - mean);
+  return std::sqrt(sum / (values.size() - 1));
+}
+
+// Maps the black square as the unit square (x right, y down) to pixels.
+cv::Matx33d ImageFromUnit(const std::array<cv::Point2d, 4>& corners) {
+  const cv::Point2f src[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  cv::Point2f dst[4];
+  for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(corners[i]);
+  return cv::Matx33d(cv::getPerspectiveTransform(src, dst));
+}
+
+// The paper white of a tag: the middle half of its quiet zone, all round,
+// trimmed of its darkest and brightest fifth (a label or a speck of dust).
+std::optional<Rgb> QuietZoneWhite(const cv::Mat& bgr, const cv::Matx33d& image_from_unit,
+                                  double cell, int quiet_zone_cells) {
+  std::vector<Rgb> samples;
+  const double q = quiet_zone_cells * cell;
+  for (double depth : {0.3, 0.5, 0.7}) {
+    const double lo = -depth * q, hi = 1.0 + depth * q;
+    for (int i = 0; i <= 16; ++i) {
+      const double t = lo + (hi - lo) * i / 16.0;
+      for (const cv::Point2d& u :
+           {cv::Point2d(t, lo), cv::Point2d(t, hi), cv::Point2d(lo, t), cv::Point2d(hi, t)}) {
+        Rgb rgb;
+        if (SampleLinear(bgr, Apply(image_from_unit, u), &rgb)) samples.push_back(rgb);
+      }
+    }
+  }
+  if (samples.size() < 20) return std::nullopt;
+  auto luminance = [](const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  std::sort(samples.begin(), samples.end(),
+            [&](const Rgb& a, const Rgb& b) { return luminance(a) < luminance(b); });
+  const size_t drop = samples.size() / 5;
+  return Mean(std::vector<Rgb>(samples.begin() + drop, samples.end() - drop));
+}
+
+struct CellReading {
+  Rgb linear;                           // Mean over the cell's central half.
+  Lab lab;                              // Normalised to the paper.
+  Lab as_shot;                          // Of the mean.
+  double noise_a = 0.0, noise_b = 0.0;  // Single samples' as-shot spread.
+};
+
+// Reads the payload cell (row, col) of a tag placed by `image_from_unit`.
+std::optional<CellReading> ReadCell(const cv::Mat& bgr, const cv::Matx33d& image_from_unit,
+                                    double cell, int row, int col, const Rgb& white) {
+  constexpr int kGrid = 5;
+  std::vector<Rgb> samples;
+  std::vector<double> a, b;
+  for (int i = 0; i < kGrid; ++i) {
+    for (int j = 0; j < kGrid; ++j) {
+      const double u = (col + 1 + 0.25 + 0.5 * (j + 0.5) / kGrid) * cell;
+      const double v = (row + 1 + 0.25 + 0.5 * (i + 0.5) / kGrid) * cell;
+      Rgb rgb;
+      if (!SampleLinear(bgr, Apply(image_from_unit, {u, v}), &rgb)) return std::nullopt;
+      samples.push_back(rgb);
+      const Lab lab = XyzToLab(LinearRgbToXyz(rgb));
+      a.push_back(lab.a);
+      b.push_back(lab.b);
+    }
+  }
+  CellReading r;
+  r.linear = Mean(samples);
+  r.lab = NormalisedLab(r.linear, white);
+  r.as_shot = XyzToLab(LinearRgbToXyz(r.linear));
+  r.noise_a = StdDev(a);
+  r.noise_b = StdDev(b);
+  return r;
+}
+
+// Every payload cell of a tag, with its colour and, if `code` is given, its
+// shade (index into Shade).
+struct TagCells {
+  Rgb white;
+  std::vector<CellReading> cells;
+  std::vector<CellColor> colors;
+  std::vector<int> shades;
+};
+
+std::optional<TagCells> ReadTagCells(const cv::Mat& bgr, const std::array<cv::Point2d, 4>& corners,
+                                     const TagFamily& family, int quiet_zone_cells,
+                                     std::optional<Code> code) {
+  const cv::Matx33d h = ImageFromUnit(corners);
+  const double cell = 1.0 / family.black_square_cells();
+  const auto white = QuietZoneWhite(bgr, h, cell, quiet_zone_cells);
+  if (!white) return std::nullopt;
+  TagCells out;
+  out.white = *white;
+  const int d = family.payload_width();
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const auto reading = ReadCell(bgr, h, cell, row, col, *white);
+      if (!reading) return std::nullopt;
+      const CellColor color = family.CellColorAt(row, col);
+      out.cells.push_back(*reading);
+      out.colors.push_back(color);
+      if (code) {
+        const bool bit = family.Bit(*code, row, col);
+        const Shade shade = color == CellColor::kRed ? (bit ? Shade::kRed1 : Shade::kRed0)
+                                                     : (bit ? Shade::kGreen1 : Shade::kGreen0);
+        out.shades.push_back(static_cast<int>(shade));
+      }
+    }
+  }
+  return out;
+}
+
+PrintedShades ShadesOf(const TagCells& t) {
+  PrintedShades out;
+  for (int s = 0; s < 4; ++s) {
+    std::vector<Rgb> linear;
+    std::vector<double> b;
+    double noise_a = 0.0, noise_b = 0.0;
+    for (size_t i = 0; i < t.cells.size(); ++i) {
+      if (t.shades[i] != s) continue;
+      linear.push_back(t.cells[i].linear);
+      b.push_back(t.cells[i].lab.b);
+      noise_a += t.cells[i].noise_a;
+      noise_b += t.cells[i].noise_b;
+    }
+    if (linear.empty()) return out;  // Cannot happen for a kept ID.
+    ShadeReading& r = out.shades[s];
+    const Rgb mean = Mean(linear);
+    r.lab = NormalisedLab(mean, t.white);
+    r.as_shot = XyzToLab(LinearRgbToXyz(mean));
+    r.repeat_spread_b = StdDev(b);
+    r.pixel_noise_a = noise_a / linear.size();
+    r.pixel_noise_b = noise_b / linear.size();
+    r.count = static_cast<int>(linear.size());
+  }
+  out.paper_as_shot = XyzToLab(LinearRgbToXyz(t.white));
+  out.margins = MarginsOf(out.shades, 100.0, /*as_shot=*/false);
+  out.measured = true;
+  return out;
+}
+
+double LargestGap(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  double gap = 0.0;
+  for (size_t i = 1; i < values.size(); ++i) gap = std::max(gap, values[i] - values[i - 1]);
+  return gap;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+// ---------------------------------------------------------------------------
+// Fitting the page.
+
+struct Pair {
+  int tag = 0;        // Index into the page's tags.
+  int detection = 0;  // Index into the detections.
+};
+
+struct PageFit {
+  cv::Matx33d image_from_page = cv::Matx33d::eye();
+  std::vector<int> kept;  // Pairs the fit kept.
+  double rms_mm = 0.0;
+  // Scans: the affine's parameters' standard errors (x and y columns).
+  double se_x = 0.0, se_y = 0.0;
+};
+
+// Least squares: page mm -> `image` points (scan mm for a scan, pixels for a
+// photo), affine or projective.
+bool FitOnce(const std::vector<cv::Point2d>& page, const std::vector<cv::Point2d>& image,
+             bool affine, PageFit* fit) {
+  if (affine) {
+    cv::Mat a(static_cast<int>(page.size()), 3, CV_64F), bx(a.rows, 1, CV_64F),
+        by(a.rows, 1, CV_64F);
+    for (int i = 0; i < a.rows; ++i) {
+      a.at<double>(i, 0) = page[i].x;
+      a.at<double>(i, 1) = page[i].y;
+      a.at<double>(i, 2) = 1.0;
+      bx.at<double>(i) = image[i].x;
+      by.at<double>(i) = image[i].y;
+    }
+    cv::Mat px, py;
+    if (!cv::solve(a, bx, px, cv::DECOMP_SVD) || !cv::solve(a, by, py, cv::DECOMP_SVD))
+      return false;
+    fit->image_from_page =
+        cv::Matx33d(px.at<double>(0), px.at<double>(1), px.at<double>(2), py.at<double>(0),
+                    py.at<double>(1), py.at<double>(2), 0, 0, 1);
+    const cv::Mat rx = a * px - bx, ry = a * py - by;
+    const int dof = 2 * a.rows - 6;
+    if (dof > 0) {
+      const double s2 = (rx.dot(rx) + ry.dot(ry)) / dof;
+      const cv::Mat m = (a.t() * a).inv(cv::DECOMP_SVD);
+      fit->se_x = std::sqrt(s2 * m.at<double>(0, 0));
+      fit->se_y = std::sqrt(s2 * m.at<double>(1, 1));
+    }
+    return true;
+  }
+  const cv::Mat h = cv::findHomography(page, image, 0);
+  if (h.empty()) return false;
+  fit->image_from_page = cv::Matx33d(h);
+  return true;
+}
+
+// Fits over every pair's four corners, then drops the tag that lies worst
+// off the fit while it lies more than `drop_mm` off, refitting each time
+// (never below two tags). Residuals are measured on the page.
+std::optional<PageFit> FitPage(const std::vector<PlacedTag>& tags,
+                               const std::vector<std::array<cv::Point2d, 4>>& found_corners,
+                               const std::vector<Pair>& pairs, bool affine, double drop_mm) {
+  std::vector<int> kept(pairs.size());
+  std::iota(kept.begin(), kept.end(), 0);
+  while (true) {
+    std::vector<cv::Point2d> page, image;
+    for (int k : kept) {
+      for (int c = 0; c < 4; ++c) {
+        page.emplace_back(tags[pairs[k].tag].corners_mm[c][0], tags[pairs[k].tag].corners_mm[c][1]);
+        image.push_back(found_corners[pairs[k].detection][c]);
+      }
+    }
+    PageFit fit;
+    if (!FitOnce(page, image, affine, &fit)) return std::nullopt;
+    const cv::Matx33d page_from_image = fit.image_from_page.inv();
+    double worst = 0.0, sum2 = 0.0;
+    size_t worst_k = 0;
+    for (size_t i = 0; i < kept.size(); ++i) {
+      double tag_worst = 0.0;
+      for (int c = 0; c < 4; ++c) {
+        const cv::Point2d back = Apply(page_from_image, image[4 * i + c]);
+        const double e = cv::norm(back - page[4 * i + c]);
+        sum2 += e * e;
+        tag_worst = std::max(tag_worst, e);
+      }
+      if (tag_worst > worst) worst = tag_worst, worst_k = i;
+    }
+    fit.rms_mm = std::sqrt(sum2 / std::max<size_t>(1, page.size()));
+    if (worst <= drop_mm || kept.size() <= 2) {
+      fit.kept = kept;
+      return fit;
+    }
+    kept.erase(kept.begin() + worst_k);
+  }
+}
+
+// The page's x scale over its y scale in a photo, from the homography and
+// the camera (K): H ~ K [r1 r2 t] diag(sx, sy, 1).
+double AspectOf(const cv::Matx33d& h, const cv::Matx33d& k) {
+  const cv::Matx33d m = k.inv() * h;
+  const double n1 = std::hypot(std::hypot(m(0, 0), m(1, 0)), m(2, 0));
+  const double n2 = std::hypot(std::hypot(m(0, 1), m(1, 1)), m(2, 1));
+  return n1 / n2;
+}
+
+// Focal length from the orthogonality of the page's axes with the principal
+// point at (cx, cy) and square pixels; nullopt when the view is too close
+// to face-on (or too noisy) to tell.
+std::optional<double> EstimateFocal(const cv::Matx33d& h, double cx, double cy, double width) {
+  const cv::Matx33d t(1, 0, -cx, 0, 1, -cy, 0, 0, 1);
+  const cv::Matx33d g = t * h;
+  const double num = -(g(0, 0) * g(0, 1) + g(1, 0) * g(1, 1));
+  const double den = g(2, 0) * g(2, 1);
+  if (std::abs(den) < 1e-15) return std::nullopt;
+  const double f2 = num / den;
+  if (!(f2 > 0)) return std::nullopt;
+  const double f = std::sqrt(f2);
+  if (f < 0.25 * width || f > 8.0 * width) return std::nullopt;
+  return f;
+}
+
+// ---------------------------------------------------------------------------
+// Judging.
+
+struct Finding {
+  Grade grade;
+  std::string text;
+};
+
+void Add(std::vector<Finding>* findings, Grade grade, std::string text) {
+  findings->push_back({grade, std::move(text)});
+}
+
+void Settle(std::vector<Finding> findings, Grade* grade, std::vector<std::string>* problems) {
+  std::stable_sort(findings.begin(), findings.end(), [](const Finding& a, const Finding& b) {
+    return static_cast<int>(a.grade) > static_cast<int>(b.grade);
+  });
+  *grade = Grade::kPass;
+  for (const Finding& f : findings) {
+    *grade = std::max(*grade, f.grade);
+    problems->push_back(f.text);
+  }
+}
+
+void JudgeBGap(const char* colour, Shade one, Shade zero, double gap, double decision,
+               const PrintedShades& c, const Palette& palette, const PrintCheckOptions& o,
+               std::vector<Finding>* findings) {
+  const double b1 = c.shades[static_cast<int>(one)].lab.b;
+  const double b0 = c.shades[static_cast<int>(zero)].lab.b;
+  const double design =
+      palette.lab[static_cast<int>(one)].b - palette.lab[static_cast<int>(zero)].b;
+  const double need = o.detector.min_decision_margin;
+  if (gap <= 0) {
+    Add(findings, Grade::kFail,
+        Format("%s shades printed swapped: %s at b* %.1f, %s at b* %.1f (the palette has them "
+               "%.1f apart the other way)",
+               colour, ShadeName(one), b1, ShadeName(zero), b0, std::abs(design)));
+  } else if (decision < need) {
+    Add(findings, Grade::kFail,
+        Format("%s b* split %.1f (palette %.1f) is gone: decision margin %.1f, the detector "
+               "needs %.1f",
+               colour, gap, std::abs(design), decision, need));
+  } else if (gap < o.thin_b_gap || decision < o.thin_factor * need) {
+    Add(findings, Grade::kWarn,
+        Format("%s b* split %.1f (palette %.1f) is thin: decision margin %.1f, %.1f needed", colour,
+               gap, std::abs(design), decision, need));
+  }
+}
+
+void JudgeColours(const PrintedShades& c, const Palette& palette, const PrintCheckOptions& o,
+                  std::vector<Finding>* findings) {
+  if (!c.measured) return;
+  const Margins& m = c.margins;
+  const DetectorOptions& d = o.detector;
+  if (m.a_gap < d.adiff_thresh) {
+    Add(findings, Grade::kFail,
+        Format("reds and greens only %.1f apart in a*, below ADiffThresh %.1f", m.a_gap,
+               d.adiff_thresh));
+  } else if (m.a_gap < o.thin_factor * d.adiff_thresh) {
+    Add(findings, Grade::kWarn,
+        Format("reds and greens %.1f apart in a*: under %.0fx ADiffThresh %.1f", m.a_gap,
+               o.thin_factor, d.adiff_thresh));
+  }
+  if (m.min_red_a < kMinTagRedA) {
+    Add(findings, Grade::kFail,
+        Format("the paler red prints at a* %.1f, below the detector's floor of %.0f for a red",
+               m.min_red_a, kMinTagRedA));
+  }
+  if (m.max_green_a > d.max_green_a) {
+    Add(findings, Grade::kFail,
+        Format("the redder green prints at a* %.1f, above max_green_a %.1f", m.max_green_a,
+               d.max_green_a));
+  }
+  JudgeBGap("red", Shade::kRed1, Shade::kRed0, m.red_b_gap, m.red_decision, c, palette, o,
+            findings);
+  JudgeBGap("green", Shade::kGreen0, Shade::kGreen1, m.green_b_gap, m.green_decision, c, palette, o,
+            findings);
+}
+
+std::array<cv::Point2d, 4> PredictCorners(const cv::Matx33d& image_from_page,
+                                          const PlacedTag& tag) {
+  std::array<cv::Point2d, 4> out;
+  for (int c = 0; c < 4; ++c)
+    out[c] = Apply(image_from_page, {tag.corners_mm[c][0], tag.corners_mm[c][1]});
+  return out;
+}
+
+cv::Point2d Centre(const std::array<cv::Point2d, 4>& q) {
+  return (q[0] + q[1] + q[2] + q[3]) * 0.25;
+}
+
+cv::Mat PageView(const cv::Mat& bgr, const cv::Matx33d& image_from_page, const PageSize& page) {
+  const double s = kPrintViewPxPerMm;
+  // View pixel (u, v) is page mm ((u + 0.5) / s, (v + 0.5) / s).
+  const cv::Matx33d page_from_view(1 / s, 0, 0.5 / s, 0, 1 / s, 0.5 / s, 0, 0, 1);
+  const cv::Matx33d image_from_view = image_from_page * page_from_view;
+  cv::Mat view;
+  cv::warpPerspective(bgr, view, cv::Mat(image_from_view),
+                      cv::Size(static_cast<int>(std::lround(page.width_mm * s)),
+                               static_cast<int>(std::lround(page.height_mm * s))),
+                      cv::INTER_AREA | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT,
+                      cv::Scalar(128, 128, 128));
+  return view;
+}
+
+// Candidates the detector gave up on at Decode, with their cells' splits.
+std::vector<UndecodedCandidate> Undecoded(const cv::Mat& bgr, const DetectionResult& result,
+                                          const SheetRecord& record) {
+  std::vector<UndecodedCandidate> out;
+  for (const RejectedCandidate& r : result.rejected) {
+    if (r.stage != Stage::kDecode || r.outline.size() != 4) continue;
+    UndecodedCandidate u;
+    for (int c = 0; c < 4; ++c) u.corners_px[c] = cv::Point2d(r.outline[c]);
+    const auto cells =
+        ReadTagCells(bgr, u.corners_px, *record.family, record.quiet_zone_cells, std::nullopt);
+    if (!cells) continue;
+    std::vector<double> red_b, green_b, red_a, green_a;
+    for (size_t i = 0; i < cells->cells.size(); ++i) {
+      const Lab& lab = cells->cells[i].lab;
+      if (cells->colors[i] == CellColor::kRed) {
+        red_b.push_back(lab.b);
+        red_a.push_back(lab.a);
+      } else {
+        green_b.push_back(lab.b);
+        green_a.push_back(lab.a);
+      }
+    }
+    u.red_b_split = LargestGap(red_b);
+    u.green_b_split = LargestGap(green_b);
+    u.a_gap = Median(red_a) - Median(green_a);
+    out.push_back(u);
+  }
+  return out;
+}
+
+// The page of the sheet most detections belong to, by ID; -1 for none.
+int ChoosePage(const SheetRecord& record, const std::vector<const Detection*>& mine) {
+  std::vector<int> votes(std::max(1, record.num_pages), 0);
+  for (const Detection* d : mine) {
+    std::vector<bool> voted(votes.size(), false);
+    for (const PlacedTag& t : record.tags) {
+      if (t.id == d->id && t.page < static_cast<int>(votes.size()) && !voted[t.page]) {
+        ++votes[t.page];
+        voted[t.page] = true;
+      }
+    }
+  }
+  const auto best = std::max_element(votes.begin(), votes.end());
+  return *best > 0 ? static_cast<int>(best - votes.begin()) : -1;
+}
+
+void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageResult* r,
+               std::vector<Finding>* findings) {
+  if (r->scan) {
+    const double tol = o.max_scale_error;
+    const double ex = std::max(0.001, 2 * r->scale_x_error),
+                 ey = std::max(0.001, 2 * r->scale_y_error);
+    const bool x_off = std::abs(r->scale_x - 1.0) > tol, y_off = std::abs(r->scale_y - 1.0) > tol;
+    if ((x_off || y_off) && std::abs(r->scale_x - r->scale_y) <= tol) {
+      const double mean = (r->scale_x + r->scale_y) / 2;
+      Add(findings, Grade::kFail,
+          Format("printed at %.1f %% of its size (scale x %.3f ± %.3f, y %.3f ± %.3f; "
+                 "allowed 1 ± %.3f): %.1f mm tags print as %.2f mm. Print at 100 %% "
+                 "(\"actual size\"), not \"fit to page\"",
+                 100 * mean, r->scale_x, ex, r->scale_y, ey, tol, record.tag_size_mm,
+                 record.tag_size_mm * mean));
+    } else if (x_off || y_off) {
+      Add(findings, Grade::kFail,
+          Format("stretched: scale x %.3f ± %.3f, y %.3f ± %.3f (allowed 1 ± %.3f each): the "
+                 "printer does not keep the page's aspect; poses from these tags will be off",
+                 r->scale_x, ex, r->scale_y, ey, tol));
+    }
+    if (std::abs(r->skew_deg) > 0.5) {
+      Add(findings, Grade::kWarn,
+          Format("the page's axes are %.1f degrees from square (the paper fed crooked)",
+                 r->skew_deg));
+    }
+  } else if (r->aspect > 0) {
+    const double allowed = o.max_aspect_error + 2 * r->aspect_error;
+    if (std::abs(r->aspect - 1.0) > allowed) {
+      Add(findings, Grade::kFail,
+          Format("stretched: the page's x scale over its y scale is %.3f ± %.3f (allowed 1 ± "
+                 "%.3f)",
+                 r->aspect, 2 * r->aspect_error, o.max_aspect_error));
+    }
+  }
+  if (r->tags_in_fit >= 3 && r->rms_mm > 0.5 * o.max_position_error_mm) {
+    Add(findings, Grade::kWarn,
+        Format("the tags do not lie on one flat page (fit residual %.2f mm rms): the sheet "
+               "curls%s",
+               r->rms_mm, r->scan ? "" : " or the lens distorts (give --camera)"));
+  }
+  for (const UnexpectedDetection& u : r->unexpected) {
+    Add(findings, Grade::kWarn,
+        Format("%s ID %d found at %.1f, %.1f mm, where the sidecar has no tag", u.family.c_str(),
+               u.id, u.center_mm[0], u.center_mm[1]));
+  }
+}
+
+void JudgeTag(const PrintCheckOptions& o, const SheetRecord& record, bool scan, PrintTagResult* t) {
+  std::vector<Finding> findings;
+  if (!t->found) {
+    Add(&findings, Grade::kFail, "not found");
+  } else if (t->found_id != t->expected.id) {
+    Add(&findings, Grade::kFail, Format("decodes as ID %d", t->found_id));
+  } else if (t->hamming > 0) {
+    Add(&findings, scan ? Grade::kFail : Grade::kWarn,
+        Format("decodes only with %d bit%s corrected: a cell reads as the wrong shade", t->hamming,
+               t->hamming == 1 ? "" : "s"));
+  }
+  if (t->found && t->position_error_mm > o.max_position_error_mm) {
+    Add(&findings, Grade::kWarn,
+        Format("lies %.2f mm from where the other tags put it", t->position_error_mm));
+  }
+  if (scan && t->size_ratio > 0 && std::abs(t->size_ratio - 1.0) > o.max_scale_error) {
+    Add(&findings, Grade::kFail,
+        Format("prints %.2f mm wide where the sidecar says %.2f mm (%.1f %%)", t->size_mm,
+               record.tag_size_mm, 100 * t->size_ratio));
+  }
+  JudgeColours(t->colours, record.palette, o, &findings);
+  Settle(std::move(findings), &t->grade, &t->problems);
+}
+
+}  // namespace
+
+bool PrintCheckOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (scan_dpi != 0.0 && !(scan_dpi >= 50.0 && scan_dpi <= 4800.0))
+    return fail("the scan resolution must be in [50, 4800] dpi");
+  if (!(max_scale_error > 0.0 && max_scale_error <= 0.2))
+    return fail("the scale tolerance must be in (0, 0.2] (0.005 is 0.5 %)");
+  if (!(max_aspect_error > 0.0 && max_aspect_error <= 0.2))
+    return fail("the aspect tolerance must be in (0, 0.2]");
+  if (!(max_position_error_mm > 0.0 && max_position_error_mm <= 50.0))
+    return fail("the position tolerance must be in (0, 50] mm");
+  if (!(thin_b_gap >= 0.0 && thin_b_gap <= 100.0) || !(thin_factor >= 1.0 && thin_factor <= 10.0))
+    return fail("thin_b_gap must be in [0, 100] and thin_factor in [1, 10]");
+  if (camera && !camera->IsValid(error)) return false;
+  return detector.IsValid(error);
+}
+
+const char* GradeName(Grade grade) {
+  switch (grade) {
+    case Grade::kPass:
+      return "pass";
+    case Grade::kWarn:
+      return "warn";
+    case Grade::kFail:
+      return "fail";
+  }
+  return "?";
+}
+
+PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
+                                const std::string& name, double dpi_x, double dpi_y,
+                                const Detector& detector, const PrintCheckOptions& options) {
+  PrintPageResult r;
+  r.image = name;
+  r.image_size = bgr.size();
+  r.scan = dpi_x > 0 && dpi_y > 0;
+  r.dpi_x = dpi_x;
+  r.dpi_y = dpi_y;
+  const DetectionResult result = detector.Detect(bgr, PixelOrder::kBgr);
+  std::vector<const Detection*> mine;
+  for (const Detection& d : result.detections)
+    if (d.family == record.family.get()) mine.push_back(&d);
+  r.page = ChoosePage(record, mine);
+  std::vector<Finding> page_findings;
+  if (r.page < 0) {
+    r.undecoded = Undecoded(bgr, result, record);
+    std::string why = "no tag of the sheet decodes in this image";
+    if (!r.undecoded.empty()) {
+      double red = 0, green = 0, a = 0;
+      for (const auto& u : r.undecoded) {
+        red += u.red_b_split / r.undecoded.size();
+        green += u.green_b_split / r.undecoded.size();
+        a += u.a_gap / r.undecoded.size();
+      }
+      why += Format(
+          "; %zu tag-like candidate%s fail to decode, their cells' b* split on average %.1f in "
+          "the reds and %.1f in the greens (the palette: %.1f and %.1f), a* gap %.1f",
+          r.undecoded.size(), r.undecoded.size() == 1 ? "" : "s", red, green,
+          std::abs(record.palette.lab[0].b - record.palette.lab[1].b),
+          std::abs(record.palette.lab[3].b - record.palette.lab[2].b), a);
+      const double need = options.thin_b_gap / 2;
+      if (red < need && green >= need) why += ": the two reds print alike";
+      if (green < need && red >= need) why += ": the two greens print alike";
+      if (red < need && green < need) why += ": neither colour's two shades can be told apart";
+    } else if (!result.detections.empty()) {
+      why += " (only tags of another sheet or family)";
+    }
+    Add(&page_findings, Grade::kFail, why);
+    Settle(std::move(page_findings), &r.grade, &r.problems);
+    return r;
+  }
+
+  // The page's tags, and the detections paired with them by ID.
+  std::vector<PlacedTag> tags;
+  for (const PlacedTag& t : record.tags)
+    if (t.page == r.page) tags.push_back(t);
+  // Scans are fitted in scan millimetres, photos in pixels.
+  auto to_fit = [&](const cv::Point2d& px) {
+    return r.scan ? cv::Point2d(px.x * kMmPerInch / dpi_x, px.y * kMmPerInch / dpi_y) : px;
+  };
+  std::vector<std::array<cv::Point2d, 4>> fit_corners;
+  for (const Detection* d : mine) {
+    std::array<cv::Point2d, 4> q;
+    for (int c = 0; c < 4; ++c) q[c] = to_fit(d->corners[c]);
+    fit_corners.push_back(q);
+  }
+  std::vector<Pair> pairs, ambiguous;
+  for (size_t k = 0; k < mine.size(); ++k) {
+    std::vector<int> same;
+    for (size_t i = 0; i < tags.size(); ++i)
+      if (tags[i].id == mine[k]->id) same.push_back(static_cast<int>(i));
+    if (same.size() == 1) pairs.push_back({same[0], static_cast<int>(k)});
+    for (int i : same)
+      if (same.size() > 1) ambiguous.push_back({i, static_cast<int>(k)});
+  }
+  // Repeated IDs: a detection pairs with the tag of its ID where a fit
+  // over the unique pairs puts it; with no unique pair, the pairing of one
+  // detection that places most others on a tag of their ID seeds the fit.
+  auto agreeing = [&](const PageFit& f) {
+    const cv::Matx33d page_from_fit = f.image_from_page.inv();
+    std::vector<Pair> out;
+    for (const Pair& q : ambiguous) {
+      const cv::Point2d c = Apply(page_from_fit, Centre(fit_corners[q.detection]));
+      const auto& mm = tags[q.tag].center_mm;
+      if (std::hypot(c.x - mm[0], c.y - mm[1]) < 0.25 * record.tag_size_mm) out.push_back(q);
+    }
+    return out;
+  };
+  if (pairs.empty()) {
+    size_t best = 0;
+    for (const Pair& p : ambiguous) {
+      const auto seed = FitPage(tags, fit_corners, {p}, r.scan, 1e9);
+      if (!seed) continue;
+      const std::vector<Pair> agree = agreeing(*seed);
+      if (agree.size() > best) best = agree.size(), pairs = agree;
+    }
+  } else if (!ambiguous.empty()) {
+    if (const auto first = FitPage(tags, fit_corners, pairs, r.scan, 1e9)) {
+      for (const Pair& q : agreeing(*first)) pairs.push_back(q);
+    }
+  }
+  const auto fit = pairs.empty()
+                       ? std::nullopt
+                       : FitPage(tags, fit_corners, pairs, r.scan, options.max_position_error_mm);
+  if (!fit) {
+    Add(&page_findings, Grade::kFail, "the found tags do not fit the sheet's layout");
+    Settle(std::move(page_findings), &r.grade, &r.problems);
+    return r;
+  }
+  const cv::Matx33d px_from_fit =
+      r.scan ? cv::Matx33d(dpi_x / kMmPerInch, 0, 0, 0, dpi_y / kMmPerInch, 0, 0, 0, 1)
+             : cv::Matx33d::eye();
+  r.image_from_page = px_from_fit * fit->image_from_page;
+  r.tags_in_fit = static_cast<int>(fit->kept.size());
+  r.rms_mm = fit->rms_mm;
+  if (r.scan) {
+    const cv::Matx33d& a = fit->image_from_page;
+    r.scale_x = std::hypot(a(0, 0), a(1, 0));
+    r.scale_y = std::hypot(a(0, 1), a(1, 1));
+    r.scale_x_error = fit->se_x;
+    r.scale_y_error = fit->se_y;
+    const double cos_angle =
+        (a(0, 0) * a(0, 1) + a(1, 0) * a(1, 1)) / std::max(1e-12, r.scale_x * r.scale_y);
+    r.skew_deg = std::asin(std::clamp(cos_angle, -1.0, 1.0)) * 180.0 / kPi;
+  } else {
+    // The aspect wants undistorted pixels.
+    cv::Matx33d h = fit->image_from_page;
+    cv::Matx33d k;
+    if (options.camera) {
+      const CameraIntrinsics& cam = *options.camera;
+      k = cv::Matx33d(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
+      if (!cam.distortion.empty()) {
+        std::vector<cv::Point2d> page, image;
+        for (int kept : fit->kept) {
+          const Pair& p = pairs[kept];
+          for (int c = 0; c < 4; ++c) {
+            page.emplace_back(tags[p.tag].corners_mm[c][0], tags[p.tag].corners_mm[c][1]);
+            image.push_back(fit_corners[p.detection][c]);
+          }
+        }
+        std::vector<cv::Point2d> undistorted;
+        cv::undistortPoints(image, undistorted, cv::Mat(k), cam.distortion, cv::noArray(),
+                            cv::Mat(k));
+        const cv::Mat hu = cv::findHomography(page, undistorted, 0);
+        if (!hu.empty()) h = cv::Matx33d(hu);
+      }
+      r.focal_px = std::sqrt(cam.fx * cam.fy);
+      r.aspect = AspectOf(h, k);
+    } else {
+      const double cx = (bgr.cols - 1) / 2.0, cy = (bgr.rows - 1) / 2.0;
+      const auto f = EstimateFocal(h, cx, cy, bgr.cols);
+      r.focal_estimated = true;
+      // Face on, the focal length cannot be told, and barely matters: take
+      // a usual camera's (about 60 degrees across) and let the spread over
+      // half to twice it say how little.
+      r.focal_px = f ? *f : 0.87 * std::max(bgr.cols, bgr.rows);
+      auto aspect_at = [&](double focal) {
+        return AspectOf(h, cv::Matx33d(focal, 0, cx, 0, focal, cy, 0, 0, 1));
+      };
+      r.aspect = aspect_at(r.focal_px);
+      const double lo = aspect_at(r.focal_px * (f ? 0.85 : 0.5)),
+                   hi = aspect_at(r.focal_px * (f ? 1.15 : 2.0));
+      r.aspect_error = std::max(std::abs(hi - r.aspect), std::abs(lo - r.aspect)) / 2;
+    }
+  }
+
+  // Every tag of the page: found where the fit puts it, or measured there.
+  const double reach_px = [&] {
+    const double side = cv::norm(Apply(r.image_from_page, {0, 0}) -
+                                 Apply(r.image_from_page, {record.tag_size_mm, 0}));
+    return 0.5 * side;
+  }();
+  std::vector<int> owner(mine.size(), -1);
+  for (size_t k = 0; k < mine.size(); ++k) {
+    const cv::Point2d c = Centre(mine[k]->corners);
+    double best = reach_px;
+    for (size_t i = 0; i < tags.size(); ++i) {
+      const double dist = cv::norm(Centre(PredictCorners(r.image_from_page, tags[i])) - c);
+      if (dist < best) best = dist, owner[k] = static_cast<int>(i);
+    }
+  }
+  for (size_t i = 0; i < tags.size(); ++i) {
+    PrintTagResult t;
+    t.expected = tags[i];
+    const std::array<cv::Point2d, 4> predicted = PredictCorners(r.image_from_page, tags[i]);
+    const Detection* found = nullptr;
+    for (size_t k = 0; k < mine.size(); ++k) {
+      if (owner[k] != static_cast<int>(i)) continue;
+      if (found == nullptr || (mine[k]->id == tags[i].id && found->id != tags[i].id))
+        found = mine[k];
+    }
+    t.located = true;
+    t.corners_px = predicted;
+    if (found) {
+      t.found = true;
+      t.found_id = found->id;
+      t.hamming = found->hamming;
+      t.margin = found->decision_margin;
+      if (found->id == tags[i].id) {
+        t.corners_px = found->corners;
+        ++r.tags_found;
+        const cv::Matx33d page_from_image = r.image_from_page.inv();
+        for (int c = 0; c < 4; ++c) {
+          const cv::Point2d back = Apply(page_from_image, found->corners[c]);
+          t.position_error_mm = std::max(
+              t.position_error_mm,
+              std::hypot(back.x - tags[i].corners_mm[c][0], back.y - tags[i].corners_mm[c][1]));
+        }
+        if (r.scan) {
+          std::array<cv::Point2d, 4> mm;
+          for (int c = 0; c < 4; ++c) mm[c] = to_fit(found->corners[c]);
+          t.size_mm = (cv::norm(mm[1] - mm[0]) + cv::norm(mm[2] - mm[1]) + cv::norm(mm[3] - mm[2]) +
+                       cv::norm(mm[0] - mm[3])) /
+                      4.0;
+          t.size_ratio = t.size_mm / record.tag_size_mm;
+        }
+      }
+    }
+    const auto cells = ReadTagCells(bgr, t.corners_px, *record.family, record.quiet_zone_cells,
+                                    record.family->CodeOf(tags[i].id));
+    if (cells) t.colours = ShadesOf(*cells);
+    JudgeTag(options, record, r.scan, &t);
+    r.tags.push_back(std::move(t));
+  }
+  for (size_t k = 0; k < mine.size(); ++k) {
+    if (owner[k] >= 0) continue;
+    const cv::Point2d c = Apply(r.image_from_page.inv(), Centre(mine[k]->corners));
+    r.unexpected.push_back({r.page, mine[k]->family->name(), mine[k]->id, {c.x, c.y}});
+  }
+  for (const Detection& d : result.detections) {
+    if (d.family == record.family.get()) continue;
+    const cv::Point2d c = Apply(r.image_from_page.inv(), Centre(d.corners));
+    r.unexpected.push_back({r.page, d.family->name(), d.id, {c.x, c.y}});
+  }
+  JudgePage(options, record, &r, &page_findings);
+  Settle(std::move(page_findings), &r.grade, &r.problems);
+  for (const PrintTagResult& t : r.tags) r.grade = std::max(r.grade, t.grade);
+  r.page_view = PageView(bgr, r.image_from_page, record.page);
+  return r;
+}
+
+std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes) {
+  auto u8 = [&](size_t i) { return static_cast<uint32_t>(static_cast<unsigned char>(bytes[i])); };
+  auto be16 = [&](size_t i) { return (u8(i) << 8) | u8(i + 1); };
+  auto be32 = [&](size_t i) { return (be16(i) << 16) | be16(i + 2); };
+  static const char kPng[] = "\x89PNG\r\n\x1a\n";
+  if (bytes.size() >= 8 && bytes.compare(0, 8, kPng, 8) == 0) {
+    // Chunks: length, type, data, CRC; pHYs comes before the first IDAT.
+    size_t at = 8;
+    while (at + 8 <= bytes.size()) {
+      const uint32_t length = be32(at);
+      const std::string type = bytes.substr(at + 4, 4);
+      if (type == "IDAT" || type == "IEND" || length > bytes.size() - at - 8) break;
+      if (type == "pHYs" && length == 9 && u8(at + 16) == 1) {
+        const double x = be32(at + 8), y = be32(at + 12);
+        if (x > 0 && y > 0) return std::array<double, 2>{x * 0.0254, y * 0.0254};
+        return std::nullopt;
+      }
+      at += 12 + static_cast<size_t>(length);
+    }
+    return std::nullopt;
+  }
+  if (bytes.size() >= 4 && u8(0) == 0xFF && u8(1) == 0xD8) {
+    // Segments: FF marker, length (including itself); JFIF is an APP0.
+    size_t at = 2;
+    while (at + 4 <= bytes.size() && u8(at) == 0xFF) {
+      const uint32_t marker = u8(at + 1), length = be16(at + 2);
+      if (marker == 0xDA || length < 2 || at + 2 + length > bytes.size()) break;
+      if (marker == 0xE0 && length >= 16 && bytes.compare(at + 4, 5, "JFIF\0", 5) == 0) {
+        const uint32_t units = u8(at + 11);
+        const double x = be16(at + 12), y = be16(at + 14);
+        if (x <= 0 || y <= 0 || (units != 1 && units != 2)) return std::nullopt;
+        const double f = units == 1 ? 1.0 : 2.54;
+        return std::array<double, 2>{x * f, y * f};
+      }
+      at += 2 + length;
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
+                                            const std::vector<std::string>& paths,
+                                            const PrintCheckOptions& options, std::string* error) {
+  if (!options.IsValid(error)) return std::nullopt;
+  if (paths.empty()) {
+    if (error) *error = "give at least one scan or photo of the printed sheet";
+    return std::nullopt;
+  }
+  DetectorOptions detector_options = options.detector;
+  detector_options.families = TagFamily::Names();
+  detector_options.report_rejected = true;
+  detector_options.camera.reset();
+  detector_options.tag_size = 0.0;
+  auto detector = Detector::Create(detector_options, error);
+  if (!detector) return std::nullopt;
+  PrintVerdict verdict;
+  std::vector<bool> seen(record.num_pages, false);
+  for (const std::string& path : paths) {
+    const auto bytes = ReadInputFile(path, "image", kMaxImageFileBytes, error);
+    if (!bytes) return std::nullopt;
+    const cv::Mat raw(1, static_cast<int>(bytes->size()), CV_8U, const_cast<char*>(bytes->data()));
+    cv::Mat bgr;
+    try {
+      bgr = cv::imdecode(raw, cv::IMREAD_COLOR);
+    } catch (const cv::Exception&) {
+      bgr.release();
+    }
+    if (bgr.empty()) {
+      if (error) *error = "cannot read image '" + path + "': not an image OpenCV can decode";
+      return std::nullopt;
+    }
+    double dpi_x = 0.0, dpi_y = 0.0;
+    if (options.scans) {
+      if (options.scan_dpi > 0) {
+        dpi_x = dpi_y = options.scan_dpi;
+      } else if (const auto dpi = ReadImageDpi(*bytes)) {
+        dpi_x = (*dpi)[0];
+        dpi_y = (*dpi)[1];
+      } else {
+        if (error) {
+          *error = "scan '" + path +
+                   "' does not record its resolution; give it with --scan-dpi (the scanner's "
+                   "dpi)";
+        }
+        return std::nullopt;
+      }
+    }
+    PrintPageResult page = CheckPrintImage(record, bgr, path, dpi_x, dpi_y, *detector, options);
+    if (page.page >= 0 && page.page < record.num_pages) seen[page.page] = true;
+    verdict.grade = std::max(verdict.grade, page.grade);
+    for (const PrintTagResult& t : page.tags) {
+      ++verdict.tags_checked;
+      verdict.tags_passed += t.grade != Grade::kFail;
+      verdict.tags_warned += t.grade == Grade::kWarn;
+    }
+    verdict.images.push_back(std::move(page));
+  }
+  for (int p = 0; p < record.num_pages; ++p)
+    if (!seen[p]) verdict.pages_not_seen.push_back(p);
+  return verdict;
+}
+
+}  // namespace chromatag

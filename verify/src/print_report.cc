@@ -1,0 +1,219 @@
+// The drawn report of `verify --print` (print_check.h): per image, the page
+// as the scan or photo shows it, each tag marked pass, warn or fail, and the
+// page's numbers and problems.
+#include <cairo-pdf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <opencv2/imgproc.hpp>
+
+#include "chromatag/generator/cairo_util.h"
+#include "chromatag/verify/print_check.h"
+
+namespace chromatag {
+namespace {
+
+// One report page, in points: A4 portrait.
+constexpr double kWidth = 595.0, kHeight = 842.0, kMargin = 36.0;
+constexpr double kViewTop = 120.0, kViewHeight = 500.0;
+constexpr int kMaxProblemLines = 14;
+
+void SetGrade(cairo_t* cr, Grade grade, double alpha = 1.0) {
+  switch (grade) {
+    case Grade::kPass:
+      cairo_set_source_rgba(cr, 0.10, 0.60, 0.20, alpha);
+      break;
+    case Grade::kWarn:
+      cairo_set_source_rgba(cr, 0.90, 0.55, 0.00, alpha);
+      break;
+    case Grade::kFail:
+      cairo_set_source_rgba(cr, 0.85, 0.10, 0.10, alpha);
+      break;
+  }
+}
+
+std::string Fmt(const char* format, double a = 0, double b = 0, double c = 0, double d = 0) {
+  char text[256];
+  std::snprintf(text, sizeof(text), format, a, b, c, d);
+  return text;
+}
+
+// Cuts `text` to what fits `width` points at `size`.
+std::string Fit(cairo_t* cr, std::string text, double size, double width) {
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t e;
+  cairo_text_extents(cr, text.c_str(), &e);
+  if (e.x_advance <= width) return text;
+  while (!text.empty()) {
+    text.pop_back();
+    // Never cut inside a UTF-8 sequence.
+    while (!text.empty() && (static_cast<unsigned char>(text.back()) & 0xC0) == 0x80)
+      text.pop_back();
+    if (!text.empty()) text.pop_back();
+    cairo_text_extents(cr, (text + "...").c_str(), &e);
+    if (e.x_advance <= width) return text + "...";
+  }
+  return text;
+}
+
+void Line(cairo_t* cr, double y, double size, const std::string& text, bool bold = false) {
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  DrawText(cr, kMargin, y, size, Fit(cr, text, size, kWidth - 2 * kMargin), bold);
+}
+
+std::string PageLine(const SheetRecord& record, const PrintPageResult& r) {
+  if (r.page < 0) return "Page: not recognised";
+  std::string line = "Page " + std::to_string(r.page + 1) + " of " +
+                     std::to_string(record.num_pages) + ": " + std::to_string(r.tags_found) +
+                     " of " + std::to_string(r.tags.size()) + " tags found";
+  if (r.scan) {
+    line +=
+        Fmt(", scan at %.0f dpi", r.dpi_x) + Fmt(": scale x %.3f ± %.3f, y %.3f ± %.3f", r.scale_x,
+                                                 std::max(0.001, 2 * r.scale_x_error), r.scale_y,
+                                                 std::max(0.001, 2 * r.scale_y_error));
+  } else {
+    line += Fmt(", photo: aspect x/y %.3f ± %.3f (size not measurable in a photo)", r.aspect,
+                2 * r.aspect_error);
+  }
+  return line;
+}
+
+// Draws the page view into the box and marks each tag.
+void DrawPage(cairo_t* cr, const SheetRecord& record, const PrintPageResult& r) {
+  const double box_w = kWidth - 2 * kMargin;
+  const double scale =
+      std::min(box_w / record.page.width_mm, kViewHeight / record.page.height_mm);  // pt per mm
+  const double x0 = kMargin + (box_w - record.page.width_mm * scale) / 2, y0 = kViewTop;
+  cairo_save(cr);
+  cairo_translate(cr, x0, y0);
+  if (!r.page_view.empty()) {
+    // The page as seen, faded so that the marks read.
+    cv::Mat bgra;
+    cv::cvtColor(r.page_view, bgra, cv::COLOR_BGR2BGRA);
+    cairo_surface_t* image = cairo_image_surface_create(CAIRO_FORMAT_RGB24, bgra.cols, bgra.rows);
+    cairo_surface_flush(image);
+    unsigned char* data = cairo_image_surface_get_data(image);
+    const int stride = cairo_image_surface_get_stride(image);
+    for (int y = 0; y < bgra.rows; ++y)
+      std::copy_n(bgra.ptr<unsigned char>(y), 4 * bgra.cols, data + y * stride);
+    cairo_surface_mark_dirty(image);
+    cairo_save(cr);
+    const double s = scale / kPrintViewPxPerMm;
+    cairo_scale(cr, s, s);
+    cairo_set_source_surface(cr, image, 0, 0);
+    cairo_paint_with_alpha(cr, 0.55);
+    cairo_restore(cr);
+    cairo_surface_destroy(image);
+  } else {
+    cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+    cairo_rectangle(cr, 0, 0, record.page.width_mm * scale, record.page.height_mm * scale);
+    cairo_fill(cr);
+  }
+  cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+  cairo_set_line_width(cr, 0.8);
+  cairo_rectangle(cr, 0, 0, record.page.width_mm * scale, record.page.height_mm * scale);
+  cairo_stroke(cr);
+  for (const PrintTagResult& t : r.tags) {
+    SetGrade(cr, t.grade);
+    cairo_set_line_width(cr, t.grade == Grade::kPass ? 1.5 : 3.0);
+    for (int c = 0; c < 4; ++c) {
+      const auto& p = t.expected.corners_mm[c];
+      if (c == 0)
+        cairo_move_to(cr, p[0] * scale, p[1] * scale);
+      else
+        cairo_line_to(cr, p[0] * scale, p[1] * scale);
+    }
+    cairo_close_path(cr);
+    cairo_stroke(cr);
+    const double size = std::clamp(record.tag_size_mm * scale * 0.22, 5.0, 10.0);
+    const std::string label = "ID " + std::to_string(t.expected.id) + " " + GradeName(t.grade);
+    DrawText(cr, t.expected.corners_mm[3][0] * scale,
+             t.expected.corners_mm[3][1] * scale + size + 1.0, size, label, true);
+  }
+  cairo_restore(cr);
+}
+
+void DrawReportPage(cairo_t* cr, const SheetRecord& record, const PrintPageResult& r) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  Line(cr, kMargin + 12, 14, "ChromaTag print check: " + r.image, true);
+  Line(cr, kMargin + 32, 9,
+       "Sheet: " + record.family->name() + ", " + std::to_string(record.tags.size()) + " tags of " +
+           Fmt("%.1f", record.tag_size_mm) + " mm, palette " + record.palette.name + ", " +
+           record.page.name);
+  Line(cr, kMargin + 46, 9, PageLine(record, r));
+  SetGrade(cr, r.grade);
+  DrawText(cr, kMargin, kMargin + 66, 12, std::string("Verdict: ") + GradeName(r.grade), true);
+  DrawPage(cr, record, r);
+  // Problems: the page's first, then each tag's worst.
+  std::vector<std::pair<Grade, std::string>> lines;
+  for (const std::string& p : r.problems) lines.push_back({r.grade, "page: " + p});
+  for (const PrintTagResult& t : r.tags) {
+    if (t.problems.empty()) continue;
+    std::string text = "ID " + std::to_string(t.expected.id) + ": " + t.problems[0];
+    if (t.problems.size() > 1) text += " (+" + std::to_string(t.problems.size() - 1) + " more)";
+    lines.push_back({t.grade, text});
+  }
+  double y = kViewTop + kViewHeight + 28;
+  int shown = 0;
+  for (const auto& [grade, text] : lines) {
+    if (shown == kMaxProblemLines) {
+      Line(cr, y, 8, "... " + std::to_string(lines.size() - shown) + " more (see the text report)");
+      break;
+    }
+    SetGrade(cr, grade);
+    cairo_rectangle(cr, kMargin, y - 6, 6, 6);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    DrawText(cr, kMargin + 10, y, 8, Fit(cr, text, 8, kWidth - 2 * kMargin - 10));
+    y += 12;
+    ++shown;
+  }
+  if (lines.empty()) Line(cr, y, 9, "Every tag passes.");
+}
+
+}  // namespace
+
+std::string RenderPrintReportPdf(const SheetRecord& record, const PrintVerdict& verdict) {
+  std::string bytes;
+  cairo_surface_t* surface =
+      cairo_pdf_surface_create_for_stream(AppendToString, &bytes, kWidth, kHeight);
+  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, "ChromaTag print check");
+  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, "");
+  cairo_t* cr = cairo_create(surface);
+  for (const PrintPageResult& r : verdict.images) {
+    DrawReportPage(cr, record, r);
+    cairo_show_page(cr);
+  }
+  cairo_destroy(cr);
+  cairo_surface_finish(surface);
+  cairo_surface_destroy(surface);
+  return bytes;
+}
+
+std::string RenderPrintReportPng(const SheetRecord& record, const PrintVerdict& verdict) {
+  constexpr double kScale = 1.5;  // 108 dpi.
+  const int page_w = static_cast<int>(kWidth * kScale), page_h = static_cast<int>(kHeight * kScale);
+  const int n = std::max<int>(1, static_cast<int>(verdict.images.size()));
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, page_w * n, page_h);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  for (size_t i = 0; i < verdict.images.size(); ++i) {
+    cairo_save(cr);
+    cairo_translate(cr, static_cast<double>(i) * page_w, 0);
+    cairo_scale(cr, kScale, kScale);
+    cairo_rectangle(cr, 0, 0, kWidth, kHeight);
+    cairo_clip(cr);
+    DrawReportPage(cr, record, verdict.images[i]);
+    cairo_restore(cr);
+  }
+  cairo_destroy(cr);
+  const std::string bytes = EncodePng(surface, 72.0 * kScale);
+  cairo_surface_destroy(surface);
+  return bytes;
+}
+
+}  // namespace chromatag
