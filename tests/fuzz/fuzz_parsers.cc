@@ -1,6 +1,7 @@
 // The toolkit's file parsers on arbitrary text. One source, built once per
 // parser (CHROMATAG_FUZZ_TARGET chooses which): palette, sheet sidecar,
-// calibration sidecar, detector config, camera file, .cube LUT.
+// calibration sidecar, detector config, camera file, .cube LUT, and the
+// resolution recorded in an image file's header (verify --print --scan).
 #include <unistd.h>
 
 #include <cstddef>
@@ -14,6 +15,7 @@
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/color_lut.h"
 #include "chromatag/generator/sidecar.h"
+#include "chromatag/verify/print_check.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
@@ -39,6 +41,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::ofstream(path, std::ios::binary) << text;
   auto lut = chromatag::ColorLut::Load(path, &error);
   if (lut) lut->Apply({0.5, 0.2, 0.9});
+#elif CHROMATAG_FUZZ_TARGET == 7
+  chromatag::ReadImageDpi(text);
 #endif
   return 0;
 }

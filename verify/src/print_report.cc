@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -56,6 +58,31 @@ std::string Fit(cairo_t* cr, std::string text, double size, double width) {
     if (e.x_advance <= width) return text + "...";
   }
   return text;
+}
+
+// Splits `text` at spaces into lines that fit `width` points at `size`.
+std::vector<std::string> Wrap(cairo_t* cr, const std::string& text, double size, double width) {
+  cairo_set_font_size(cr, size);
+  std::vector<std::string> lines;
+  std::string line;
+  size_t at = 0;
+  while (at < text.size()) {
+    const size_t space = text.find(' ', at);
+    const std::string word =
+        text.substr(at, space == std::string::npos ? std::string::npos : space - at);
+    at = space == std::string::npos ? text.size() : space + 1;
+    const std::string longer = line.empty() ? word : line + " " + word;
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, longer.c_str(), &e);
+    if (e.x_advance > width && !line.empty()) {
+      lines.push_back(line);
+      line = word;
+    } else {
+      line = longer;
+    }
+  }
+  if (!line.empty()) lines.push_back(line);
+  return lines;
 }
 
 void Line(cairo_t* cr, double y, double size, const std::string& text, bool bold = false) {
@@ -167,8 +194,13 @@ void DrawReportPage(cairo_t* cr, const SheetRecord& record, const PrintPageResul
     cairo_rectangle(cr, kMargin, y - 6, 6, 6);
     cairo_fill(cr);
     cairo_set_source_rgb(cr, 0, 0, 0);
-    DrawText(cr, kMargin + 10, y, 8, Fit(cr, text, 8, kWidth - 2 * kMargin - 10));
-    y += 12;
+    const double width = kWidth - 2 * kMargin - 10;
+    const auto wrapped = Wrap(cr, text, 8, width);
+    for (size_t i = 0; i < wrapped.size() && i < 3; ++i) {
+      DrawText(cr, kMargin + 10, y, 8, Fit(cr, wrapped[i], 8, width));
+      y += 10;
+    }
+    y += 2;
     ++shown;
   }
   if (lines.empty()) Line(cr, y, 9, "Every tag passes.");

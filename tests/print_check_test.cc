@@ -1,0 +1,350 @@
+// verify --print (issue 13) on simulated scans and photos of sheets printed
+// through a real press profile (icc_press.h): a good print passes; a print
+// shrunk by "fit to page", a stretched one, one whose two reds print alike
+// and a sheet with one tag's shades swapped are each caught and named.
+#include "chromatag/verify/print_check.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "calib_sim.h"
+#include "chromatag/generator/sheet.h"
+#include "chromatag/verify/raster.h"
+#include "icc_press.h"
+#include "test_util.h"
+
+namespace chromatag {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::IccPress;
+using testing::PrintAndPhotograph;
+using testing::PrintAndScan;
+using testing::PrintFn;
+using testing::PrintGeometry;
+using testing::SimCamera;
+using testing::SimScanner;
+
+constexpr double kRasterDpi = 300.0;
+
+std::string AllProblems(const PrintPageResult& r) {
+  std::string all;
+  for (const std::string& p : r.problems) all += "page: " + p + "\n";
+  for (const PrintTagResult& t : r.tags) {
+    for (const std::string& p : t.problems)
+      all += "ID " + std::to_string(t.expected.id) + ": " + p + "\n";
+  }
+  return all;
+}
+
+bool Near(const cv::Vec3b& a, const Rgb8& b) {
+  return std::abs(a[2] - b.r) <= 2 && std::abs(a[1] - b.g) <= 2 && std::abs(a[0] - b.b) <= 2;
+}
+
+bool Near(const Rgb8& a, const Rgb8& b) {
+  return std::abs(a.r - b.r) <= 2 && std::abs(a.g - b.g) <= 2 && std::abs(a.b - b.b) <= 2;
+}
+
+// Every kept 16h5 ID at 30 mm on A4 (three pages), generated once, with its
+// pages rasterised at 300 dpi, and the SWOP press.
+class PrintCheckTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new std::string(fs::temp_directory_path() /
+                           ("chromatag-print-check-" + std::to_string(getpid())));
+    fs::create_directories(*dir_);
+    SheetOptions options;
+    options.family = TagFamily::Load("16h5");
+    options.ids = options.family->kept_ids();
+    options.palette = *BuiltinPalette("default");
+    options.tag_size_mm = 30.0;
+    std::string error;
+    const std::string sheet = *dir_ + "/tags.pdf";
+    ASSERT_TRUE(WriteSheet(options, sheet, &error)) << error;
+    auto record = ReadSidecar(SidecarPath(sheet), &error);
+    ASSERT_TRUE(record) << error;
+    record_ = new SheetRecord(*record);
+    auto images = RasterizeSheet(*record_, kRasterDpi, &error);
+    ASSERT_TRUE(images) << error;
+    images_ = new SheetImages(*images);
+    press_ = IccPress::Load(IccPress::DefaultCmykProfilePath(), &error).release();
+    ASSERT_NE(press_, nullptr) << error;
+    DetectorOptions detector_options;
+    detector_options.families = TagFamily::Names();
+    detector_options.report_rejected = true;
+    detector_ = Detector::Create(detector_options).release();
+  }
+  static void TearDownTestSuite() {
+    std::error_code ignored;
+    fs::remove_all(*dir_, ignored);
+    delete dir_;
+    delete record_;
+    delete images_;
+    delete press_;
+    delete detector_;
+  }
+
+  static double PxPerMm() { return kRasterDpi / 25.4; }
+
+  static PrintPageResult Scan(const cv::Mat& page, const PrintFn& print,
+                              const PrintGeometry& geometry = {},
+                              const PrintCheckOptions& options = ScanOptions()) {
+    SimScanner scanner;
+    const cv::Mat scan = PrintAndScan(page, PxPerMm(), print, geometry, scanner);
+    return CheckPrintImage(*record_, scan, "scan", scanner.dpi, scanner.dpi, *detector_, options);
+  }
+
+  static PrintCheckOptions ScanOptions() {
+    PrintCheckOptions options;
+    options.scans = true;
+    return options;
+  }
+
+  static inline std::string* dir_ = nullptr;
+  static inline SheetRecord* record_ = nullptr;
+  static inline SheetImages* images_ = nullptr;
+  static inline IccPress* press_ = nullptr;
+  static inline Detector* detector_ = nullptr;
+};
+
+TEST_F(PrintCheckTest, GoodSwopPrintOfEveryKeptIdPassesOnEveryPage) {
+  ASSERT_EQ(images_->pages.size(), 3u);
+  int checked = 0;
+  for (size_t page = 0; page < images_->pages.size(); ++page) {
+    const PrintPageResult r = Scan(images_->pages[page], press_->AsPrintFn());
+    EXPECT_EQ(r.page, static_cast<int>(page));
+    EXPECT_NE(r.grade, Grade::kFail) << AllProblems(r);
+    EXPECT_NEAR(r.scale_x, 1.0, 0.002);
+    EXPECT_NEAR(r.scale_y, 1.0, 0.002);
+    EXPECT_EQ(r.tags_found, static_cast<int>(r.tags.size()));
+    for (const PrintTagResult& t : r.tags) {
+      ++checked;
+      EXPECT_TRUE(t.found && t.found_id == t.expected.id && t.hamming == 0)
+          << "ID " << t.expected.id;
+      // Within 0.15 mm: the detector's corners sit about 0.3 px inside an
+      // edge blurred in linear light (0.06 mm at 300 dpi, measured here).
+      EXPECT_NEAR(t.size_mm, 30.0, 0.15) << "ID " << t.expected.id;
+      ASSERT_TRUE(t.colours.measured);
+      // The press keeps the default palette's a* gap near 84 and its green
+      // b* gap near 28 (issue 13's figures), measured on the paper.
+      EXPECT_NEAR(t.colours.margins.a_gap, 84.0, 8.0);
+      EXPECT_NEAR(t.colours.margins.green_b_gap, 28.0, 5.0);
+    }
+  }
+  EXPECT_EQ(checked, static_cast<int>(record_->tags.size()));
+}
+
+TEST_F(PrintCheckTest, FitToPagePrintFailsNamingTheScale) {
+  const PrintPageResult r = Scan(images_->pages[0], press_->AsPrintFn(), {0.97, 0.97});
+  EXPECT_EQ(r.grade, Grade::kFail);
+  EXPECT_NEAR(r.scale_x, 0.970, 0.002);
+  EXPECT_NEAR(r.scale_y, 0.970, 0.002);
+  EXPECT_LT(r.scale_x_error, 0.001);
+  ASSERT_FALSE(r.problems.empty());
+  EXPECT_NE(r.problems[0].find("printed at 97.0 % of its size"), std::string::npos)
+      << r.problems[0];
+  for (const PrintTagResult& t : r.tags) {
+    EXPECT_TRUE(t.found && t.hamming == 0);  // The tags themselves are fine...
+    EXPECT_NEAR(t.size_mm, 29.1, 0.15);      // ...but 29.1 mm, not 30.
+    EXPECT_EQ(t.grade, Grade::kFail);
+  }
+}
+
+TEST_F(PrintCheckTest, StretchedPrintFailsNamingTheAxis) {
+  const PrintPageResult r = Scan(images_->pages[0], press_->AsPrintFn(), {1.0, 1.012});
+  EXPECT_EQ(r.grade, Grade::kFail);
+  EXPECT_NEAR(r.scale_x, 1.000, 0.002);
+  EXPECT_NEAR(r.scale_y, 1.012, 0.002);
+  ASSERT_FALSE(r.problems.empty());
+  EXPECT_EQ(r.problems[0].rfind("stretched", 0), 0u) << r.problems[0];
+}
+
+TEST_F(PrintCheckTest, PrintWhoseRedsPrintAlikeIsNamed) {
+  // A press that prints red-1 as red-0: the reds' b* split is gone.
+  const TagColors sent = TagColors::FromPalette(record_->palette);
+  const Rgb8 red1 = ToRgb8(sent[Shade::kRed1]), red0 = ToRgb8(sent[Shade::kRed0]);
+  const PrintFn washed = [&](const Rgb8& c) { return press_->Print(Near(c, red1) ? red0 : c); };
+  const PrintPageResult r = Scan(images_->pages[0], washed);
+  EXPECT_EQ(r.grade, Grade::kFail);
+  EXPECT_EQ(r.page, -1);              // Nothing decodes, so the page cannot be told...
+  ASSERT_FALSE(r.undecoded.empty());  // ...but the candidates say why.
+  ASSERT_FALSE(r.problems.empty());
+  EXPECT_NE(r.problems[0].find("the two reds print alike"), std::string::npos) << r.problems[0];
+  for (const UndecodedCandidate& u : r.undecoded) {
+    EXPECT_LT(u.red_b_split, 4.0);
+    EXPECT_GT(u.green_b_split, 15.0);
+  }
+}
+
+TEST_F(PrintCheckTest, TagWithSwappedShadesIsCaughtAndTheOthersPass) {
+  // Tag 3 of page 1 printed with red-1 and red-0 exchanged.
+  cv::Mat page = images_->pages[0].clone();
+  const PlacedTag& victim = record_->tags[3];
+  ASSERT_EQ(victim.page, 0);
+  const TagColors sent = TagColors::FromPalette(record_->palette);
+  const Rgb8 red1 = ToRgb8(sent[Shade::kRed1]), red0 = ToRgb8(sent[Shade::kRed0]);
+  const cv::Point2d tl = MmToPixel(victim.corners_mm[0], PxPerMm()),
+                    br = MmToPixel(victim.corners_mm[2], PxPerMm());
+  int swapped = 0;
+  for (int y = static_cast<int>(tl.y); y <= br.y; ++y) {
+    for (int x = static_cast<int>(tl.x); x <= br.x; ++x) {
+      cv::Vec3b& p = page.at<cv::Vec3b>(y, x);
+      const Rgb8* to = Near(p, red1) ? &red0 : Near(p, red0) ? &red1 : nullptr;
+      if (to) p = cv::Vec3b(to->b, to->g, to->r), ++swapped;
+    }
+  }
+  ASSERT_GT(swapped, 1000);
+  const PrintPageResult r = Scan(page, press_->AsPrintFn());
+  EXPECT_EQ(r.page, 0);
+  EXPECT_EQ(r.grade, Grade::kFail);
+  for (const PrintTagResult& t : r.tags) {
+    if (t.expected.id != victim.id) {
+      EXPECT_EQ(t.grade, Grade::kPass) << "ID " << t.expected.id << ": " << AllProblems(r);
+      continue;
+    }
+    EXPECT_EQ(t.grade, Grade::kFail);
+    EXPECT_FALSE(t.found && t.found_id == victim.id && t.hamming == 0);
+    EXPECT_LT(t.colours.margins.red_b_gap, -10.0);
+    std::string all;
+    for (const std::string& p : t.problems) all += p + "\n";
+    EXPECT_NE(all.find("red shades printed swapped"), std::string::npos) << all;
+  }
+}
+
+TEST_F(PrintCheckTest, PhotoOfAGoodPrintPassesAndAStretchedOneFails) {
+  SimCamera camera;
+  camera.width = 2400;
+  camera.height = 1800;
+  camera.page_corners_px = {{{760, 70}, {1880, 130}, {1950, 1720}, {690, 1690}}};
+  camera.gains = {1.15, 1.0, 0.8};  // Indoor light.
+  for (const double stretch : {1.0, 1.04}) {
+    const cv::Mat photo = PrintAndPhotograph(images_->pages[1], PxPerMm(), press_->AsPrintFn(),
+                                             {1.0, stretch}, camera);
+    const PrintPageResult r =
+        CheckPrintImage(*record_, photo, "photo", 0, 0, *detector_, PrintCheckOptions());
+    EXPECT_EQ(r.page, 1);
+    EXPECT_FALSE(r.scan);
+    EXPECT_EQ(r.tags_found, static_cast<int>(r.tags.size()));
+    EXPECT_NEAR(r.aspect, 1.0 / stretch, 0.01) << "stretch " << stretch;
+    if (stretch == 1.0) {
+      EXPECT_NE(r.grade, Grade::kFail) << AllProblems(r);
+    } else {
+      EXPECT_EQ(r.grade, Grade::kFail);
+      ASSERT_FALSE(r.problems.empty());
+      EXPECT_EQ(r.problems[0].rfind("stretched", 0), 0u) << r.problems[0];
+    }
+  }
+}
+
+TEST_F(PrintCheckTest, ReportsDrawEveryImage) {
+  PrintVerdict verdict;
+  verdict.images.push_back(Scan(images_->pages[2], press_->AsPrintFn()));
+  verdict.images.push_back(Scan(images_->pages[2], press_->AsPrintFn(), {0.97, 0.97}));
+  const std::string pdf = RenderPrintReportPdf(*record_, verdict);
+  EXPECT_EQ(pdf.rfind("%PDF", 0), 0u);
+  const std::string png = RenderPrintReportPng(*record_, verdict);
+  const cv::Mat image =
+      cv::imdecode(cv::Mat(1, static_cast<int>(png.size()), CV_8U, const_cast<char*>(png.data())),
+                   cv::IMREAD_COLOR);
+  ASSERT_FALSE(image.empty());
+  EXPECT_GT(image.cols, 1.3 * image.rows);  // Two A4 report pages side by side.
+  // The failing print's tags are marked red (fail), the good one's green.
+  auto count = [&](int x0, int x1, auto is) {
+    int n = 0;
+    for (int y = 0; y < image.rows; ++y)
+      for (int x = x0; x < x1; ++x) n += is(image.at<cv::Vec3b>(y, x));
+    return n;
+  };
+  auto red = [](const cv::Vec3b& p) { return p[2] > 190 && p[1] < 60 && p[0] < 60; };
+  auto green = [](const cv::Vec3b& p) { return p[1] > 130 && p[2] < 60 && p[0] < 90; };
+  const int half = image.cols / 2;
+  EXPECT_GT(count(0, half, green), 500);
+  EXPECT_LT(count(0, half, red), 50);
+  EXPECT_GT(count(half, image.cols, red), 500);
+}
+
+TEST(ReadImageDpiTest, PngPhysAndJpegJfif) {
+  // A PNG header with a pHYs chunk of 11811 pixels per metre (300 dpi).
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  auto be32 = [](uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16),
+                       static_cast<char>(v >> 8), static_cast<char>(v)};
+  };
+  png += be32(13) + "IHDR" + std::string(13, '\0') + be32(0);
+  png += be32(9) + "pHYs" + be32(11811) + be32(23622) + std::string(1, '\1') + be32(0);
+  const auto dpi = ReadImageDpi(png);
+  ASSERT_TRUE(dpi);
+  EXPECT_NEAR((*dpi)[0], 300.0, 0.01);
+  EXPECT_NEAR((*dpi)[1], 600.0, 0.01);
+  // Unit 0 (aspect only) and a truncated chunk record no resolution.
+  std::string aspect_only = png;
+  aspect_only[8 + 25 + 16] = '\0';
+  EXPECT_FALSE(ReadImageDpi(aspect_only));
+  EXPECT_FALSE(ReadImageDpi(png.substr(0, 40)));
+  // A JPEG's JFIF APP0 in dots per centimetre, and OpenCV's own (aspect only).
+  std::string jpeg("\xFF\xD8\xFF\xE0\x00\x10JFIF\x00\x01\x02\x02\x00\x76\x00\x76\x00\x00", 20);
+  const auto jdpi = ReadImageDpi(jpeg);
+  ASSERT_TRUE(jdpi);
+  EXPECT_NEAR((*jdpi)[0], 118 * 2.54, 0.01);
+  std::vector<uint8_t> encoded;
+  cv::imencode(".jpg", cv::Mat(8, 8, CV_8UC3, cv::Scalar(255, 255, 255)), encoded);
+  EXPECT_FALSE(ReadImageDpi(std::string(encoded.begin(), encoded.end())));
+  EXPECT_FALSE(ReadImageDpi("not an image"));
+  EXPECT_FALSE(ReadImageDpi(""));
+}
+
+TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
+  using testing::RunChromatag;
+  const std::string sheet = *dir_ + "/tags.pdf";
+  const std::string good = *dir_ + "/good.png", small = *dir_ + "/small.png";
+  SimScanner scanner;
+  ASSERT_TRUE(cv::imwrite(
+      good, PrintAndScan(images_->pages[0], PxPerMm(), press_->AsPrintFn(), {}, scanner)));
+  ASSERT_TRUE(cv::imwrite(small, PrintAndScan(images_->pages[1], PxPerMm(), press_->AsPrintFn(),
+                                              {0.97, 0.97}, scanner)));
+  // OpenCV writes no resolution into the PNG: --scan alone is refused.
+  auto r = RunChromatag({"verify", sheet, "--print", good, "--scan"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("does not record its resolution; give it with --scan-dpi"),
+            std::string::npos)
+      << r.err;
+  const std::string report = *dir_ + "/report.pdf";
+  r = RunChromatag({"verify", sheet, "--print", good, "--scan-dpi", "300", "--report", report});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("page 1 of 3, scan at 300 dpi, 12 of 12 tags found"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("page 2: no scan or photo shows it (not checked)"), std::string::npos);
+  EXPECT_EQ(testing::ReadFile(report).rfind("%PDF", 0), 0u);
+  // The shrunk page fails, in JSON too, naming the scale; the sidecar may be
+  // given instead of the sheet.
+  r = RunChromatag({"verify", "--sheet", sheet + ".json", "--print", good, small, "--scan-dpi",
+                    "300", "--json"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const auto json = nlohmann::json::parse(r.out);
+  EXPECT_EQ(json["grade"], "fail");
+  ASSERT_EQ(json["images"].size(), 2u);
+  EXPECT_EQ(json["images"][0]["grade"], "pass");
+  EXPECT_EQ(json["images"][1]["page"], 2);
+  EXPECT_NEAR(json["images"][1]["scale"]["x"].get<double>(), 0.97, 0.002);
+  EXPECT_NE(json["images"][1]["problems"][0].get<std::string>().find("printed at 97.0 %"),
+            std::string::npos);
+  // Bad input: one line, exit 2.
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"verify", sheet, "--print", *dir_ + "/nothere.png"},
+           {"verify", sheet, "--print", sheet},
+           {"verify", "--print", good},
+           {"verify", sheet, "--print", good, "--report", *dir_ + "/r.txt"},
+           {"verify", sheet, "--print", good, "--scan-dpi", "5"},
+           {"verify", sheet, "--print", good, "--scale-tolerance", "half"}}) {
+    r = RunChromatag(args);
+    EXPECT_EQ(r.exit_code, 2) << args.back() << ": " << r.err;
+    EXPECT_EQ(testing::CountLines(r.err), 1) << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace chromatag
