@@ -21,6 +21,10 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-opencv
   # Tests and benchmarks (libopencv-contrib-dev above: ArUco, for the comparison).
   libgtest-dev libgmock-dev libbenchmark-dev
+  # A real printer in the tests: LittleCMS applies Ghostscript's SWOP press
+  # profile (default_cmyk.icc, in libgs-common) to pages before they are
+  # photographed or scanned (issue 13).
+  liblcms2-dev libgs-common
   # Natural photographs for the no-false-detection tests and the benchmark.
   opencv-doc
 )

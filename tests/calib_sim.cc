@@ -1,6 +1,7 @@
 #include "calib_sim.h"
 
 #include <cmath>
+#include <functional>
 #include <unordered_map>
 
 #include <opencv2/imgproc.hpp>
@@ -9,6 +10,9 @@ namespace chromatag::testing {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// The scanner's lid, seen through the glass around the paper: linear light
+// relative to the paper's white.
+constexpr double kLidWhite = 0.85;
 
 // Printed colour -> the camera's linear RGB under unit light, before the
 // cast and the exposure.
@@ -17,8 +21,11 @@ cv::Vec3d CameraLinear(const Lab& printed, const SimCamera& camera) {
   return camera.matrix * cv::Vec3d(lin.r, lin.g, lin.b);
 }
 
-// Linear-light camera image of a BGR 8-bit picture of sent colours.
-cv::Mat PrintAndSee(const cv::Mat& sent_bgr, const SimPrinter& printer, const SimCamera& camera) {
+// Linear light of a BGR 8-bit picture of sent colours once printed by
+// `print` and seen through `see` (printed CIELAB -> linear R, G, B), B, G, R
+// like the picture. Each colour is printed and seen once.
+cv::Mat PrintAndSee(const cv::Mat& sent_bgr, const PrintFn& print,
+                    const std::function<cv::Vec3d(const Lab&)>& see) {
   cv::Mat out(sent_bgr.size(), CV_32FC3);
   std::unordered_map<uint32_t, cv::Vec3f> cache;
   for (int y = 0; y < sent_bgr.rows; ++y) {
@@ -28,9 +35,7 @@ cv::Mat PrintAndSee(const cv::Mat& sent_bgr, const SimPrinter& printer, const Si
       const uint32_t key = (in[x][2] << 16) | (in[x][1] << 8) | in[x][0];
       auto it = cache.find(key);
       if (it == cache.end()) {
-        const cv::Vec3d rgb =
-            CameraLinear(printer.Print(Rgb8{in[x][2], in[x][1], in[x][0]}), camera);
-        // Stored B, G, R like the picture.
+        const cv::Vec3d rgb = see(print(Rgb8{in[x][2], in[x][1], in[x][0]}));
         it = cache
                  .emplace(key, cv::Vec3f(static_cast<float>(rgb[2]), static_cast<float>(rgb[1]),
                                          static_cast<float>(rgb[0])))
@@ -40,6 +45,25 @@ cv::Mat PrintAndSee(const cv::Mat& sent_bgr, const SimPrinter& printer, const Si
     }
   }
   return out;
+}
+
+cv::Mat PrintAndSee(const cv::Mat& sent_bgr, const PrintFn& print, const SimCamera& camera) {
+  return PrintAndSee(sent_bgr, print, [&](const Lab& lab) { return CameraLinear(lab, camera); });
+}
+
+// The printed page's content scaled about the page's centre, in place; the
+// paper it no longer covers is `paper` (B, G, R linear light).
+void ApplyPrintGeometry(const PrintGeometry& geometry, const cv::Vec3d& paper,
+                        cv::Mat& linear_page) {
+  if (geometry.scale_x == 1.0 && geometry.scale_y == 1.0) return;
+  // Pixel centres at integers: the page's centre is at ((cols - 1) / 2, ...).
+  const double cx = 0.5 * (linear_page.cols - 1), cy = 0.5 * (linear_page.rows - 1);
+  const cv::Matx23d paper_from_content(geometry.scale_x, 0, (1 - geometry.scale_x) * cx,  //
+                                       0, geometry.scale_y, (1 - geometry.scale_y) * cy);
+  cv::Mat scaled;
+  cv::warpAffine(linear_page, scaled, paper_from_content, linear_page.size(), cv::INTER_LINEAR,
+                 cv::BORDER_CONSTANT, cv::Scalar(paper[0], paper[1], paper[2]));
+  linear_page = scaled;
 }
 
 // Cast, exposure, blur, tone curve, noise, 8 bits.
@@ -99,8 +123,18 @@ Lab CameraReferredTruth(const Lab& printed, const SimCamera& camera) {
 
 cv::Mat RenderSheetPhoto(const CalibSheetLayout& layout, const SimPrinter& printer,
                          const SimCamera& camera, double page_px_per_mm) {
-  const cv::Mat page = RasterizeCalibPage(layout, page_px_per_mm);
-  cv::Mat linear = PrintAndSee(page, printer, camera);
+  return PrintAndPhotograph(
+      RasterizeCalibPage(layout, page_px_per_mm), page_px_per_mm,
+      [&](const Rgb8& sent) { return printer.Print(sent); }, PrintGeometry{}, camera);
+}
+
+cv::Mat PrintAndPhotograph(const cv::Mat& page_bgr, double page_px_per_mm, const PrintFn& print,
+                           const PrintGeometry& geometry, const SimCamera& camera) {
+  (void)page_px_per_mm;  // The camera's page_corners_px say where the page lands.
+  auto see = [&](const Lab& lab) { return CameraLinear(lab, camera); };
+  cv::Mat linear = PrintAndSee(page_bgr, print, see);
+  const cv::Vec3d paper_rgb = see(Lab{100, 0, 0});
+  ApplyPrintGeometry(geometry, {paper_rgb[2], paper_rgb[1], paper_rgb[0]}, linear);
   // Uneven light: brightest off-centre (a lamp to the upper left), falling
   // to 1 - falloff at the far corner; not a quadratic, so the sampler's
   // white fit is only an approximation of it.
@@ -114,12 +148,12 @@ cv::Mat RenderSheetPhoto(const CalibSheetLayout& layout, const SimPrinter& print
     }
   }
   const double downscale =
-      page.rows / cv::norm(camera.page_corners_px[3] - camera.page_corners_px[0]);
+      linear.rows / cv::norm(camera.page_corners_px[3] - camera.page_corners_px[0]);
   if (downscale > 1.0) cv::GaussianBlur(linear, linear, cv::Size(), 0.45 * downscale);
   const cv::Point2f src[4] = {{-0.5f, -0.5f},
-                              {page.cols - 0.5f, -0.5f},
-                              {page.cols - 0.5f, page.rows - 0.5f},
-                              {-0.5f, page.rows - 0.5f}};
+                              {linear.cols - 0.5f, -0.5f},
+                              {linear.cols - 0.5f, linear.rows - 0.5f},
+                              {-0.5f, linear.rows - 0.5f}};
   cv::Point2f dst[4];
   for (int i = 0; i < 4; ++i) dst[i] = cv::Point2f(camera.page_corners_px[i]);
   const cv::Mat h = cv::getPerspectiveTransform(src, dst);
@@ -128,6 +162,58 @@ cv::Mat RenderSheetPhoto(const CalibSheetLayout& layout, const SimPrinter& print
   cv::warpPerspective(linear, photo, h, cv::Size(camera.width, camera.height), cv::INTER_LINEAR,
                       cv::BORDER_CONSTANT, cv::Scalar(0.04, 0.045, 0.05));
   return Develop(photo, camera);
+}
+
+cv::Point2d ScanPixelOfPagePoint(const cv::Point2d& page_mm, const cv::Size2d& page_size_mm,
+                                 const PrintGeometry& geometry, const SimScanner& scanner) {
+  const cv::Point2d centre(0.5 * page_size_mm.width, 0.5 * page_size_mm.height);
+  const cv::Point2d on_paper(centre.x + geometry.scale_x * (page_mm.x - centre.x),
+                             centre.y + geometry.scale_y * (page_mm.y - centre.y));
+  const double angle = scanner.rotation_deg * kPi / 180.0;
+  const double c = std::cos(angle), s = std::sin(angle);
+  // Counter-clockwise as seen in the scan, whose y axis points down.
+  const cv::Point2d on_glass(c * on_paper.x + s * on_paper.y + scanner.offset_mm.x,
+                             -s * on_paper.x + c * on_paper.y + scanner.offset_mm.y);
+  const double px_per_mm = scanner.dpi / 25.4;
+  return on_glass * px_per_mm - cv::Point2d(0.5, 0.5);
+}
+
+cv::Mat PrintAndScan(const cv::Mat& page_bgr, double page_px_per_mm, const PrintFn& print,
+                     const PrintGeometry& geometry, const SimScanner& scanner) {
+  // A colorimetric scanner: linear sRGB of the print, the paper at 1.
+  auto see = [](const Lab& lab) {
+    const Rgb lin = XyzToLinearRgb(LabToXyz(lab));
+    return cv::Vec3d(lin.r, lin.g, lin.b);
+  };
+  cv::Mat linear = PrintAndSee(page_bgr, print, see);
+  ApplyPrintGeometry(geometry, {1.0, 1.0, 1.0}, linear);
+  const double scan_px_per_mm = scanner.dpi / 25.4;
+  const double downscale = page_px_per_mm / scan_px_per_mm;
+  if (downscale > 1.0) cv::GaussianBlur(linear, linear, cv::Size(), 0.45 * downscale);
+  // Page pixel (u, v) is at page position ((u, v) + 0.5) / page_px_per_mm;
+  // ScanPixelOfPagePoint (with the scale already applied) is affine in it.
+  const cv::Size2d page_size_mm(linear.cols / page_px_per_mm, linear.rows / page_px_per_mm);
+  auto scan_of_page_pixel = [&](double u, double v) {
+    return ScanPixelOfPagePoint({(u + 0.5) / page_px_per_mm, (v + 0.5) / page_px_per_mm},
+                                page_size_mm, PrintGeometry{}, scanner);
+  };
+  const cv::Point2d origin = scan_of_page_pixel(0, 0);
+  const cv::Point2d du = scan_of_page_pixel(1, 0) - origin, dv = scan_of_page_pixel(0, 1) - origin;
+  const cv::Matx23d scan_from_page(du.x, dv.x, origin.x, du.y, dv.y, origin.y);
+  const cv::Size scan_size(static_cast<int>(std::lround(scanner.glass_width_mm * scan_px_per_mm)),
+                           static_cast<int>(std::lround(scanner.glass_height_mm * scan_px_per_mm)));
+  cv::Mat scan;
+  // The lid over the glass: a white a little greyer than the paper.
+  cv::warpAffine(linear, scan, scan_from_page, scan_size, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                 cv::Scalar::all(kLidWhite));
+  SimCamera optics;  // Develop's exposure, blur, sRGB curve and noise.
+  optics.gains = {1.0, 1.0, 1.0};
+  optics.exposure = scanner.exposure;
+  optics.gamma = 0.0;
+  optics.blur_sigma_px = scanner.blur_sigma_px;
+  optics.noise_sigma = scanner.noise_sigma;
+  optics.seed = scanner.seed;
+  return Develop(scan, optics);
 }
 
 cv::Mat RenderPrintedTag(const TagFamily& family, int id, const TagColors& sent,
@@ -141,7 +227,8 @@ cv::Mat RenderPrintedTag(const TagFamily& family, int id, const TagColors& sent,
       bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(p[2], p[1], p[0]);
     }
   }
-  const cv::Mat linear_tag = PrintAndSee(bgr, printer, camera);
+  const cv::Mat linear_tag = PrintAndSee(
+      bgr, [&](const Rgb8& sent) { return printer.Print(sent); }, camera);
   cv::Mat scene(height, width, CV_32FC3, cv::Scalar(0.3, 0.3, 0.3));
   const int x0 = (width - tag.width) / 2, y0 = (height - tag.height) / 2;
   linear_tag.copyTo(scene(cv::Rect(x0, y0, tag.width, tag.height)));

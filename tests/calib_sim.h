@@ -6,6 +6,7 @@
 #define CHROMATAG_TESTS_CALIB_SIM_H_
 
 #include <array>
+#include <functional>
 
 #include <opencv2/core.hpp>
 
@@ -25,6 +26,11 @@ struct SimPrinter {
   // The printed colour of `sent`, CIELAB relative to the paper white.
   Lab Print(const Rgb8& sent) const;
 };
+
+// Any printer: the printed colour (CIELAB relative to the paper white) of a
+// sent 8-bit sRGB colour. SimPrinter::Print and IccPress::Print (icc_press.h)
+// are two.
+using PrintFn = std::function<Lab(const Rgb8&)>;
 
 struct SimCamera {
   // Linear sRGB -> camera linear RGB (rows summing to 1 keep white white).
@@ -49,6 +55,50 @@ struct SimCamera {
 // photographs it with `camera`: a CV_8UC3 BGR photo.
 cv::Mat RenderSheetPhoto(const CalibSheetLayout& layout, const SimPrinter& printer,
                          const SimCamera& camera, double page_px_per_mm = 6.0);
+
+// How the printed page's content lands on the paper: scaled about the
+// page's centre, as a print dialog's "fit to page" (0.97) or a printer's
+// stretched axis (scale_y 1.01) puts it.
+struct PrintGeometry {
+  double scale_x = 1.0;
+  double scale_y = 1.0;
+};
+
+// A flatbed scanner: the paper lies on the glass, a little crooked, and is
+// imaged at exactly `dpi` with even light, a scanner's tone curve (sRGB),
+// slight blur and noise. The glass around the paper is the lid's white.
+struct SimScanner {
+  double dpi = 300.0;
+  // The paper's tilt on the glass about its top-left corner, counter-clockwise
+  // as seen in the scan.
+  double rotation_deg = 0.6;
+  cv::Point2d offset_mm{4.0, 3.0};  // The page's top-left corner on the glass.
+  double glass_width_mm = 222.0;
+  double glass_height_mm = 305.0;
+  double exposure = 0.92;  // Linear level of the paper white.
+  double blur_sigma_px = 0.6;
+  double noise_sigma = 1.0;  // 8-bit levels.
+  unsigned seed = 1;
+};
+
+// A page raster (CV_8UC3 BGR of the sent colours at `page_px_per_mm`, e.g.
+// from verify's RasterizeSheet) printed by `print` with `geometry`, then
+// scanned by `scanner`: CV_8UC3 BGR at scanner.dpi.
+cv::Mat PrintAndScan(const cv::Mat& page_bgr, double page_px_per_mm, const PrintFn& print,
+                     const PrintGeometry& geometry, const SimScanner& scanner);
+
+// Where page position `page_mm` (from the top-left corner of a page of
+// `page_size_mm`, x right, y down) lands in PrintAndScan's scan, pixels with
+// centres at integers: the print's scale about the page centre c, then the
+// scanner's rotation R about the page's top-left corner and its offset,
+// (R (S (p - c) + c) + offset) * dpi / 25.4 - 0.5.
+cv::Point2d ScanPixelOfPagePoint(const cv::Point2d& page_mm, const cv::Size2d& page_size_mm,
+                                 const PrintGeometry& geometry, const SimScanner& scanner);
+
+// The same page printed and photographed by `camera` (its page_corners_px
+// say where the page's corners land; uneven light as RenderSheetPhoto).
+cv::Mat PrintAndPhotograph(const cv::Mat& page_bgr, double page_px_per_mm, const PrintFn& print,
+                           const PrintGeometry& geometry, const SimCamera& camera);
 
 // What `camera` reports for a flat patch of `printed` colour under even light,
 // read as sRGB and normalised to the paper white the same way: the best any
