@@ -550,8 +550,16 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
   }
 }
 
-void JudgeTag(const PrintCheckOptions& o, const SheetRecord& record, bool scan, PrintTagResult* t) {
+void JudgeTag(const PrintCheckOptions& o, const SheetRecord& record, bool scan,
+              PrintTagResult* t) {
+  // What the print did first (the cause), then what the detector made of it.
   std::vector<Finding> findings;
+  if (scan && t->size_ratio > 0 && std::abs(t->size_ratio - 1.0) > o.max_scale_error) {
+    Add(&findings, Grade::kFail,
+        Format("prints %.2f mm wide where the sidecar says %.2f mm (%.1f %%)", t->size_mm,
+               record.tag_size_mm, 100 * t->size_ratio));
+  }
+  JudgeColours(t->colours, record.palette, o, &findings);
   if (!t->found) {
     Add(&findings, Grade::kFail, "not found");
   } else if (t->found_id != t->expected.id) {
@@ -565,12 +573,6 @@ void JudgeTag(const PrintCheckOptions& o, const SheetRecord& record, bool scan, 
     Add(&findings, Grade::kWarn,
         Format("lies %.2f mm from where the other tags put it", t->position_error_mm));
   }
-  if (scan && t->size_ratio > 0 && std::abs(t->size_ratio - 1.0) > o.max_scale_error) {
-    Add(&findings, Grade::kFail,
-        Format("prints %.2f mm wide where the sidecar says %.2f mm (%.1f %%)", t->size_mm,
-               record.tag_size_mm, 100 * t->size_ratio));
-  }
-  JudgeColours(t->colours, record.palette, o, &findings);
   Settle(std::move(findings), &t->grade, &t->problems);
 }
 

@@ -178,10 +178,8 @@ void DrawReportPage(cairo_t* cr, const SheetRecord& record, const PrintPageResul
   std::vector<std::pair<Grade, std::string>> lines;
   for (const std::string& p : r.problems) lines.push_back({r.grade, "page: " + p});
   for (const PrintTagResult& t : r.tags) {
-    if (t.problems.empty()) continue;
-    std::string text = "ID " + std::to_string(t.expected.id) + ": " + t.problems[0];
-    if (t.problems.size() > 1) text += " (+" + std::to_string(t.problems.size() - 1) + " more)";
-    lines.push_back({t.grade, text});
+    for (const std::string& p : t.problems)
+      lines.push_back({t.grade, "ID " + std::to_string(t.expected.id) + ": " + p});
   }
   double y = kViewTop + kViewHeight + 28;
   int shown = 0;
