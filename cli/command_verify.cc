@@ -383,7 +383,17 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
 
 int RunVerify(const VerifyCommandOptions& o) {
   std::string error;
-  if (!o.prints.empty()) return RunPrintCheck(o);
+  if (!o.prints.empty()) {
+    if (o.all || o.stress || !o.family.empty())
+      return Fail(
+          "verify",
+          "--print checks a printed sheet; it does not combine with --family, --all or --stress");
+    return RunPrintCheck(o);
+  }
+  if (o.scan || o.scan_dpi > 0 || !o.config.empty() || !o.camera_file.empty() || !o.report.empty())
+    return Fail("verify",
+                "--scan, --scan-dpi, --config, --camera and --report go with --print (scans or "
+                "photos of the printed sheet)");
   VerifyOptions options;
   options.dpi = o.dpi;
   const auto tolerance = ParseLength(o.tolerance, &error);

@@ -339,7 +339,9 @@ TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
            {"verify", "--print", good},
            {"verify", sheet, "--print", good, "--report", *dir_ + "/r.txt"},
            {"verify", sheet, "--print", good, "--scan-dpi", "5"},
-           {"verify", sheet, "--print", good, "--scale-tolerance", "half"}}) {
+           {"verify", sheet, "--print", good, "--scale-tolerance", "half"},
+           {"verify", sheet, "--print", good, "--stress"},
+           {"verify", sheet, "--scan"}}) {
     r = RunChromatag(args);
     EXPECT_EQ(r.exit_code, 2) << args.back() << ": " << r.err;
     EXPECT_EQ(testing::CountLines(r.err), 1) << r.err;

@@ -1,5 +1,8 @@
 #include "chromatag/families/input_file.h"
 
+#include <algorithm>
+#include <climits>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -83,6 +86,40 @@ bool JsonDeeperThan(const std::string& json_text, int max_depth) {
     } else if (c == ']' || c == '}') {
       --depth;
     }
+  }
+  return false;
+}
+
+bool ImageHeaderSize(const std::string& path, int* width, int* height) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char head[26] = {};
+  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return false;
+  auto be32 = [](const unsigned char* p) {
+    return static_cast<int64_t>(p[0]) << 24 | p[1] << 16 | p[2] << 8 | p[3];
+  };
+  if (std::memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0 && std::memcmp(head + 12, "IHDR", 4) == 0) {
+    const int64_t w = be32(head + 16), h = be32(head + 20);
+    *width = static_cast<int>(std::min<int64_t>(w, INT32_MAX));
+    *height = static_cast<int>(std::min<int64_t>(h, INT32_MAX));
+    return true;
+  }
+  if (head[0] != 0xff || head[1] != 0xd8) return false;
+  // JPEG: walk the markers to the first start of frame (SOF0-SOF15 but the
+  // DHT, JPG and DAC markers C4, C8, CC).
+  in.seekg(2);
+  for (int markers = 0; markers < 1000; ++markers) {
+    unsigned char m[4];
+    if (!in.read(reinterpret_cast<char*>(m), 4) || m[0] != 0xff) return false;
+    const int length = m[2] << 8 | m[3];
+    if (m[1] >= 0xc0 && m[1] <= 0xcf && m[1] != 0xc4 && m[1] != 0xc8 && m[1] != 0xcc) {
+      unsigned char sof[5];
+      if (!in.read(reinterpret_cast<char*>(sof), 5)) return false;
+      *height = sof[1] << 8 | sof[2];
+      *width = sof[3] << 8 | sof[4];
+      return true;
+    }
+    if (length < 2) return false;
+    in.seekg(length - 2, std::ios::cur);
   }
   return false;
 }

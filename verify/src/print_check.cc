@@ -550,8 +550,7 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
   }
 }
 
-void JudgeTag(const PrintCheckOptions& o, const SheetRecord& record, bool scan,
-              PrintTagResult* t) {
+void JudgeTag(const PrintCheckOptions& o, const SheetRecord& record, bool scan, PrintTagResult* t) {
   // What the print did first (the cause), then what the detector made of it.
   std::vector<Finding> findings;
   if (scan && t->size_ratio > 0 && std::abs(t->size_ratio - 1.0) > o.max_scale_error) {
@@ -901,6 +900,16 @@ std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
   for (const std::string& path : paths) {
     const auto bytes = ReadInputFile(path, "image", kMaxImageFileBytes, error);
     if (!bytes) return std::nullopt;
+    int width = 0, height = 0;
+    if (ImageHeaderSize(path, &width, &height) &&
+        static_cast<double>(width) * height > kMaxImagePixels) {
+      if (error) {
+        *error = "cannot read image '" + path + "': " + std::to_string(width) + " x " +
+                 std::to_string(height) + " pixels, over the limit of " +
+                 std::to_string(kMaxImagePixels >> 20) + " Mpx";
+      }
+      return std::nullopt;
+    }
     const cv::Mat raw(1, static_cast<int>(bytes->size()), CV_8U, const_cast<char*>(bytes->data()));
     cv::Mat bgr;
     try {

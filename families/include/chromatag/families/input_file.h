@@ -27,6 +27,15 @@ std::optional<std::string> ReadInputFile(const std::string& path, const std::str
 // callers (dumps, validators) recurse.
 bool JsonDeeperThan(const std::string& json_text, int max_depth);
 
+// The largest image decoded (16384 x 16384, 256 Mpx): beyond it the frame
+// alone would take gigabytes.
+inline constexpr int64_t kMaxImagePixels = int64_t{1} << 28;
+
+// The size a PNG or JPEG file's header claims, read before decoding it;
+// false for other formats (OpenCV's own limit applies to them) and for
+// headers it cannot read.
+bool ImageHeaderSize(const std::string& path, int* width, int* height);
+
 // Whether `text` is well-formed UTF-8 (file names go into JSON sidecars,
 // which must be UTF-8).
 bool IsValidUtf8(const std::string& text);
