@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -332,7 +333,17 @@ TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
   EXPECT_NEAR(json["images"][1]["scale"]["x"].get<double>(), 0.97, 0.002);
   EXPECT_NE(json["images"][1]["problems"][0].get<std::string>().find("printed at 97.0 %"),
             std::string::npos);
-  // Bad input: one line, exit 2.
+  // Bad input: one line, exit 2. A PNG whose header claims 40000 x 40000
+  // pixels is refused before decoding.
+  const std::string huge = *dir_ + "/huge.png";
+  {
+    std::string header("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\x9c\x40\0\0\x9c\x40\x08\x02\0\0\0", 29);
+    std::ofstream(huge, std::ios::binary) << header << std::string(64, '\0');
+  }
+  r = RunChromatag({"verify", sheet, "--print", huge, "--scan-dpi", "300"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("40000 x 40000 pixels, over the limit of 256 Mpx"), std::string::npos)
+      << r.err;
   for (const auto& args : std::vector<std::vector<std::string>>{
            {"verify", sheet, "--print", *dir_ + "/nothere.png"},
            {"verify", sheet, "--print", sheet},
