@@ -23,6 +23,7 @@ from ._chromatag import (  # noqa: F401
     palettes,
     render_tag,
     verify,
+    verify_print,
 )
 
 

@@ -1,5 +1,5 @@
 // The Python module `chromatag` (pybind11, numpy arrays in and out):
-// Detector, detect, draw_detections, render_tag, generate, verify, and the
+// Detector, detect, draw_detections, render_tag, generate, verify, verify_print, and the
 // families and palettes. docs/python.md shows it in use.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -25,6 +25,7 @@
 #include "chromatag/generator/sheet_request.h"
 #include "chromatag/generator/tag_renderer.h"
 #include "chromatag/generator/units.h"
+#include "chromatag/verify/print_check.h"
 #include "chromatag/verify/sheet_check.h"
 
 namespace py = pybind11;
@@ -322,6 +323,29 @@ SheetVerdict Verify(const std::string& sheet, double dpi, const std::string& tol
   return *verdict;
 }
 
+// verify --print: the verdict as the CLI's JSON, parsed into Python objects.
+py::object VerifyPrint(const std::string& sheet, const std::vector<std::string>& images, bool scans,
+                       double scan_dpi, double scale_tolerance,
+                       const std::optional<std::string>& config) {
+  std::string error;
+  const bool is_sidecar = sheet.size() > 5 && sheet.compare(sheet.size() - 5, 5, ".json") == 0;
+  const auto record = ReadSidecar(is_sidecar ? sheet : SidecarPath(sheet), &error);
+  if (!record) throw Error(error);
+  PrintCheckOptions options;
+  options.scans = scans || scan_dpi > 0;
+  options.scan_dpi = scan_dpi;
+  options.max_scale_error = scale_tolerance;
+  if (config && !LoadDetectorConfig(*config, &options.detector, &error)) throw Error(error);
+  std::string json;
+  {
+    py::gil_scoped_release release;
+    const auto verdict = CheckPrintFiles(*record, images, options, &error);
+    if (verdict) json = PrintVerdictJson(*record, *verdict);
+  }
+  if (json.empty()) throw Error(error);
+  return py::module_::import("json").attr("loads")(json);
+}
+
 py::dict FamilyInfo(const std::string& name) {
   std::string error;
   const auto family = TagFamily::Load(name, &error);
@@ -483,6 +507,12 @@ PYBIND11_MODULE(_chromatag, m) {
         "Rasterises a generated sheet, detects every tag and checks it against the sidecar, as\n"
         "'chromatag verify' does.");
 
+  m.def("verify_print", &VerifyPrint, py::arg("sheet"), py::arg("images"), py::kw_only(),
+        py::arg("scans") = false, py::arg("scan_dpi") = 0.0, py::arg("scale_tolerance") = 0.005,
+        py::arg("config") = py::none(),
+        "Checks scans (scans=True; resolution from the files or scan_dpi) or photos of the\n"
+        "printed sheet, as 'chromatag verify SHEET --print IMAGES' does; returns its JSON\n"
+        "verdict as a dict (docs/verify.md, 'Check your print').");
   m.def("families", &TagFamily::Names, "The families: ['16h5', '36h11']");
   m.def("family", &FamilyInfo, py::arg("name"), "A family's geometry, distance and kept IDs");
   m.def("palettes", &BuiltinPaletteNames, "The built-in palettes");

@@ -130,6 +130,28 @@ def test_generate_and_verify(tmp_path):
     assert not os.path.exists(tmp_path / "x.pdf")
 
 
+def test_verify_print(tmp_path):
+    # A PNG sheet records its 300 dpi: as a "scan" it is a perfect print.
+    page = str(tmp_path / "page.png")
+    chromatag.generate(page, family="16h5", ids="0-3", size="30mm", format="png")
+    verdict = chromatag.verify_print(page, [page], scans=True)
+    assert verdict["passed"] and verdict["tags_passed"] == 4
+    assert abs(verdict["images"][0]["scale"]["x"] - 1.0) < 0.002
+    # Shrunk to 97 % on a white page of the same size: fails, naming the scale.
+    image = cv2.imread(page)
+    small = cv2.resize(image, None, fx=0.97, fy=0.97, interpolation=cv2.INTER_AREA)
+    canvas = np.full_like(image, 255)
+    canvas[: small.shape[0], : small.shape[1]] = small
+    shrunk = str(tmp_path / "shrunk.png")
+    cv2.imwrite(shrunk, canvas)
+    verdict = chromatag.verify_print(page + ".json", [shrunk], scan_dpi=300)
+    assert not verdict["passed"]
+    assert abs(verdict["images"][0]["scale"]["y"] - 0.97) < 0.002
+    assert "printed at 97.0 %" in verdict["images"][0]["problems"][0]
+    with pytest.raises(chromatag.Error, match="does not record its resolution"):
+        chromatag.verify_print(page, [shrunk], scans=True)
+
+
 def test_threads_share_one_detector():
     frames = [scene(tag_id=i)[0] for i in (0, 1, 2, 3)]
     detector = chromatag.Detector()

@@ -169,6 +169,11 @@ std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
 // centimetre. nullopt when it records none (or only an aspect ratio).
 std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes);
 
+// The verdict as one JSON object (docs/verify.md): per image the page, the
+// scale or aspect and the problems, per tag its grade, detection, measured
+// CIELAB shades and gaps. Invalid UTF-8 in names is replaced.
+std::string PrintVerdictJson(const SheetRecord& record, const PrintVerdict& verdict);
+
 // The report drawn: per image, the page as seen with every tag marked pass,
 // warn or fail and the page's numbers. PDF one page per image; PNG all
 // images side by side. Returns the file's bytes.

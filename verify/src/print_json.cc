@@ -1,0 +1,88 @@
+// verify --print's verdict as JSON (print_check.h), for the CLI's --json
+// and the Python module.
+#include <nlohmann/json.hpp>
+
+#include "chromatag/verify/print_check.h"
+
+namespace chromatag {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json ShadesJson(const PrintedShades& c) {
+  Json shades = Json::object();
+  if (!c.measured) return shades;
+  for (int s = 0; s < 4; ++s) {
+    const Lab& lab = c.shades[s].lab;
+    shades[ShadeName(static_cast<Shade>(s))] = {lab.L, lab.a, lab.b};
+  }
+  const Margins& m = c.margins;
+  return {{"lab", shades},
+          {"a_gap", m.a_gap},
+          {"red_b_gap", m.red_b_gap},
+          {"green_b_gap", m.green_b_gap},
+          {"red_decision", m.red_decision},
+          {"green_decision", m.green_decision}};
+}
+
+Json ToJson(const SheetRecord& record, const PrintVerdict& verdict) {
+  Json images = Json::array();
+  for (const PrintPageResult& r : verdict.images) {
+    Json tags = Json::array();
+    for (const PrintTagResult& t : r.tags) {
+      Json tag = {{"id", t.expected.id},
+                  {"grade", GradeName(t.grade)},
+                  {"found", t.found},
+                  {"found_id", t.found_id},
+                  {"hamming", t.hamming},
+                  {"margin", t.margin},
+                  {"position_error_mm", t.position_error_mm},
+                  {"shades", ShadesJson(t.colours)},
+                  {"problems", t.problems}};
+      if (r.scan) tag["size_mm"] = t.size_mm;
+      tags.push_back(tag);
+    }
+    Json image = {{"image", r.image},
+                  {"page", r.page + 1},
+                  {"kind", r.scan ? "scan" : "photo"},
+                  {"grade", GradeName(r.grade)},
+                  {"tags_found", r.tags_found},
+                  {"rms_mm", r.rms_mm}};
+    if (r.scan) {
+      image["dpi"] = {r.dpi_x, r.dpi_y};
+      image["scale"] = {{"x", r.scale_x},
+                        {"y", r.scale_y},
+                        {"x_error", r.scale_x_error},
+                        {"y_error", r.scale_y_error},
+                        {"skew_deg", r.skew_deg}};
+    } else {
+      image["aspect"] = {{"x_over_y", r.aspect},
+                         {"error", r.aspect_error},
+                         {"focal_px", r.focal_px},
+                         {"focal_estimated", r.focal_estimated}};
+    }
+    Json unexpected = Json::array();
+    for (const auto& u : r.unexpected) {
+      unexpected.push_back(
+          {{"family", u.family}, {"id", u.id}, {"center_mm", {u.center_mm[0], u.center_mm[1]}}});
+    }
+    image["problems"] = r.problems;
+    image["unexpected"] = unexpected;
+    image["tags"] = tags;
+    images.push_back(image);
+  }
+  Json not_seen = Json::array();
+  for (int p : verdict.pages_not_seen) not_seen.push_back(p + 1);
+  return {{"sheet", record.sidecar_path},       {"grade", GradeName(verdict.grade)},
+          {"passed", verdict.passed()},         {"tags_checked", verdict.tags_checked},
+          {"tags_passed", verdict.tags_passed}, {"tags_warned", verdict.tags_warned},
+          {"pages_not_seen", not_seen},         {"images", images}};
+}
+
+}  // namespace
+
+std::string PrintVerdictJson(const SheetRecord& record, const PrintVerdict& verdict) {
+  return ToJson(record, verdict).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+}  // namespace chromatag
