@@ -216,6 +216,35 @@ TEST_F(PrintCheckTest, TagWithSwappedShadesIsCaughtAndTheOthersPass) {
   }
 }
 
+TEST_F(PrintCheckTest, TagPrintedOutOfPlaceIsFlaggedAndLeftOutOfTheFit) {
+  // Tag 5 of page 1 moved 3 mm to the right on the page before printing.
+  cv::Mat page = images_->pages[0].clone();
+  const PlacedTag& moved = record_->tags[5];
+  const double quiet = record_->quiet_zone_cells * record_->tag_size_mm / 6.0;
+  const cv::Point2d tl =
+      MmToPixel({moved.corners_mm[0][0] - quiet, moved.corners_mm[0][1] - quiet}, PxPerMm());
+  const int side = static_cast<int>((record_->tag_size_mm + 2 * quiet) * PxPerMm());
+  const cv::Rect from(static_cast<int>(tl.x), static_cast<int>(tl.y), side, side);
+  const cv::Mat tag = page(from).clone();
+  page(from).setTo(cv::Scalar(255, 255, 255));
+  tag.copyTo(page(from + cv::Point(static_cast<int>(3.0 * PxPerMm()), 0)));
+  const PrintPageResult r = Scan(page, press_->AsPrintFn());
+  EXPECT_EQ(r.tags_in_fit, static_cast<int>(r.tags.size()) - 1);
+  EXPECT_NEAR(r.scale_x, 1.0, 0.002);
+  EXPECT_LT(r.rms_mm, 0.1);
+  for (const PrintTagResult& t : r.tags) {
+    if (t.expected.id != moved.id) {
+      EXPECT_EQ(t.grade, Grade::kPass) << "ID " << t.expected.id << ": " << AllProblems(r);
+      continue;
+    }
+    EXPECT_TRUE(t.found && t.found_id == moved.id);
+    EXPECT_NEAR(t.position_error_mm, 3.0, 0.2);
+    EXPECT_EQ(t.grade, Grade::kWarn);
+    ASSERT_FALSE(t.problems.empty());
+    EXPECT_NE(t.problems[0].find("from where the other tags put it"), std::string::npos);
+  }
+}
+
 TEST_F(PrintCheckTest, PhotoOfAGoodPrintPassesAndAStretchedOneFails) {
   SimCamera camera;
   camera.width = 2400;

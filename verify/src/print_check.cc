@@ -308,6 +308,7 @@ std::optional<PageFit> FitPage(const std::vector<PlacedTag>& tags,
     const cv::Matx33d page_from_image = fit.image_from_page.inv();
     double worst = 0.0, sum2 = 0.0;
     size_t worst_k = 0;
+    std::vector<double> tag_errors;
     for (size_t i = 0; i < kept.size(); ++i) {
       double tag_worst = 0.0;
       for (int c = 0; c < 4; ++c) {
@@ -316,10 +317,17 @@ std::optional<PageFit> FitPage(const std::vector<PlacedTag>& tags,
         sum2 += e * e;
         tag_worst = std::max(tag_worst, e);
       }
+      tag_errors.push_back(tag_worst);
       if (tag_worst > worst) worst = tag_worst, worst_k = i;
     }
     fit.rms_mm = std::sqrt(sum2 / std::max<size_t>(1, page.size()));
-    if (worst <= drop_mm || kept.size() <= 2) {
+    // An outlier lies off by more than drop_mm and well beyond the others:
+    // a curled page or a distorting lens moves every tag a little, and
+    // dropping them one by one would leave a fit over two.
+    std::nth_element(tag_errors.begin(), tag_errors.begin() + tag_errors.size() / 2,
+                     tag_errors.end());
+    const double typical = tag_errors[tag_errors.size() / 2];
+    if (worst <= std::max(drop_mm, 4.0 * typical) || kept.size() <= 2) {
       fit.kept = kept;
       return fit;
     }
@@ -451,7 +459,7 @@ cv::Mat PageView(const cv::Mat& bgr, const cv::Matx33d& image_from_page, const P
   cv::warpPerspective(bgr, view, cv::Mat(image_from_view),
                       cv::Size(static_cast<int>(std::lround(page.width_mm * s)),
                                static_cast<int>(std::lround(page.height_mm * s))),
-                      cv::INTER_AREA | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT,
+                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT,
                       cv::Scalar(128, 128, 128));
   return view;
 }
