@@ -360,6 +360,36 @@ std::optional<double> EstimateFocal(const cv::Matx33d& h, double cx, double cy, 
   return f;
 }
 
+struct AspectEstimate {
+  double aspect = 0.0;  // 0 when the points give no homography.
+  double focal = 0.0;
+  bool focal_found = false;  // Estimated from the perspective (or given).
+};
+
+// The page's aspect from page points and their (undistorted) pixels, with
+// the camera `k` if known, else a focal length from the page's perspective
+// and the principal point at (cx, cy).
+AspectEstimate EstimateAspect(const std::vector<cv::Point2d>& page,
+                              const std::vector<cv::Point2d>& image,
+                              const std::optional<cv::Matx33d>& k, double cx, double cy,
+                              double width) {
+  AspectEstimate out;
+  const cv::Mat hm = cv::findHomography(page, image, 0);
+  if (hm.empty()) return out;
+  const cv::Matx33d h(hm);
+  if (k) {
+    out.focal = std::sqrt((*k)(0, 0) * (*k)(1, 1));
+    out.focal_found = true;
+    out.aspect = AspectOf(h, *k);
+    return out;
+  }
+  const auto f = EstimateFocal(h, cx, cy, width);
+  out.focal_found = f.has_value();
+  out.focal = f ? *f : 0.87 * width;
+  out.aspect = AspectOf(h, cv::Matx33d(out.focal, 0, cx, 0, out.focal, cy, 0, 0, 1));
+  return out;
+}
+
 // ---------------------------------------------------------------------------
 // Judging.
 
@@ -733,43 +763,61 @@ PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
     r.skew_deg = std::asin(std::clamp(cos_angle, -1.0, 1.0)) * 180.0 / kPi;
   } else {
     // The aspect wants undistorted pixels.
-    cv::Matx33d h = fit->image_from_page;
-    cv::Matx33d k;
+    std::vector<cv::Point2d> page, image;
+    for (int kept : fit->kept) {
+      const Pair& p = pairs[kept];
+      for (int c = 0; c < 4; ++c) {
+        page.emplace_back(tags[p.tag].corners_mm[c][0], tags[p.tag].corners_mm[c][1]);
+        image.push_back(fit_corners[p.detection][c]);
+      }
+    }
+    std::optional<cv::Matx33d> k;
+    double cx = (bgr.cols - 1) / 2.0, cy = (bgr.rows - 1) / 2.0;
     if (options.camera) {
       const CameraIntrinsics& cam = *options.camera;
       k = cv::Matx33d(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
       if (!cam.distortion.empty()) {
-        std::vector<cv::Point2d> page, image;
-        for (int kept : fit->kept) {
-          const Pair& p = pairs[kept];
-          for (int c = 0; c < 4; ++c) {
-            page.emplace_back(tags[p.tag].corners_mm[c][0], tags[p.tag].corners_mm[c][1]);
-            image.push_back(fit_corners[p.detection][c]);
-          }
-        }
         std::vector<cv::Point2d> undistorted;
-        cv::undistortPoints(image, undistorted, cv::Mat(k), cam.distortion, cv::noArray(),
-                            cv::Mat(k));
-        const cv::Mat hu = cv::findHomography(page, undistorted, 0);
-        if (!hu.empty()) h = cv::Matx33d(hu);
+        cv::undistortPoints(image, undistorted, cv::Mat(*k), cam.distortion, cv::noArray(),
+                            cv::Mat(*k));
+        image = undistorted;
       }
-      r.focal_px = std::sqrt(cam.fx * cam.fy);
-      r.aspect = AspectOf(h, k);
-    } else {
-      const double cx = (bgr.cols - 1) / 2.0, cy = (bgr.rows - 1) / 2.0;
-      const auto f = EstimateFocal(h, cx, cy, bgr.cols);
-      r.focal_estimated = true;
-      // Face on, the focal length cannot be told, and barely matters: take
-      // a usual camera's (about 60 degrees across) and let the spread over
-      // half to twice it say how little.
-      r.focal_px = f ? *f : 0.87 * std::max(bgr.cols, bgr.rows);
-      auto aspect_at = [&](double focal) {
-        return AspectOf(h, cv::Matx33d(focal, 0, cx, 0, focal, cy, 0, 0, 1));
-      };
-      r.aspect = aspect_at(r.focal_px);
-      const double lo = aspect_at(r.focal_px * (f ? 0.85 : 0.5)),
-                   hi = aspect_at(r.focal_px * (f ? 1.15 : 2.0));
-      r.aspect_error = std::max(std::abs(hi - r.aspect), std::abs(lo - r.aspect)) / 2;
+    }
+    const AspectEstimate all = EstimateAspect(page, image, k, cx, cy, bgr.cols);
+    r.aspect = all.aspect;
+    r.focal_px = all.focal;
+    r.focal_estimated = !k;
+    // Its uncertainty by the jackknife over tags: each left out in turn.
+    const size_t n = page.size() / 4;
+    if (n >= 4) {
+      std::vector<double> partial;
+      for (size_t leave = 0; leave < n; ++leave) {
+        std::vector<cv::Point2d> p2, i2;
+        for (size_t i = 0; i < page.size(); ++i) {
+          if (i / 4 == leave) continue;
+          p2.push_back(page[i]);
+          i2.push_back(image[i]);
+        }
+        const AspectEstimate e = EstimateAspect(p2, i2, k, cx, cy, bgr.cols);
+        if (e.aspect > 0) partial.push_back(e.aspect);
+      }
+      const double mean = std::accumulate(partial.begin(), partial.end(), 0.0) / partial.size();
+      double sum = 0.0;
+      for (double a : partial) sum += (a - mean) * (a - mean);
+      r.aspect_error = std::sqrt(sum * (partial.size() - 1) / partial.size());
+    }
+    if (!k && !all.focal_found) {
+      // Face on, the focal length cannot be told, and barely matters: a
+      // usual camera's (about 60 degrees across) was taken; let the spread
+      // over half to twice it say how little.
+      const AspectEstimate lo = EstimateAspect(
+          page, image, cv::Matx33d(all.focal / 2, 0, cx, 0, all.focal / 2, cy, 0, 0, 1), cx, cy,
+          bgr.cols);
+      const AspectEstimate hi = EstimateAspect(
+          page, image, cv::Matx33d(all.focal * 2, 0, cx, 0, all.focal * 2, cy, 0, 0, 1), cx, cy,
+          bgr.cols);
+      r.aspect_error = std::max(
+          {r.aspect_error, std::abs(lo.aspect - r.aspect) / 2, std::abs(hi.aspect - r.aspect) / 2});
     }
   }
 
