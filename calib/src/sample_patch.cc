@@ -11,15 +11,6 @@
 namespace chromatag::internal {
 namespace {
 
-const std::array<double, 256>& LinearTable() {
-  static const std::array<double, 256> table = [] {
-    std::array<double, 256> t{};
-    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0);
-    return t;
-  }();
-  return table;
-}
-
 double TrimmedMean(std::vector<double>* values, double trim) {
   if (values->empty()) return 0.0;
   std::sort(values->begin(), values->end());
@@ -84,15 +75,14 @@ std::vector<cv::Vec3b> PixelsInSquare(const cv::Mat& bgr, const cv::Matx33d& ima
 }
 
 Rgb TrimmedLinearMean(const std::vector<cv::Vec3b>& pixels, double trim) {
-  const auto& lin = LinearTable();
   std::vector<double> r, g, b;
   r.reserve(pixels.size());
   g.reserve(pixels.size());
   b.reserve(pixels.size());
   for (const cv::Vec3b& p : pixels) {
-    b.push_back(lin[p[0]]);
-    g.push_back(lin[p[1]]);
-    r.push_back(lin[p[2]]);
+    b.push_back(Srgb8ToLinear(p[0]));
+    g.push_back(Srgb8ToLinear(p[1]));
+    r.push_back(Srgb8ToLinear(p[2]));
   }
   return {TrimmedMean(&r, trim), TrimmedMean(&g, trim), TrimmedMean(&b, trim)};
 }
@@ -112,14 +102,14 @@ PatchPixels SamplePatch(const cv::Mat& bgr, const cv::Matx33d& image_from_page, 
   out.linear_mean = TrimmedLinearMean(pixels, options.trim);
   out.inner_linear_mean = inner.empty() ? out.linear_mean : TrimmedLinearMean(inner, options.trim);
 
-  const auto& lin = LinearTable();
   int high = 0, zero = 0;
   std::vector<double> luminance;
   luminance.reserve(pixels.size());
   for (const cv::Vec3b& p : pixels) {
     high += std::max({p[0], p[1], p[2]}) >= 254;
     zero += std::min({p[0], p[1], p[2]}) == 0;
-    luminance.push_back(LinearRgbToXyz(Rgb{lin[p[2]], lin[p[1]], lin[p[0]]}).Y);
+    luminance.push_back(
+        LinearRgbToXyz(Rgb{Srgb8ToLinear(p[2]), Srgb8ToLinear(p[1]), Srgb8ToLinear(p[0])}).Y);
   }
   out.clipped_high = static_cast<double>(high) / pixels.size();
   out.clipped_zero = static_cast<double>(zero) / pixels.size();

@@ -1,6 +1,7 @@
 #include "chromatag/families/color.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -48,6 +49,15 @@ double SrgbToLinear(double encoded) {
   const double v = std::fabs(encoded);
   const double linear = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
   return std::copysign(linear, encoded);
+}
+
+double Srgb8ToLinear(uint8_t encoded) {
+  static const std::array<double, 256> table = [] {
+    std::array<double, 256> t{};
+    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0);
+    return t;
+  }();
+  return table[encoded];
 }
 
 double LinearToSrgb(double linear) {

@@ -33,28 +33,17 @@ std::string Format(const char* format, ...) {
 // ---------------------------------------------------------------------------
 // Sampling colours.
 
-// Linear light of every 8-bit sRGB value.
-const std::array<double, 256>& LinearTable() {
-  static const std::array<double, 256> table = [] {
-    std::array<double, 256> t{};
-    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0);
-    return t;
-  }();
-  return table;
-}
-
 // Bilinear sample of `bgr` at `p` in linear light (R, G, B); false outside.
 bool SampleLinear(const cv::Mat& bgr, const cv::Point2d& p, Rgb* out) {
   const int x0 = static_cast<int>(std::floor(p.x)), y0 = static_cast<int>(std::floor(p.y));
   if (!(p.x >= 0 && p.y >= 0) || x0 + 1 >= bgr.cols || y0 + 1 >= bgr.rows) return false;
   const double fx = p.x - x0, fy = p.y - y0;
-  const auto& lin = LinearTable();
   double c[3] = {0, 0, 0};
   const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
   const cv::Vec3b* q[4] = {&bgr.at<cv::Vec3b>(y0, x0), &bgr.at<cv::Vec3b>(y0, x0 + 1),
                            &bgr.at<cv::Vec3b>(y0 + 1, x0), &bgr.at<cv::Vec3b>(y0 + 1, x0 + 1)};
   for (int k = 0; k < 4; ++k) {
-    for (int ch = 0; ch < 3; ++ch) c[ch] += w[k] * lin[(*q[k])[2 - ch]];
+    for (int ch = 0; ch < 3; ++ch) c[ch] += w[k] * Srgb8ToLinear((*q[k])[2 - ch]);
   }
   *out = Rgb{c[0], c[1], c[2]};
   return true;

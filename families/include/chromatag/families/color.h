@@ -52,6 +52,9 @@ double LinearToSrgb(double linear);
 Rgb SrgbToLinear(const Rgb& encoded);
 Rgb LinearToSrgb(const Rgb& linear);
 
+// The same for an 8-bit value, from a table of all 256 (for reading pixels).
+double Srgb8ToLinear(uint8_t encoded);
+
 // Linear sRGB <-> XYZ. The matrix is derived from the IEC 61966-2-1 primaries
 // and the D65 white at full precision, so that RGB white maps exactly to
 // kD65White (the standard's 4-decimal rounding would leave white at b* = -0.01).
