@@ -116,4 +116,20 @@ PrintFn IccPress::AsPrintFn() const {
   return [this](const Rgb8& sent) { return Print(sent); };
 }
 
+std::vector<NamedCamera> TungstenAndDaylight() {
+  SimCamera tungsten;
+  tungsten.gains = {1.25, 1.0, 0.7};
+  tungsten.exposure = 0.8;
+  tungsten.falloff = 0.25;
+  tungsten.seed = 11;
+  tungsten.page_corners_px = {{{410, 40}, {1190, 70}, {1225, 1160}, {375, 1135}}};
+  SimCamera daylight;
+  daylight.gains = {0.95, 1.0, 1.08};
+  daylight.exposure = 0.9;
+  daylight.falloff = 0.15;
+  daylight.seed = 12;
+  daylight.page_corners_px = {{{430, 60}, {1215, 45}, {1240, 1150}, {400, 1170}}};
+  return {{"tungsten", tungsten}, {"daylight", daylight}};
+}
+
 }  // namespace chromatag::testing

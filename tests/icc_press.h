@@ -12,6 +12,7 @@
 #include <mutex>
 #include <string>
 #include <unordered_map>
+#include <vector>
 
 #include "calib_sim.h"
 #include "chromatag/families/color.h"
@@ -43,6 +44,17 @@ class IccPress {
   mutable std::mutex mutex_;
   mutable std::unordered_map<uint32_t, Lab> cache_;
 };
+
+// The two lights of issue 13's calibration through the press (the test and
+// docs/calibration.md): a tungsten lamp, warm as an uncorrected camera sees
+// it (R 1.25, B 0.7), and daylight by a window, slightly cool; each with the
+// portrait A4 page filling most of a 1600 x 1200 frame in mild perspective
+// (about 3.9 px/mm, 75 px a 20 mm tag).
+struct NamedCamera {
+  std::string name;
+  SimCamera camera;
+};
+std::vector<NamedCamera> TungstenAndDaylight();
 
 }  // namespace chromatag::testing
 

@@ -291,29 +291,8 @@ class IccCalibrationTest : public ::testing::Test {
     delete press_;
   }
 
-  struct Light {
-    std::string name;
-    SimCamera camera;
-  };
-
-  // A tungsten lamp (warm: red up, blue down, as an uncorrected camera sees
-  // it) and daylight by a window (slightly cool), the page filling most of a
-  // 1600 x 1200 frame in mild perspective: about 3.9 px/mm, 75 px a 20 mm tag.
-  static std::vector<Light> Lights() {
-    SimCamera tungsten;
-    tungsten.gains = {1.25, 1.0, 0.7};
-    tungsten.exposure = 0.8;
-    tungsten.falloff = 0.25;
-    tungsten.seed = 11;
-    tungsten.page_corners_px = {{{410, 40}, {1190, 70}, {1225, 1160}, {375, 1135}}};
-    SimCamera daylight;
-    daylight.gains = {0.95, 1.0, 1.08};
-    daylight.exposure = 0.9;
-    daylight.falloff = 0.15;
-    daylight.seed = 12;
-    daylight.page_corners_px = {{{430, 60}, {1215, 45}, {1240, 1150}, {400, 1170}}};
-    return {{"tungsten", tungsten}, {"daylight", daylight}};
-  }
+  using Light = testing::NamedCamera;
+  static std::vector<Light> Lights() { return testing::TungstenAndDaylight(); }
 
   // Photographs `page` (at px_per_mm) printed through the press under each
   // light; returns the PNGs' paths, in the order of Lights().
