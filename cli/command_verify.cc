@@ -202,15 +202,20 @@ void PrintPrintCheck(const SheetRecord& record, const PrintVerdict& verdict) {
           r.image.c_str(), r.page + 1, record.num_pages, r.dpi_x, r.tags_found, r.tags.size(),
           r.scale_x, std::max(0.001, 2 * r.scale_x_error), r.scale_y,
           std::max(0.001, 2 * r.scale_y_error));
+    } else if (r.aspect == 0) {
+      std::printf("%s: page %d of %d, photo, %d of %zu tags found\n", r.image.c_str(), r.page + 1,
+                  record.num_pages, r.tags_found, r.tags.size());
     } else {
       std::printf(
           "%s: page %d of %d, photo, %d of %zu tags found; aspect x/y %.3f ± %.3f (the size "
           "cannot be told from a photo: scan the page, or measure the scale bar)\n",
           r.image.c_str(), r.page + 1, record.num_pages, r.tags_found, r.tags.size(), r.aspect,
-          2 * r.aspect_error);
+          std::max(0.001, 2 * r.aspect_error));
     }
-    for (const std::string& p : r.problems)
-      std::printf("  %s: %s\n", r.grade == Grade::kFail ? "FAIL" : "warn", p.c_str());
+    for (size_t i = 0; i < r.problems.size(); ++i) {
+      std::printf("  %s: %s\n", r.problem_grades[i] == Grade::kFail ? "FAIL" : "warn",
+                  r.problems[i].c_str());
+    }
     if (r.tags.empty()) continue;
     std::printf("  %5s %5s %7s %6s %6s %6s %6s  %s\n", "ID", "found", "hamming", "a* gap", "red b*",
                 "grn b*", "margin", "verdict");
@@ -250,13 +255,6 @@ std::optional<double> ParseFraction(const std::string& text, std::string* error)
   return percent ? value / 100.0 : value;
 }
 
-// The sidecar of `sheet`: the sheet file (its sidecar beside it) or the
-// sidecar itself.
-std::optional<SheetRecord> ReadSheetRecord(const std::string& sheet, std::string* error) {
-  const bool is_sidecar = sheet.size() > 5 && Lower(sheet.substr(sheet.size() - 5)) == ".json";
-  return ReadSidecar(is_sidecar ? sheet : SidecarPath(sheet), error);
-}
-
 int RunPrintCheck(const VerifyCommandOptions& o) {
   std::string error;
   if (o.sheet.empty()) {
@@ -287,13 +285,18 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
     }
     report_format = ext;
   }
-  const auto record = ReadSheetRecord(o.sheet, &error);
+  const auto record = ReadPrintedSheet(o.sheet, &error);
   if (!record) return Fail("verify", error);
   const auto verdict = CheckPrintFiles(*record, o.prints, options, &error);
   if (!verdict) return Fail("verify", error);
   if (!o.report.empty()) {
     const std::string bytes = report_format == ".pdf" ? RenderPrintReportPdf(*record, *verdict)
                                                       : RenderPrintReportPng(*record, *verdict);
+    if (bytes.empty()) {
+      return Fail("verify", "--report '" + o.report + "': a PNG report holds at most " +
+                                std::to_string(kMaxPngReportImages) +
+                                " images; write a .pdf (a page per image)");
+    }
     if (!WriteFilesAtomically({{o.report, bytes}}, &error)) return Fail("verify", error);
   }
   if (o.json) {
@@ -427,7 +430,8 @@ void RegisterVerify(CLI::App& app, Action* action) {
   c->add_option("--scale-tolerance", o->scale_tolerance, "Largest accepted scale error of a scan")
       ->capture_default_str()
       ->group(kPrintGroup);
-  c->add_option("--config", o->config, "Detector config (chromatag calib) to judge the shades by")
+  c->add_option("--config", o->config,
+                "Detector config (from chromatag calibrate) to judge the shades by")
       ->group(kPrintGroup);
   c->add_option("--camera", o->camera_file, "Camera file for photos (OpenCV, ROS, Kalibr)")
       ->group(kPrintGroup);

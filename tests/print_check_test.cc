@@ -115,7 +115,7 @@ class PrintCheckTest : public ::testing::Test {
                               const PrintCheckOptions& options = ScanOptions()) {
     SimScanner scanner;
     const cv::Mat scan = PrintAndScan(page, PxPerMm(), print, geometry, scanner);
-    return CheckPrintImage(*record_, scan, "scan", scanner.dpi, scanner.dpi, *detector_, options);
+    return CheckPrintImage(*record_, scan, {"scan", scanner.dpi, scanner.dpi}, *detector_, options);
   }
 
   static PrintCheckOptions ScanOptions() {
@@ -145,7 +145,7 @@ TEST_F(PrintCheckTest, GoodSwopPrintOfEveryKeptIdPassesOnEveryPage) {
       ++checked;
       EXPECT_TRUE(t.found && t.found_id == t.expected.id && t.hamming == 0)
           << "ID " << t.expected.id;
-      // Within 0.15 mm: the detector's corners sit about 0.3 px inside an
+      // Within 0.15 mm: the detector's corners sit about 0.35 px inside each
       // edge blurred in linear light (0.06 mm at 300 dpi, measured here).
       EXPECT_NEAR(t.size_mm, 30.0, 0.15) << "ID " << t.expected.id;
       ASSERT_TRUE(t.colours.measured);
@@ -276,7 +276,7 @@ TEST_F(PrintCheckTest, PhotoOfAGoodPrintPassesAndAStretchedOneFails) {
     const cv::Mat photo = PrintAndPhotograph(images_->pages[1], PxPerMm(), press_->AsPrintFn(),
                                              {1.0, stretch}, camera);
     const PrintPageResult r =
-        CheckPrintImage(*record_, photo, "photo", 0, 0, *detector_, PrintCheckOptions());
+        CheckPrintImage(*record_, photo, {"photo"}, *detector_, PrintCheckOptions());
     EXPECT_EQ(r.page, 1);
     EXPECT_FALSE(r.scan);
     EXPECT_EQ(r.tags_found, static_cast<int>(r.tags.size()));
@@ -316,10 +316,54 @@ TEST_F(PrintCheckTest, ReportsDrawEveryImage) {
   };
   auto red = [](const cv::Vec3b& p) { return p[2] > 190 && p[1] < 60 && p[0] < 60; };
   auto green = [](const cv::Vec3b& p) { return p[1] > 130 && p[2] < 60 && p[0] < 90; };
+  // Only inside the drawn page (1.5 px a point, the page's box from 120 to
+  // 620 points down): the verdict and the problem list are coloured too.
+  const cv::Rect view_box(0, 180, image.cols, 750);
+  const cv::Mat page_area = image(view_box);
+  auto count_in = [&](int x0, int x1, auto is) {
+    int n = 0;
+    for (int y = 0; y < page_area.rows; ++y)
+      for (int x = x0; x < x1; ++x) n += is(page_area.at<cv::Vec3b>(y, x));
+    return n;
+  };
   const int half = image.cols / 2;
-  EXPECT_GT(count(0, half, green), 500);
+  EXPECT_GT(count_in(0, half, green), 500);
   EXPECT_LT(count(0, half, red), 50);
-  EXPECT_GT(count(half, image.cols, red), 500);
+  EXPECT_GT(count_in(half, image.cols, red), 500);
+}
+
+TEST_F(PrintCheckTest, PhotoFaceOnGuessesTheFocalLengthAndFewTagsLeaveTheAspectUnjudged) {
+  // A scan looked at as a photo: face on, so no focal length can be told.
+  SimScanner scanner;
+  const cv::Mat scan = PrintAndScan(images_->pages[0], PxPerMm(), press_->AsPrintFn(), {}, scanner);
+  PrintPageResult r = CheckPrintImage(*record_, scan, {"face-on"}, *detector_, PrintCheckOptions());
+  EXPECT_EQ(r.focal_source, "guessed");
+  EXPECT_NEAR(r.aspect, 1.0, 0.003);
+  EXPECT_NE(r.grade, Grade::kFail) << AllProblems(r);
+  // Given the camera, its focal length is used.
+  PrintCheckOptions with_camera;
+  with_camera.camera =
+      CameraIntrinsics{2000, 2000, (scan.cols - 1) / 2.0, (scan.rows - 1) / 2.0, {}};
+  r = CheckPrintImage(*record_, scan, {"face-on"}, *detector_, with_camera);
+  EXPECT_EQ(r.focal_source, "camera");
+  EXPECT_NEAR(r.aspect, 1.0, 0.003);
+  // Page 3 holds four tags; with one blanked out, three are too few.
+  cv::Mat page = images_->pages[2].clone();
+  const PlacedTag* first = nullptr;
+  for (const PlacedTag& t : record_->tags)
+    if (t.page == 2 && !first) first = &t;
+  const cv::Point2d tl = MmToPixel(first->corners_mm[0], PxPerMm()),
+                    br = MmToPixel(first->corners_mm[2], PxPerMm());
+  page(cv::Rect(cv::Point(tl), cv::Point(br))).setTo(cv::Scalar(255, 255, 255));
+  const cv::Mat few = PrintAndScan(page, PxPerMm(), press_->AsPrintFn(), {}, scanner);
+  r = CheckPrintImage(*record_, few, {"few"}, *detector_, PrintCheckOptions());
+  EXPECT_EQ(r.tags_in_fit, 3);
+  EXPECT_EQ(r.aspect, 0.0);
+  bool said = false;
+  for (size_t i = 0; i < r.problems.size(); ++i)
+    said |= r.problems[i].find("too few to judge the page's aspect") != std::string::npos &&
+            r.problem_grades[i] == Grade::kWarn;
+  EXPECT_TRUE(said) << AllProblems(r);
 }
 
 TEST(ReadImageDpiTest, PngPhysAndJpegJfif) {
@@ -387,6 +431,30 @@ TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
   EXPECT_NEAR(json["images"][1]["scale"]["x"].get<double>(), 0.97, 0.002);
   EXPECT_NE(json["images"][1]["problems"][0].get<std::string>().find("printed at 97.0 %"),
             std::string::npos);
+  // A PNG sheet records its resolution: as a "scan" of itself it passes,
+  // read through --scan alone. One written at 30 dpi is refused.
+  const std::string png_sheet = *dir_ + "/sheet.png", low = *dir_ + "/low.png";
+  ASSERT_EQ(RunChromatag({"generate", "--family", "16h5", "--ids", "0-3", "--size", "30mm",
+                          "--format", "png", "--dpi", "300", "-o", png_sheet})
+                .exit_code,
+            0);
+  r = RunChromatag({"verify", png_sheet, "--print", png_sheet, "--scan"});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("scan at 300 dpi, 4 of 4 tags found; scale x 1.000"), std::string::npos)
+      << r.out;
+  ASSERT_EQ(RunChromatag({"generate", "--family", "16h5", "--ids", "0-3", "--size", "30mm",
+                          "--format", "png", "--dpi", "30", "-o", low})
+                .exit_code,
+            0);
+  r = RunChromatag({"verify", png_sheet, "--print", low, "--scan"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("records 30 x 30 dpi, outside [50, 4800]"), std::string::npos) << r.err;
+  // A sidecar copied beside another sheet vouches for nothing.
+  fs::copy_file(sheet, *dir_ + "/other.pdf", fs::copy_options::overwrite_existing);
+  fs::copy_file(sheet + ".json", *dir_ + "/other.pdf.json", fs::copy_options::overwrite_existing);
+  r = RunChromatag({"verify", *dir_ + "/other.pdf", "--print", good, "--scan-dpi", "300"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("does not describe"), std::string::npos) << r.err;
   // Bad input: one line, exit 2. A PNG whose header claims 40000 x 40000
   // pixels is refused before decoding.
   const std::string huge = *dir_ + "/huge.png";

@@ -85,11 +85,8 @@ constexpr double kMinSwappedRivalRatio = 1.5;
 constexpr double kMinSwappedTieRatio = 1.05;
 constexpr double kMinCorrectedRescueMargin = 0.25;
 
-// The smallest margin a read of `family` at Hamming distance `hamming` from
-// its code needs, as a fraction of DetectorOptions::min_decision_margin.
 double MarginFactor(const TagFamily& family, int hamming) {
-  if (family.min_hamming() - hamming >= kFarCodeBits) return 0.0;
-  return hamming == 0 ? kExactReadMarginFactor : 1.0;
+  return DecisionMarginFactor(family, hamming);
 }
 
 // Mean distance in cells from where `family` puts the green/black and
@@ -617,3 +614,12 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
 }
 
 }  // namespace chromatag::internal
+
+namespace chromatag {
+
+double DecisionMarginFactor(const TagFamily& family, int hamming) {
+  if (family.min_hamming() - hamming >= internal::kFarCodeBits) return 0.0;
+  return hamming == 0 ? internal::kExactReadMarginFactor : 1.0;
+}
+
+}  // namespace chromatag

@@ -328,8 +328,7 @@ py::object VerifyPrint(const std::string& sheet, const std::vector<std::string>&
                        double scan_dpi, double scale_tolerance,
                        const std::optional<std::string>& config) {
   std::string error;
-  const bool is_sidecar = sheet.size() > 5 && sheet.compare(sheet.size() - 5, 5, ".json") == 0;
-  const auto record = ReadSidecar(is_sidecar ? sheet : SidecarPath(sheet), &error);
+  const auto record = ReadPrintedSheet(sheet, &error);
   if (!record) throw Error(error);
   PrintCheckOptions options;
   options.scans = scans || scan_dpi > 0;

@@ -9,6 +9,12 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
+Json Grades(const std::vector<Grade>& grades) {
+  Json out = Json::array();
+  for (Grade g : grades) out.push_back(GradeName(g));
+  return out;
+}
+
 Json ShadesJson(const PrintedShades& c) {
   Json shades = Json::object();
   if (!c.measured) return shades;
@@ -38,12 +44,13 @@ Json ToJson(const SheetRecord& record, const PrintVerdict& verdict) {
                   {"margin", t.margin},
                   {"position_error_mm", t.position_error_mm},
                   {"shades", ShadesJson(t.colours)},
-                  {"problems", t.problems}};
+                  {"problems", t.problems},
+                  {"problem_grades", Grades(t.problem_grades)}};
       if (r.scan) tag["size_mm"] = t.size_mm;
       tags.push_back(tag);
     }
     Json image = {{"image", r.image},
-                  {"page", r.page + 1},
+                  {"page", r.page >= 0 ? Json(r.page + 1) : Json(nullptr)},
                   {"kind", r.scan ? "scan" : "photo"},
                   {"grade", GradeName(r.grade)},
                   {"tags_found", r.tags_found},
@@ -52,14 +59,14 @@ Json ToJson(const SheetRecord& record, const PrintVerdict& verdict) {
       image["dpi"] = {r.dpi_x, r.dpi_y};
       image["scale"] = {{"x", r.scale_x},
                         {"y", r.scale_y},
-                        {"x_error", r.scale_x_error},
-                        {"y_error", r.scale_y_error},
+                        {"x_standard_error", r.scale_x_error},
+                        {"y_standard_error", r.scale_y_error},
                         {"skew_deg", r.skew_deg}};
     } else {
-      image["aspect"] = {{"x_over_y", r.aspect},
-                         {"error", r.aspect_error},
+      image["aspect"] = {{"x_over_y", r.aspect > 0 ? Json(r.aspect) : Json(nullptr)},
+                         {"standard_error", r.aspect_error},
                          {"focal_px", r.focal_px},
-                         {"focal_estimated", r.focal_estimated}};
+                         {"focal_source", r.focal_source}};
     }
     Json unexpected = Json::array();
     for (const auto& u : r.unexpected) {
@@ -67,6 +74,17 @@ Json ToJson(const SheetRecord& record, const PrintVerdict& verdict) {
           {{"family", u.family}, {"id", u.id}, {"center_mm", {u.center_mm[0], u.center_mm[1]}}});
     }
     image["problems"] = r.problems;
+    image["problem_grades"] = Grades(r.problem_grades);
+    Json undecoded = Json::array();
+    for (const UndecodedCandidate& u : r.undecoded) {
+      Json corners = Json::array();
+      for (const cv::Point2d& p : u.corners_px) corners.push_back({p.x, p.y});
+      undecoded.push_back({{"corners_px", corners},
+                           {"red_b_split", u.red_b_split},
+                           {"green_b_split", u.green_b_split},
+                           {"a_gap", u.a_gap}});
+    }
+    image["undecoded"] = undecoded;
     image["unexpected"] = unexpected;
     image["tags"] = tags;
     images.push_back(image);

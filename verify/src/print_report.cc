@@ -13,6 +13,7 @@
 
 #include "chromatag/generator/cairo_util.h"
 #include "chromatag/verify/print_check.h"
+#include "print_internal.h"
 
 namespace chromatag {
 namespace {
@@ -36,11 +37,7 @@ void SetGrade(cairo_t* cr, Grade grade, double alpha = 1.0) {
   }
 }
 
-std::string Fmt(const char* format, double a = 0, double b = 0, double c = 0, double d = 0) {
-  char text[256];
-  std::snprintf(text, sizeof(text), format, a, b, c, d);
-  return text;
-}
+using internal::Format;
 
 // Cuts `text` to what fits `width` points at `size`.
 std::string Fit(cairo_t* cr, std::string text, double size, double width) {
@@ -87,7 +84,8 @@ std::vector<std::string> Wrap(cairo_t* cr, const std::string& text, double size,
 
 void Line(cairo_t* cr, double y, double size, const std::string& text, bool bold = false) {
   cairo_set_source_rgb(cr, 0, 0, 0);
-  DrawText(cr, kMargin, y, size, Fit(cr, text, size, kWidth - 2 * kMargin), bold);
+  DrawText(cr, kMargin, y, size,
+           Fit(cr, internal::Utf8OrReplaced(text), size, kWidth - 2 * kMargin), bold);
 }
 
 std::string PageLine(const SheetRecord& record, const PrintPageResult& r) {
@@ -96,13 +94,14 @@ std::string PageLine(const SheetRecord& record, const PrintPageResult& r) {
                      std::to_string(record.num_pages) + ": " + std::to_string(r.tags_found) +
                      " of " + std::to_string(r.tags.size()) + " tags found";
   if (r.scan) {
-    line +=
-        Fmt(", scan at %.0f dpi", r.dpi_x) + Fmt(": scale x %.3f ± %.3f, y %.3f ± %.3f", r.scale_x,
-                                                 std::max(0.001, 2 * r.scale_x_error), r.scale_y,
-                                                 std::max(0.001, 2 * r.scale_y_error));
+    line += Format(", scan at %.0f dpi: scale x %.3f ± %.3f, y %.3f ± %.3f", r.dpi_x, r.scale_x,
+                   std::max(0.001, 2 * r.scale_x_error), r.scale_y,
+                   std::max(0.001, 2 * r.scale_y_error));
+  } else if (r.aspect > 0) {
+    line += Format(", photo: aspect x/y %.3f ± %.3f (size not measurable in a photo)", r.aspect,
+                   std::max(0.001, 2 * r.aspect_error));
   } else {
-    line += Fmt(", photo: aspect x/y %.3f ± %.3f (size not measurable in a photo)", r.aspect,
-                2 * r.aspect_error);
+    line += ", photo: too few tags to judge the aspect";
   }
   return line;
 }
@@ -110,6 +109,7 @@ std::string PageLine(const SheetRecord& record, const PrintPageResult& r) {
 // Draws the page view into the box and marks each tag.
 void DrawPage(cairo_t* cr, const SheetRecord& record, const PrintPageResult& r) {
   const double box_w = kWidth - 2 * kMargin;
+  const double view_px_per_mm = r.view_px_per_mm > 0 ? r.view_px_per_mm : 1.0;
   const double scale =
       std::min(box_w / record.page.width_mm, kViewHeight / record.page.height_mm);  // pt per mm
   const double x0 = kMargin + (box_w - record.page.width_mm * scale) / 2, y0 = kViewTop;
@@ -120,18 +120,20 @@ void DrawPage(cairo_t* cr, const SheetRecord& record, const PrintPageResult& r) 
     cv::Mat bgra;
     cv::cvtColor(r.page_view, bgra, cv::COLOR_BGR2BGRA);
     cairo_surface_t* image = cairo_image_surface_create(CAIRO_FORMAT_RGB24, bgra.cols, bgra.rows);
-    cairo_surface_flush(image);
-    unsigned char* data = cairo_image_surface_get_data(image);
-    const int stride = cairo_image_surface_get_stride(image);
-    for (int y = 0; y < bgra.rows; ++y)
-      std::copy_n(bgra.ptr<unsigned char>(y), 4 * bgra.cols, data + y * stride);
-    cairo_surface_mark_dirty(image);
-    cairo_save(cr);
-    const double s = scale / kPrintViewPxPerMm;
-    cairo_scale(cr, s, s);
-    cairo_set_source_surface(cr, image, 0, 0);
-    cairo_paint_with_alpha(cr, 0.55);
-    cairo_restore(cr);
+    if (cairo_surface_status(image) == CAIRO_STATUS_SUCCESS) {
+      cairo_surface_flush(image);
+      unsigned char* data = cairo_image_surface_get_data(image);
+      const int stride = cairo_image_surface_get_stride(image);
+      for (int y = 0; y < bgra.rows; ++y)
+        std::copy_n(bgra.ptr<unsigned char>(y), 4 * bgra.cols, data + y * stride);
+      cairo_surface_mark_dirty(image);
+      cairo_save(cr);
+      const double s = scale / view_px_per_mm;
+      cairo_scale(cr, s, s);
+      cairo_set_source_surface(cr, image, 0, 0);
+      cairo_paint_with_alpha(cr, 0.55);
+      cairo_restore(cr);
+    }
     cairo_surface_destroy(image);
   } else {
     cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
@@ -168,7 +170,7 @@ void DrawReportPage(cairo_t* cr, const SheetRecord& record, const PrintPageResul
   Line(cr, kMargin + 12, 14, "ChromaTag print check: " + r.image, true);
   Line(cr, kMargin + 32, 9,
        "Sheet: " + record.family->name() + ", " + std::to_string(record.tags.size()) + " tags of " +
-           Fmt("%.1f", record.tag_size_mm) + " mm, palette " + record.palette.name + ", " +
+           Format("%.1f", record.tag_size_mm) + " mm, palette " + record.palette.name + ", " +
            record.page.name);
   Line(cr, kMargin + 46, 9, PageLine(record, r));
   SetGrade(cr, r.grade);
@@ -176,10 +178,13 @@ void DrawReportPage(cairo_t* cr, const SheetRecord& record, const PrintPageResul
   DrawPage(cr, record, r);
   // Problems: the page's first, then each tag's worst.
   std::vector<std::pair<Grade, std::string>> lines;
-  for (const std::string& p : r.problems) lines.push_back({r.grade, "page: " + p});
+  for (size_t i = 0; i < r.problems.size(); ++i)
+    lines.push_back({r.problem_grades[i], "page: " + r.problems[i]});
   for (const PrintTagResult& t : r.tags) {
-    for (const std::string& p : t.problems)
-      lines.push_back({t.grade, "ID " + std::to_string(t.expected.id) + ": " + p});
+    for (size_t i = 0; i < t.problems.size(); ++i) {
+      lines.push_back(
+          {t.problem_grades[i], "ID " + std::to_string(t.expected.id) + ": " + t.problems[i]});
+    }
   }
   double y = kViewTop + kViewHeight + 28;
   int shown = 0;
@@ -193,7 +198,7 @@ void DrawReportPage(cairo_t* cr, const SheetRecord& record, const PrintPageResul
     cairo_fill(cr);
     cairo_set_source_rgb(cr, 0, 0, 0);
     const double width = kWidth - 2 * kMargin - 10;
-    const auto wrapped = Wrap(cr, text, 8, width);
+    const auto wrapped = Wrap(cr, internal::Utf8OrReplaced(text), 8, width);
     for (size_t i = 0; i < wrapped.size() && i < 3; ++i) {
       DrawText(cr, kMargin + 10, y, 8, Fit(cr, wrapped[i], 8, width));
       y += 10;
@@ -225,15 +230,24 @@ std::string RenderPrintReportPdf(const SheetRecord& record, const PrintVerdict& 
 
 std::string RenderPrintReportPng(const SheetRecord& record, const PrintVerdict& verdict) {
   constexpr double kScale = 1.5;  // 108 dpi.
+  constexpr int kPerRow = 4;
+  if (static_cast<int>(verdict.images.size()) > kMaxPngReportImages) return "";
   const int page_w = static_cast<int>(kWidth * kScale), page_h = static_cast<int>(kHeight * kScale);
   const int n = std::max<int>(1, static_cast<int>(verdict.images.size()));
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, page_w * n, page_h);
+  const int columns = std::min(n, kPerRow), rows = (n + kPerRow - 1) / kPerRow;
+  cairo_surface_t* surface =
+      cairo_image_surface_create(CAIRO_FORMAT_RGB24, page_w * columns, page_h * rows);
+  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
+    cairo_surface_destroy(surface);
+    return "";
+  }
   cairo_t* cr = cairo_create(surface);
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
   for (size_t i = 0; i < verdict.images.size(); ++i) {
     cairo_save(cr);
-    cairo_translate(cr, static_cast<double>(i) * page_w, 0);
+    cairo_translate(cr, static_cast<double>(i % kPerRow) * page_w,
+                    static_cast<double>(i / kPerRow) * page_h);
     cairo_scale(cr, kScale, kScale);
     cairo_rectangle(cr, 0, 0, kWidth, kHeight);
     cairo_clip(cr);

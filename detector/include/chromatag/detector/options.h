@@ -9,6 +9,8 @@
 
 namespace chromatag {
 
+class TagFamily;
+
 // Pinhole intrinsics in pixels and OpenCV's distortion coefficients (k1, k2,
 // p1, p2[, k3[, k4, k5, k6]]; empty for none).
 struct CameraIntrinsics {
@@ -30,6 +32,12 @@ inline constexpr double kMinTagRedA = 12.0;
 
 // DetectorOptions::max_green_a lies in [-kMaxGreenALimit, kMaxGreenALimit].
 inline constexpr double kMaxGreenALimit = 100.0;
+
+// The share of DetectorOptions::min_decision_margin that a read of `family`
+// at Hamming distance `hamming` from its code must reach: all of it for a
+// corrected read of a family of close codes (16h5), half for an exact one,
+// none when the nearest other code is 9 or more bits away (36h11).
+double DecisionMarginFactor(const TagFamily& family, int hamming);
 
 struct DetectorOptions {
   // Families to look for: "16h5", "36h11" or both.

@@ -81,17 +81,18 @@ struct PrintTagResult {
   int found_id = -1;
   int hamming = 0;
   double margin = 0.0;  // The detector's decision margin.
-  // The tag's place in the image is known: found, or placed by the fit.
-  bool located = false;
-  std::array<cv::Point2d, 4> corners_px{};  // Black square, spec order.
+  // Black square, spec order: detected, or where the page fit puts it.
+  std::array<cv::Point2d, 4> corners_px{};
   PrintedShades colours;
   // Scans: the black square's mean side as printed, mm, and over the sidecar's.
   double size_mm = 0.0;
   double size_ratio = 0.0;
-  // Found tags: worst corner's distance from where the page fit puts it, mm.
+  // Found tags: worst corner's distance, mm on the page, from where a fit
+  // over the other tags puts it.
   double position_error_mm = 0.0;
   Grade grade = Grade::kPass;
   std::vector<std::string> problems;  // Worst first; empty when it passes.
+  std::vector<Grade> problem_grades;  // Each problem's own.
 };
 
 // A tag-like candidate that did not decode, in an image where no tag of the
@@ -110,34 +111,39 @@ struct PrintPageResult {
   bool scan = false;
   double dpi_x = 0.0, dpi_y = 0.0;  // Scans.
   // Page millimetres (sidecar convention) to image pixels (centres at
-  // integers): affine for scans, projective for photos.
+  // integers): affine for scans, projective for photos (to undistorted
+  // pixels when the camera's distortion is given).
   cv::Matx33d image_from_page = cv::Matx33d::eye();
   int tags_found = 0;   // With the right ID.
   int tags_in_fit = 0;  // Tags whose corners the fit kept.
   double rms_mm = 0.0;  // Fit residual over those corners, on the page.
   // Scans: printed size over the sidecar's along the page's x and y axes,
-  // their standard errors from the fit, and how far the axes are from
-  // square, degrees.
+  // their standard errors from the fit (one; the text and the report show
+  // two, at least 0.001), and how far the axes are from square, degrees.
   double scale_x = 0.0, scale_y = 0.0;
   double scale_x_error = 0.0, scale_y_error = 0.0;
   double skew_deg = 0.0;
-  // Photos: the page's x scale over its y scale, and its uncertainty (from
-  // the focal length when it is estimated).
+  // Photos: the page's x scale over its y scale (0 when too few tags fit
+  // to judge it) and its standard error (jackknife over the tags); the
+  // focal length used and where it came from: "camera" (given),
+  // "perspective" (from the page's own perspective) or "guessed" (a face-on
+  // view, where it barely matters).
   double aspect = 0.0;
   double aspect_error = 0.0;
   double focal_px = 0.0;
-  bool focal_estimated = false;
-  Grade grade = Grade::kPass;
+  std::string focal_source;
+  Grade grade = Grade::kPass;         // The page's and its tags' worst.
   std::vector<std::string> problems;  // About the page as a whole.
+  std::vector<Grade> problem_grades;  // Each problem's own.
   std::vector<PrintTagResult> tags;   // The page's tags, in sidecar order.
   std::vector<UnexpectedDetection> unexpected;
   std::vector<UndecodedCandidate> undecoded;
-  // The image resampled onto the page at kPrintViewPxPerMm (BGR), for
-  // reports; empty when the page was not recognised.
+  // The image resampled onto the page (BGR) at view_px_per_mm (3, fewer
+  // for pages over 1.3 m), for reports; empty when the page was not
+  // recognised.
   cv::Mat page_view;
+  double view_px_per_mm = 0.0;
 };
-
-inline constexpr double kPrintViewPxPerMm = 3.0;
 
 struct PrintVerdict {
   std::vector<PrintPageResult> images;
@@ -149,16 +155,31 @@ struct PrintVerdict {
   bool passed() const { return grade != Grade::kFail; }
 };
 
-// Checks one image (CV_8UC3 BGR) of a printed page of `record`'s sheet. For
-// a scan, `dpi_x` and `dpi_y` are its resolution; for a photo both are 0.
-// `detector` should look for both families.
+// One scan or photo to check.
+struct PrintImage {
+  std::string name;
+  // A scan's resolution, pixels per inch; 0 for a photo.
+  double dpi_x = 0.0, dpi_y = 0.0;
+  bool dpi_from_file = false;  // Read from the file's header, not given.
+};
+
+// Checks one image (CV_8UC3 BGR) of a printed page of `record`'s sheet.
+// `detector` should look for both families (and report rejected
+// candidates, for the diagnosis when no tag decodes).
 PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
-                                const std::string& name, double dpi_x, double dpi_y,
-                                const Detector& detector, const PrintCheckOptions& options);
+                                const PrintImage& image, const Detector& detector,
+                                const PrintCheckOptions& options);
+
+// The sidecar of the printed sheet: `path` is the sheet (.pdf, .svg, .png),
+// whose sidecar must be beside it and describe it, or the sidecar itself
+// (.json). Refuses (nullopt, *error) what ReadSidecar refuses, a missing
+// sheet, a sidecar of another sheet, and a tag size or page outside
+// (0, 10 m].
+std::optional<SheetRecord> ReadPrintedSheet(const std::string& path, std::string* error = nullptr);
 
 // Reads each image and checks it. Refuses (nullopt, *error) bad options, an
 // unreadable image, or a scan whose resolution is neither given nor in its
-// file.
+// file, or lies outside [50, 4800] dpi.
 std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
                                             const std::vector<std::string>& paths,
                                             const PrintCheckOptions& options,
@@ -175,8 +196,10 @@ std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes);
 std::string PrintVerdictJson(const SheetRecord& record, const PrintVerdict& verdict);
 
 // The report drawn: per image, the page as seen with every tag marked pass,
-// warn or fail and the page's numbers. PDF one page per image; PNG all
-// images side by side. Returns the file's bytes.
+// warn or fail and the page's numbers. PDF one page per image; PNG the
+// images' pages in rows of four, at most kMaxPngReportImages (beyond, the
+// PNG is empty: use a PDF). Returns the file's bytes.
+inline constexpr int kMaxPngReportImages = 80;
 std::string RenderPrintReportPdf(const SheetRecord& record, const PrintVerdict& verdict);
 std::string RenderPrintReportPng(const SheetRecord& record, const PrintVerdict& verdict);
 

@@ -1,0 +1,184 @@
+// Reading the scans and photos of verify --print, and the printed sheet's
+// sidecar (print_check.h).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "chromatag/families/input_file.h"
+#include "chromatag/verify/print_check.h"
+#include "print_internal.h"
+
+namespace chromatag {
+namespace {
+
+// The largest image file read (a 1200 dpi A4 scan as PNG is about 60 MiB).
+constexpr std::uintmax_t kMaxImageFileBytes = 512u << 20;
+
+bool EndsWithJson(const std::string& path) {
+  if (path.size() < 5) return false;
+  std::string ext = path.substr(path.size() - 5);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".json";
+}
+
+}  // namespace
+
+std::optional<SheetRecord> ReadPrintedSheet(const std::string& path, std::string* error) {
+  std::optional<SheetRecord> record;
+  if (EndsWithJson(path)) {
+    record = ReadSidecar(path, error);
+  } else {
+    if (!std::filesystem::is_regular_file(path)) {
+      if (error) *error = "cannot read sheet '" + path + "': no such file";
+      return std::nullopt;
+    }
+    record = ReadSidecar(SidecarPath(path), error);
+    if (!record) return std::nullopt;
+    bool names_sheet = false;
+    std::error_code ignored;
+    for (const auto& file : record->files)
+      names_sheet |= std::filesystem::equivalent(file.path, path, ignored);
+    if (!names_sheet) {
+      if (error) {
+        *error = "sidecar '" + record->sidecar_path + "' does not describe '" + path +
+                 "'; regenerate the sheet to get its own sidecar";
+      }
+      return std::nullopt;
+    }
+  }
+  if (!record) return std::nullopt;
+  std::string why;
+  if (!internal::SheetIsSane(*record, &why)) {
+    if (error) *error = "sidecar '" + record->sidecar_path + "': " + why;
+    return std::nullopt;
+  }
+  return record;
+}
+
+std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes) {
+  auto u8 = [&](size_t i) { return static_cast<uint32_t>(static_cast<unsigned char>(bytes[i])); };
+  auto be16 = [&](size_t i) { return (u8(i) << 8) | u8(i + 1); };
+  auto be32 = [&](size_t i) { return (be16(i) << 16) | be16(i + 2); };
+  static const char kPng[] = "\x89PNG\r\n\x1a\n";
+  if (bytes.size() >= 8 && bytes.compare(0, 8, kPng, 8) == 0) {
+    // Chunks: length, type, data, CRC; pHYs comes before the first IDAT.
+    size_t at = 8;
+    while (at + 8 <= bytes.size()) {
+      const uint32_t length = be32(at);
+      const std::string type = bytes.substr(at + 4, 4);
+      if (type == "IDAT" || type == "IEND" || length > bytes.size() - at - 8) break;
+      if (type == "pHYs" && length == 9 && u8(at + 16) == 1) {
+        const double x = be32(at + 8), y = be32(at + 12);
+        if (x > 0 && y > 0) return std::array<double, 2>{x * 0.0254, y * 0.0254};
+        return std::nullopt;
+      }
+      at += 12 + static_cast<size_t>(length);
+    }
+    return std::nullopt;
+  }
+  if (bytes.size() >= 4 && u8(0) == 0xFF && u8(1) == 0xD8) {
+    // Segments: FF marker, length (including itself); JFIF is an APP0.
+    size_t at = 2;
+    while (at + 4 <= bytes.size() && u8(at) == 0xFF) {
+      const uint32_t marker = u8(at + 1), length = be16(at + 2);
+      if (marker == 0xDA || length < 2 || at + 2 + length > bytes.size()) break;
+      if (marker == 0xE0 && length >= 16 && bytes.compare(at + 4, 5, "JFIF\0", 5) == 0) {
+        const uint32_t units = u8(at + 11);
+        const double x = be16(at + 12), y = be16(at + 14);
+        if (x <= 0 || y <= 0 || (units != 1 && units != 2)) return std::nullopt;
+        const double f = units == 1 ? 1.0 : 2.54;
+        return std::array<double, 2>{x * f, y * f};
+      }
+      at += 2 + length;
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
+                                            const std::vector<std::string>& paths,
+                                            const PrintCheckOptions& options, std::string* error) {
+  if (!options.IsValid(error)) return std::nullopt;
+  if (paths.empty()) {
+    if (error) *error = "give at least one scan or photo of the printed sheet";
+    return std::nullopt;
+  }
+  DetectorOptions detector_options = options.detector;
+  detector_options.families = TagFamily::Names();
+  detector_options.report_rejected = true;
+  detector_options.camera.reset();
+  detector_options.tag_size = 0.0;
+  auto detector = Detector::Create(detector_options, error);
+  if (!detector) return std::nullopt;
+  PrintVerdict verdict;
+  std::vector<bool> seen(record.num_pages, false);
+  for (const std::string& path : paths) {
+    const auto bytes = ReadInputFile(path, "image", kMaxImageFileBytes, error);
+    if (!bytes) return std::nullopt;
+    int width = 0, height = 0;
+    if (ImageHeaderSize(path, &width, &height) &&
+        static_cast<double>(width) * height > kMaxImagePixels) {
+      if (error) {
+        *error = "cannot read image '" + path + "': " + std::to_string(width) + " x " +
+                 std::to_string(height) + " pixels, over the limit of " +
+                 std::to_string(kMaxImagePixels >> 20) + " Mpx";
+      }
+      return std::nullopt;
+    }
+    const cv::Mat raw(1, static_cast<int>(bytes->size()), CV_8U, const_cast<char*>(bytes->data()));
+    cv::Mat bgr;
+    try {
+      bgr = cv::imdecode(raw, cv::IMREAD_COLOR);
+    } catch (const cv::Exception&) {
+      bgr.release();
+    }
+    if (bgr.empty()) {
+      if (error) *error = "cannot read image '" + path + "': not an image OpenCV can decode";
+      return std::nullopt;
+    }
+    PrintImage image;
+    image.name = path;
+    if (options.scans) {
+      if (options.scan_dpi > 0) {
+        image.dpi_x = image.dpi_y = options.scan_dpi;
+      } else if (const auto dpi = ReadImageDpi(*bytes)) {
+        image.dpi_x = (*dpi)[0];
+        image.dpi_y = (*dpi)[1];
+        image.dpi_from_file = true;
+        if (!(std::min(image.dpi_x, image.dpi_y) >= 50.0 &&
+              std::max(image.dpi_x, image.dpi_y) <= 4800.0)) {
+          if (error) {
+            *error = "scan '" + path + "' records " + std::to_string(std::lround(image.dpi_x)) +
+                     " x " + std::to_string(std::lround(image.dpi_y)) +
+                     " dpi, outside [50, 4800]; give the scanner's resolution with --scan-dpi";
+          }
+          return std::nullopt;
+        }
+      } else {
+        if (error) {
+          *error = "scan '" + path +
+                   "' does not record its resolution; give it with --scan-dpi (the scanner's "
+                   "dpi)";
+        }
+        return std::nullopt;
+      }
+    }
+    PrintPageResult page = CheckPrintImage(record, bgr, image, *detector, options);
+    if (page.page >= 0 && page.page < record.num_pages) seen[page.page] = true;
+    verdict.grade = std::max(verdict.grade, page.grade);
+    for (const PrintTagResult& t : page.tags) {
+      ++verdict.tags_checked;
+      verdict.tags_passed += t.grade != Grade::kFail;
+      verdict.tags_warned += t.grade == Grade::kWarn;
+    }
+    verdict.images.push_back(std::move(page));
+  }
+  for (int p = 0; p < record.num_pages; ++p)
+    if (!seen[p]) verdict.pages_not_seen.push_back(p);
+  return verdict;
+}
+
+}  // namespace chromatag
