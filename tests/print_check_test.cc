@@ -455,6 +455,17 @@ TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
   r = RunChromatag({"verify", *dir_ + "/other.pdf", "--print", good, "--scan-dpi", "300"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("does not describe"), std::string::npos) << r.err;
+  // A sidecar whose tag size no check can work with.
+  {
+    std::string text = testing::ReadFile(sheet + ".json");
+    const std::string field = "\"tag_size_mm\": 30.0";
+    ASSERT_NE(text.find(field), std::string::npos);
+    text.replace(text.find(field), field.size(), "\"tag_size_mm\": 1e9");
+    std::ofstream(*dir_ + "/huge-tag.json") << text;
+  }
+  r = RunChromatag({"verify", *dir_ + "/huge-tag.json", "--print", good, "--scan-dpi", "300"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(testing::CountLines(r.err), 1) << r.err;
   // Bad input: one line, exit 2. A PNG whose header claims 40000 x 40000
   // pixels is refused before decoding.
   const std::string huge = *dir_ + "/huge.png";
