@@ -668,44 +668,20 @@ cv::Mat PageView(const cv::Mat& bgr, const cv::Matx33d& fit_from_page, const Fit
   return view;
 }
 
-// Detections paired with the page's tags by ID. A repeated ID pairs where a
-// fit over the unique pairs puts it; with no unique pair at all, the pairing
-// of one detection that places most others on a tag of their ID seeds it.
+// Detections paired with the page's tags by ID. Only IDs the page holds
+// once pair (generate never repeats an ID); a tag whose ID appears twice in
+// a hand-made sidecar is still found afterwards, by its place on the page.
 std::vector<Pair> PairByIds(const std::vector<PlacedTag>& tags,
-                            const std::vector<const Detection*>& mine,
-                            const std::vector<std::array<cv::Point2d, 4>>& fit_corners, bool affine,
-                            double tag_size_mm) {
-  std::vector<Pair> pairs, ambiguous;
+                            const std::vector<const Detection*>& mine) {
+  std::vector<Pair> pairs;
   for (size_t k = 0; k < mine.size(); ++k) {
-    std::vector<int> same;
-    for (size_t i = 0; i < tags.size(); ++i)
-      if (tags[i].id == mine[k]->id) same.push_back(static_cast<int>(i));
-    if (same.size() == 1) pairs.push_back({same[0], static_cast<int>(k)});
-    if (same.size() > 1)
-      for (int i : same) ambiguous.push_back({i, static_cast<int>(k)});
-  }
-  auto agreeing = [&](const PageFit& f) {
-    const cv::Matx33d page_from_fit = f.image_from_page.inv();
-    std::vector<Pair> out;
-    for (const Pair& q : ambiguous) {
-      const cv::Point2d c = Apply(page_from_fit, Centre(fit_corners[q.detection]));
-      const auto& mm = tags[q.tag].center_mm;
-      if (std::hypot(c.x - mm[0], c.y - mm[1]) < 0.25 * tag_size_mm) out.push_back(q);
+    int match = -1, count = 0;
+    for (size_t i = 0; i < tags.size(); ++i) {
+      if (tags[i].id != mine[k]->id) continue;
+      match = static_cast<int>(i);
+      ++count;
     }
-    return out;
-  };
-  if (pairs.empty()) {
-    size_t best = 0;
-    for (const Pair& p : ambiguous) {
-      const auto seed = FitPage(tags, fit_corners, {p}, affine, 1e9);
-      if (!seed) continue;
-      const std::vector<Pair> agree = agreeing(*seed);
-      if (agree.size() > best) best = agree.size(), pairs = agree;
-    }
-  } else if (!ambiguous.empty()) {
-    if (const auto first = FitPage(tags, fit_corners, pairs, affine, 1e9)) {
-      for (const Pair& q : agreeing(*first)) pairs.push_back(q);
-    }
+    if (count == 1) pairs.push_back({match, static_cast<int>(k)});
   }
   return pairs;
 }
@@ -937,7 +913,7 @@ PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
     for (int c = 0; c < 4; ++c) q[c] = space.FromImage(d->corners[c]);
     fit_corners.push_back(q);
   }
-  const std::vector<Pair> pairs = PairByIds(tags, mine, fit_corners, r.scan, record.tag_size_mm);
+  const std::vector<Pair> pairs = PairByIds(tags, mine);
   const auto fit = pairs.empty()
                        ? std::nullopt
                        : FitPage(tags, fit_corners, pairs, r.scan, options.max_position_error_mm);
