@@ -366,7 +366,7 @@ TEST_F(PrintCheckTest, PhotoFaceOnGuessesTheFocalLengthAndFewTagsLeaveTheAspectU
   EXPECT_TRUE(said) << AllProblems(r);
 }
 
-TEST(ReadImageDpiTest, PngPhysAndJpegJfif) {
+TEST(ReadImageDpiTest, PngPhysJpegJfifAndTiff) {
   // A PNG header with a pHYs chunk of 11811 pixels per metre (300 dpi).
   std::string png("\x89PNG\r\n\x1a\n", 8);
   auto be32 = [](uint32_t v) {
@@ -392,6 +392,35 @@ TEST(ReadImageDpiTest, PngPhysAndJpegJfif) {
   std::vector<uint8_t> encoded;
   cv::imencode(".jpg", cv::Mat(8, 8, CV_8UC3, cv::Scalar(255, 255, 255)), encoded);
   EXPECT_FALSE(ReadImageDpi(std::string(encoded.begin(), encoded.end())));
+  // TIFF, little-endian, 300 x 600 dpi; big-endian in centimetres.
+  const std::string tiff_le(
+      "II*\0\x08\0\0\0"                     // Header, IFD at 8.
+      "\x03\0"                              // Three entries.
+      "\x1a\x01\x05\0\x01\0\0\0\x32\0\0\0"  // XResolution at 50.
+      "\x1b\x01\x05\0\x01\0\0\0\x3a\0\0\0"  // YResolution at 58.
+      "\x28\x01\x03\0\x01\0\0\0\x02\0\0\0"  // ResolutionUnit inch.
+      "\0\0\0\0"                            // No next IFD.
+      "\x2c\x01\0\0\x01\0\0\0"              // 300 / 1.
+      "\x58\x02\0\0\x01\0\0\0",             // 600 / 1.
+      66);
+  const auto tdpi = ReadImageDpi(tiff_le);
+  ASSERT_TRUE(tdpi);
+  EXPECT_DOUBLE_EQ((*tdpi)[0], 300.0);
+  EXPECT_DOUBLE_EQ((*tdpi)[1], 600.0);
+  const std::string tiff_be(
+      "MM\0*\0\0\0\x08"
+      "\0\x03"
+      "\x01\x1a\0\x05\0\0\0\x01\0\0\0\x32"
+      "\x01\x1b\0\x05\0\0\0\x01\0\0\0\x3a"
+      "\x01\x28\0\x03\0\0\0\x01\0\x03\0\0"
+      "\0\0\0\0"
+      "\0\0\0\x76\0\0\0\x01"
+      "\0\0\0\x76\0\0\0\x01",
+      66);
+  const auto bdpi = ReadImageDpi(tiff_be);
+  ASSERT_TRUE(bdpi);
+  EXPECT_NEAR((*bdpi)[0], 118 * 2.54, 1e-9);
+  EXPECT_FALSE(ReadImageDpi(tiff_le.substr(0, 30)));  // Cut inside the IFD.
   EXPECT_FALSE(ReadImageDpi("not an image"));
   EXPECT_FALSE(ReadImageDpi(""));
 }
@@ -411,6 +440,14 @@ TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
   EXPECT_NE(r.err.find("does not record its resolution; give it with --scan-dpi"),
             std::string::npos)
       << r.err;
+  // A TIFF records its resolution (as scanners write it).
+  const std::string tiff = *dir_ + "/good.tif";
+  ASSERT_TRUE(cv::imwrite(
+      tiff, cv::imread(good),
+      {cv::IMWRITE_TIFF_RESUNIT, 2, cv::IMWRITE_TIFF_XDPI, 300, cv::IMWRITE_TIFF_YDPI, 300}));
+  r = RunChromatag({"verify", sheet, "--print", tiff, "--scan"});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("scan at 300 dpi, 12 of 12 tags found"), std::string::npos) << r.out;
   const std::string report = *dir_ + "/report.pdf";
   r = RunChromatag({"verify", sheet, "--print", good, "--scan-dpi", "300", "--report", report});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;

@@ -1,6 +1,7 @@
 // Reading the scans and photos of verify --print, and the printed sheet's
 // sidecar (print_check.h).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 
@@ -22,6 +23,41 @@ bool EndsWithJson(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".json";
+}
+
+// A TIFF's XResolution and YResolution (rationals) in its ResolutionUnit
+// (2 inch, the default; 3 centimetre), from the first IFD; either byte order.
+std::optional<std::array<double, 2>> TiffDpi(const std::string& bytes) {
+  if (bytes.size() < 8) return std::nullopt;
+  const bool little = bytes.compare(0, 4, "II*\0", 4) == 0;
+  if (!little && bytes.compare(0, 4, "MM\0*", 4) != 0) return std::nullopt;
+  auto u8 = [&](size_t i) { return static_cast<uint32_t>(static_cast<unsigned char>(bytes[i])); };
+  auto u16 = [&](size_t i) { return little ? u8(i) | (u8(i + 1) << 8) : (u8(i) << 8) | u8(i + 1); };
+  auto u32 = [&](size_t i) {
+    return little ? u16(i) | (u16(i + 2) << 16) : (u16(i) << 16) | u16(i + 2);
+  };
+  const size_t ifd = u32(4);
+  if (ifd > bytes.size() || bytes.size() - ifd < 2) return std::nullopt;
+  const size_t entries = u16(ifd);
+  if ((bytes.size() - ifd - 2) / 12 < entries) return std::nullopt;
+  double x = 0, y = 0;
+  uint32_t unit = 2;
+  for (size_t e = 0; e < entries; ++e) {
+    const size_t at = ifd + 2 + 12 * e;
+    const uint32_t tag = u16(at), type = u16(at + 2), count = u32(at + 4);
+    if ((tag == 282 || tag == 283) && type == 5 && count == 1) {
+      const size_t value = u32(at + 8);
+      if (value > bytes.size() || bytes.size() - value < 8) return std::nullopt;
+      const uint32_t num = u32(value), den = u32(value + 4);
+      if (den == 0) return std::nullopt;
+      (tag == 282 ? x : y) = static_cast<double>(num) / den;
+    } else if (tag == 296 && type == 3 && count == 1) {
+      unit = u16(at + 8);
+    }
+  }
+  if (!(x > 0 && y > 0) || (unit != 2 && unit != 3)) return std::nullopt;
+  const double f = unit == 2 ? 1.0 : 2.54;
+  return std::array<double, 2>{x * f, y * f};
 }
 
 }  // namespace
@@ -94,8 +130,9 @@ std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes) {
       }
       at += 2 + length;
     }
+    return std::nullopt;
   }
-  return std::nullopt;
+  return TiffDpi(bytes);
 }
 
 std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,

@@ -187,7 +187,8 @@ std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
 
 // The resolution an image file records, pixels per inch (x, y): a PNG's
 // pHYs chunk in pixels per metre, a JPEG's JFIF density in dots per inch or
-// centimetre. nullopt when it records none (or only an aspect ratio).
+// centimetre, a TIFF's XResolution and YResolution in inches or
+// centimetres. nullopt when it records none (or only an aspect ratio).
 std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes);
 
 // The verdict as one JSON object (docs/verify.md): per image the page, the
