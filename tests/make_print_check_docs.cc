@@ -1,10 +1,10 @@
-// Writes the simulated scans and photo behind docs/verify.md's "Check your
+// Writes the simulated scans behind docs/verify.md's "Check your
 // print" (not a test). Usage, after
 // 'chromatag generate --family 16h5 --all --size 30mm -o DIR/tags.pdf':
 //   make_print_check_docs DIR
 // writes DIR/good-p1.png (page 1 through the SWOP press, scanned at 300 dpi),
 // DIR/fit-p2.png (page 2 printed at 97 %), DIR/swapped-p3.png (page 3 with
-// one tag's reds swapped) and DIR/photo-p1.jpg (page 1 photographed).
+// one tag's reds swapped).
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -51,20 +51,12 @@ int main(int argc, char** argv) {
   }
   const PrintFn print = press->AsPrintFn();
   SimScanner scanner;
-  SimCamera camera;
-  camera.width = 2400;
-  camera.height = 1800;
-  camera.page_corners_px = {{{760, 70}, {1880, 130}, {1950, 1720}, {690, 1690}}};
-  camera.gains = {1.15, 1.0, 0.8};
-  const std::vector<int> jpeg = {cv::IMWRITE_JPEG_QUALITY, 92};
   const bool ok =
       cv::imwrite(dir + "/good-p1.png",
                   PrintAndScan(images->pages[0], px_per_mm, print, {}, scanner)) &&
       cv::imwrite(dir + "/fit-p2.png",
                   PrintAndScan(images->pages[1], px_per_mm, print, {0.97, 0.97}, scanner)) &&
-      cv::imwrite(dir + "/swapped-p3.png", PrintAndScan(swapped, px_per_mm, print, {}, scanner)) &&
-      cv::imwrite(dir + "/photo-p1.jpg",
-                  PrintAndPhotograph(images->pages[0], px_per_mm, print, {}, camera), jpeg);
+      cv::imwrite(dir + "/swapped-p3.png", PrintAndScan(swapped, px_per_mm, print, {}, scanner));
   if (!ok) {
     std::cerr << "make_print_check_docs: cannot write into " << dir << "\n";
     return 1;

@@ -9,7 +9,6 @@
 #include <numeric>
 
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/families/input_file.h"
@@ -563,11 +562,11 @@ void JudgeTag(const PrintCheckOptions& o, const SheetRecord& record, bool scan,
   std::vector<Finding> findings;
   // A tag's own width carries the detector's corner bias on blurred edges
   // (about 0.3 px an edge, inwards): a pixel is allowed on top.
-  if (scan && t->size_ratio > 0 &&
-      std::abs(t->size_ratio - 1.0) > o.max_scale_error + size_allowance) {
+  const double size_ratio = t->size_mm / record.tag_size_mm;
+  if (scan && t->size_mm > 0 && std::abs(size_ratio - 1.0) > o.max_scale_error + size_allowance) {
     Add(&findings, Grade::kFail,
         Format("prints %.2f mm wide where the sidecar says %.2f mm (%.1f %%)", t->size_mm,
-               record.tag_size_mm, 100 * t->size_ratio));
+               record.tag_size_mm, 100 * size_ratio));
   }
   JudgeColours(t->colours, *record.family, record.palette, o, &findings);
   if (!t->found) {
@@ -991,7 +990,6 @@ PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
           t.size_mm = (cv::norm(q[1] - q[0]) + cv::norm(q[2] - q[1]) + cv::norm(q[3] - q[2]) +
                        cv::norm(q[0] - q[3])) /
                       4.0;
-          t.size_ratio = t.size_mm / record.tag_size_mm;
           const double px_per_mm = (image.dpi_x + image.dpi_y) / 2 / kMmPerInch;
           size_allowance = 1.0 / std::max(1.0, t.size_mm * px_per_mm);
         }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -63,28 +62,7 @@ std::optional<std::array<double, 2>> TiffDpi(const std::string& bytes) {
 }  // namespace
 
 std::optional<SheetRecord> ReadPrintedSheet(const std::string& path, std::string* error) {
-  std::optional<SheetRecord> record;
-  if (EndsWithJson(path)) {
-    record = ReadSidecar(path, error);
-  } else {
-    if (!std::filesystem::is_regular_file(path)) {
-      if (error) *error = "cannot read sheet '" + path + "': no such file";
-      return std::nullopt;
-    }
-    record = ReadSidecar(SidecarPath(path), error);
-    if (!record) return std::nullopt;
-    bool names_sheet = false;
-    std::error_code ignored;
-    for (const auto& file : record->files)
-      names_sheet |= std::filesystem::equivalent(file.path, path, ignored);
-    if (!names_sheet) {
-      if (error) {
-        *error = "sidecar '" + record->sidecar_path + "' does not describe '" + path +
-                 "'; regenerate the sheet to get its own sidecar";
-      }
-      return std::nullopt;
-    }
-  }
+  auto record = EndsWithJson(path) ? ReadSidecar(path, error) : ReadSheetSidecar(path, error);
   if (!record) return std::nullopt;
   std::string why;
   if (!internal::SheetIsSane(*record, &why)) {

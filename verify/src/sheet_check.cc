@@ -121,17 +121,15 @@ SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
   return verdict;
 }
 
-std::optional<SheetVerdict> VerifySheetFile(const std::string& sheet_path,
-                                            const VerifyOptions& options, std::string* error) {
-  if (!options.IsValid(error)) return std::nullopt;
+std::optional<SheetRecord> ReadSheetSidecar(const std::string& sheet_path, std::string* error) {
   if (!std::filesystem::is_regular_file(sheet_path)) {
     if (error) *error = "cannot read sheet '" + sheet_path + "': no such file";
     return std::nullopt;
   }
   auto record = ReadSidecar(SidecarPath(sheet_path), error);
   if (!record) return std::nullopt;
-  // The sidecar must describe the file given (and the checks below run on
-  // the files it names): a sidecar copied or renamed next to another sheet
+  // The sidecar must describe the file given (and the checks run on the
+  // files it names): a sidecar copied or renamed next to another sheet
   // would otherwise vouch for it.
   bool names_sheet = false;
   std::error_code ignored;
@@ -146,6 +144,14 @@ std::optional<SheetVerdict> VerifySheetFile(const std::string& sheet_path,
     }
     return std::nullopt;
   }
+  return record;
+}
+
+std::optional<SheetVerdict> VerifySheetFile(const std::string& sheet_path,
+                                            const VerifyOptions& options, std::string* error) {
+  if (!options.IsValid(error)) return std::nullopt;
+  auto record = ReadSheetSidecar(sheet_path, error);
+  if (!record) return std::nullopt;
   auto images = RasterizeSheet(*record, options.dpi, error);
   if (!images) return std::nullopt;
   DetectorOptions detector_options;

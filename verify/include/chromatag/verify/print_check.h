@@ -53,11 +53,12 @@ struct PrintCheckOptions {
   // Photos: the camera's intrinsics make the aspect exact; without them the
   // focal length is estimated from the page's perspective.
   std::optional<CameraIntrinsics> camera;
-  // Margins below these (ThresholdOptions' "thin") warn: the tag decodes
-  // here but has little to spare for dimmer light, blur or a cast.
-  double thin_b_gap = 8.0;
-  // A gap under this factor times what the detector needs warns.
-  double thin_factor = 2.0;
+  // Margins below these warn: the tag decodes here but has little to spare
+  // for dimmer light, blur or a cast. The calibration's own: a b* gap under
+  // its "thin" one, or a gap under its safety factor times what the
+  // detector needs.
+  double thin_b_gap = ThresholdOptions().thin_b_gap;
+  double thin_factor = ThresholdOptions().safety_factor;
 
   bool IsValid(std::string* error) const;
 };
@@ -84,9 +85,8 @@ struct PrintTagResult {
   // Black square, spec order: detected, or where the page fit puts it.
   std::array<cv::Point2d, 4> corners_px{};
   PrintedShades colours;
-  // Scans: the black square's mean side as printed, mm, and over the sidecar's.
+  // Scans: the black square's mean side as printed, mm (0 when not found).
   double size_mm = 0.0;
-  double size_ratio = 0.0;
   // Found tags: worst corner's distance, mm on the page, from where a fit
   // over the other tags puts it.
   double position_error_mm = 0.0;

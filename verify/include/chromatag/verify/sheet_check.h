@@ -59,6 +59,12 @@ struct SheetVerdict {
 SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
                         const Detector& detector, const VerifyOptions& options);
 
+// The sidecar beside a sheet file (.pdf, .svg, .png), which must describe
+// that file. Refuses (nullopt, *error) a missing sheet, what ReadSidecar
+// refuses, and a sidecar copied or renamed beside another sheet.
+std::optional<SheetRecord> ReadSheetSidecar(const std::string& sheet_path,
+                                            std::string* error = nullptr);
+
 // The whole round trip for a sheet file (.pdf, .svg or .png) whose sidecar is
 // beside it: read the sidecar, check the files' hashes, rasterise, detect and
 // check. Refuses (nullopt, *error) bad options, a missing or broken sidecar or
