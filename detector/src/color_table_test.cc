@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "chromatag/families/color.h"
 
@@ -47,6 +49,37 @@ TEST(ColorTableTest, SingleChannelsAgreeWithLab) {
     EXPECT_FLOAT_EQ(table.A(v, 255 - v, v / 2), lab.a);
     EXPECT_FLOAT_EQ(table.L(v, 255 - v, v / 2), lab.L);
   }
+}
+
+// GrowRegion tests many colours against one L* level through Y: the two
+// tests must agree for every colour and level, including levels that fall
+// exactly on a colour's L*, below black's and above white's.
+TEST(ColorTableTest, YForLGivesTheSameAnswerAsL) {
+  const ColorTable& table = ColorTable::Get();
+  std::vector<float> levels = {-20.f,     0.f,   100.f,
+                               100.0001f, 150.f, std::numeric_limits<float>::quiet_NaN()};
+  for (float level = 0.25f; level < 100.f; level += 0.731f) levels.push_back(level);
+  for (int v = 0; v < 256; v += 17) {
+    levels.push_back(table.L(v, v, v));  // Exactly a colour's L*.
+    levels.push_back(table.L(v, 255 - v, v / 3));
+  }
+  for (float level : levels) {
+    const int32_t y_level = table.YForL(level);
+    int disagreements = 0;
+    for (int r = 0; r < 256; r += 3) {
+      for (int g = 0; g < 256; g += 3) {
+        for (int b = 0; b < 256; b += 5) {
+          disagreements += (table.L(r, g, b) < level) != (table.Y(r, g, b) < y_level);
+        }
+      }
+    }
+    EXPECT_EQ(disagreements, 0) << "level " << level;
+  }
+  // Every Y lies below the answer for a level above white's, none below
+  // the answer for black's.
+  EXPECT_GT(table.YForL(150.f), table.Y(255, 255, 255));
+  EXPECT_EQ(table.YForL(-20.f), 0);
+  EXPECT_LE(table.YForL(table.L(0, 0, 0)), table.Y(0, 0, 0));
 }
 
 TEST(ColorTableTest, IsKilobytesNotMegabytes) {

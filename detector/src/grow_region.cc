@@ -164,9 +164,10 @@ bool Grow(const Grid& grid, cv::Point start, int max_cells, Inside&& inside,
 }
 
 // Whether, along each ray from the centre through a red/green border point,
-// the image turns lighter than `threshold` within `reach` times the border
-// point's distance (widened by `allowance` px): the black square ends there.
-bool BoundedAlongRays(const ImageView& image, const Candidate& candidate, float threshold,
+// the image turns at least as light as L* `threshold` (given as
+// ColorTable::YForL of it) within `reach` times the border point's distance
+// (widened by `allowance` px): the black square ends there.
+bool BoundedAlongRays(const ImageView& image, const Candidate& candidate, int32_t threshold_y,
                       int stride, double reach, double allowance) {
   const cv::Point2f c = candidate.centre;
   for (const cv::Point2f& b : candidate.red_border) {
@@ -180,7 +181,7 @@ bool BoundedAlongRays(const ImageView& image, const Candidate& candidate, float 
       const cv::Point2f p = c + static_cast<float>(k) * u;
       const int x = RoundToInt(p.x), y = RoundToInt(p.y);
       if (!image.Contains(x, y)) return false;
-      ended = image.L(x, y) >= threshold;
+      ended = image.Y(x, y) >= threshold_y;
     }
     if (!ended) return false;
   }
@@ -258,6 +259,9 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
   // green and the black ring alike, whatever the light.
   *why = RejectReason::kSquareOpen;
   const float threshold = chroma_l + kDarkFraction * (white_l - chroma_l);
+  // L* < threshold, tested as Y < threshold_y (the same answer for every
+  // colour): the fill below tests up to a thousand cells.
+  const int32_t threshold_y = image.table().YForL(threshold);
   const cv::Point start(RoundToInt((c.x - grid.x0) / grid.step),
                         RoundToInt((c.y - grid.y0) / grid.step));
   std::vector<cv::Point2f>& outline = candidate->points[kBlackWhite];
@@ -268,10 +272,10 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
   // The same bound along each scan direction first, which costs a few dozen
   // pixels instead of the thousands a leaking region fills before it is
   // caught: most candidates that get here and are not tags leak.
-  if (!BoundedAlongRays(image, *candidate, threshold, grid.step, std::sqrt(kMaxAreaRatio),
+  if (!BoundedAlongRays(image, *candidate, threshold_y, grid.step, std::sqrt(kMaxAreaRatio),
                         kBlurAllowancePx) ||
       !Grow(
-          grid, start, max_cells, [&](cv::Point p) { return image.L(p.x, p.y) < threshold; },
+          grid, start, max_cells, [&](cv::Point p) { return image.Y(p.x, p.y) < threshold_y; },
           &outline))
     return false;
 

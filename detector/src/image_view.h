@@ -125,6 +125,12 @@ class ImageView {
     const uint8_t* p = Pixel(x, y);
     return table_->L(p[r_], p[1], p[b_]);
   }
+  // ColorTable::Y: compared with ColorTable::YForL(level), the same answer
+  // as L(x, y) < level, cheaper.
+  int32_t Y(int x, int y) const {
+    const uint8_t* p = Pixel(x, y);
+    return table_->Y(p[r_], p[1], p[b_]);
+  }
   LabF Lab(int x, int y) const {
     const uint8_t* p = Pixel(x, y);
     return table_->Lab(p[r_], p[1], p[b_]);

@@ -156,9 +156,8 @@ RejectedRegion RejectedRegion::Around(const std::array<cv::Point2f, 8>& red_bord
   return region;
 }
 
-bool RejectedRegion::Contains(cv::Point2f p) const {
-  if (p.x < min_x || p.x > max_x || p.y < min_y || p.y > max_y) return false;
-  bool inside = false;  // Even-odd rule.
+bool RejectedRegion::BorderContains(cv::Point2f p) const {
+  bool inside = false;
   for (size_t i = 0, j = border.size() - 1; i < border.size(); j = i++) {
     const cv::Point2f& a = border[i];
     const cv::Point2f& b = border[j];

@@ -122,7 +122,12 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
 struct RejectedRegion {
   std::array<cv::Point2f, 8> border;
   float min_x = 0, max_x = 0, min_y = 0, max_y = 0;
-  bool Contains(cv::Point2f p) const;
+  // Every seed is tested against every region rejected so far in the frame
+  // (hundreds on busy frames): the box test inline, the polygon only inside.
+  bool Contains(cv::Point2f p) const {
+    return p.x >= min_x && p.x <= max_x && p.y >= min_y && p.y <= max_y && BorderContains(p);
+  }
+  bool BorderContains(cv::Point2f p) const;  // Even-odd rule over `border`.
   // The region of a centring pass's red/green border points, grown a little
   // about its centre: the seeds of later rows lie on the region's left edge,
   // where the polygon's sides cut inside.

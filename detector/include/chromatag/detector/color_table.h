@@ -57,10 +57,18 @@ class ColorTable {
     const int y = xyz_[0][r][1] + xyz_[1][g][1] + xyz_[2][b][1];
     return 500.f * (F(x) - F(y));
   }
-  float L(uint8_t r, uint8_t g, uint8_t b) const {
-    const int y = xyz_[0][r][1] + xyz_[1][g][1] + xyz_[2][b][1];
-    return 116.f * F(y) - 16.f;
+  float L(uint8_t r, uint8_t g, uint8_t b) const { return LOfY(Y(r, g, b)); }
+  // Relative luminance Y in fixed point (1.0 is 1 << 20): L() is L* of this
+  // Y, and never smaller for a larger Y. So a test of many colours against
+  // one L* level can compare Y with YForL(level) instead, which needs three
+  // table reads and no f(): L(r, g, b) < level exactly when
+  // Y(r, g, b) < YForL(level).
+  int32_t Y(uint8_t r, uint8_t g, uint8_t b) const {
+    return xyz_[0][r][1] + xyz_[1][g][1] + xyz_[2][b][1];
   }
+  // The least Y (as Y() returns) whose L* is at least `level`; one more than
+  // any Y() when none is (a level above white's, or NaN).
+  int32_t YForL(float level) const;
   // Coarse a*, see above.
   int CoarseA(uint8_t r, uint8_t g, uint8_t b) const {
     return coarse_a_[((r >> 3) << 10) | ((g >> 3) << 5) | (b >> 3)];
@@ -86,6 +94,7 @@ class ColorTable {
   // f() is tabulated at 1 << kFBits steps over [0, 1].
   static constexpr int kFBits = 12;
 
+  float LOfY(int32_t y) const { return 116.f * F(y) - 16.f; }
   float F(int t) const {
     // t in [0, 1 << kFixedBits]; clamp guards the last entry.
     constexpr int kShift = kFixedBits - kFBits;
@@ -95,6 +104,7 @@ class ColorTable {
   }
 
   int32_t xyz_[3][256][3];
+  int32_t max_y_ = 0;  // Y() of white: the largest.
   float f_[(1 << kFBits) + 2];
   std::vector<int8_t> coarse_a_;
 };
