@@ -32,6 +32,7 @@
 #include "chromatag/bench/comparison.h"
 #include "chromatag/bench/competitors.h"
 #include "chromatag/bench/dataset.h"
+#include "chromatag/bench/pair_timing.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/families/family.h"
 
@@ -101,26 +102,18 @@ int main(int argc, char** argv) {
     std::cerr << "cold_timing: error: " << e.what() << " (see cold_timing --help)\n";
     return 2;
   }
-  const DatasetKind kind = *ParseDatasetKind(set);
-  DatasetOptions dataset_options = DatasetOptions::ForKind(kind);
-  dataset_options.num_frames = frames;
-  dataset_options.seed = seed;
-  const std::vector<std::string> families = kind == DatasetKind::kCamera
-                                                ? std::vector<std::string>{"16h5", "36h11"}
-                                                : std::vector<std::string>{"16h5"};
-  DetectorOptions options;
-  options.families = families;
-
   cv::setNumThreads(1);  // Every detector on this thread, as in tag_comparison.
   std::string error;
-  const auto dataset = Dataset::Create(dataset_options, &error);
-  auto apriltag = dataset ? MakeAprilTagDetector(families, &error) : nullptr;
-  auto aruco = apriltag ? MakeArucoDetector(families, &error) : nullptr;
-  const auto detector = aruco ? Detector::Create(options, &error) : nullptr;
+  const TimingSetup setup = MakeTimingSetup(*ParseDatasetKind(set), frames, seed, &error);
+  DetectorOptions options;
+  options.families = setup.families;
+  const auto detector = setup.aruco ? Detector::Create(options, &error) : nullptr;
   if (!detector) {
     std::cerr << "cold_timing: " << error << "\n";
     return 1;
   }
+  TagDetector& apriltag = *setup.apriltag;
+  TagDetector& aruco = *setup.aruco;
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   constexpr int kChunk = 64;
   Times times;
@@ -130,14 +123,14 @@ int main(int argc, char** argv) {
   volatile uint64_t touched = 0;  // Keeps TouchFrame from being optimised away.
   for (int first = 0; first < frames; first += kChunk) {
     const std::vector<Frame> chunk =
-        RenderFrames(*dataset, first, std::min(kChunk, frames - first), threads);
-    if (crops.empty()) crops = TagCrops(*detector, chunk, families);
+        RenderFrames(*setup.dataset, first, std::min(kChunk, frames - first), threads);
+    if (crops.empty()) crops = TagCrops(*detector, chunk, setup.families);
     for (int state = 0; state < kStates; ++state) {
       for (const Frame& rendered : chunk) {
         const cv::Mat& frame = rendered.bgr;
         if (state <= 1) {
-          aruco->Detect(frame, &found);
-          apriltag->Detect(frame, &found);
+          aruco.Detect(frame, &found);
+          apriltag.Detect(frame, &found);
         }
         if (state == 1) {
           for (const cv::Mat& crop : crops) detector->Detect(crop, PixelOrder::kBgr, &result);

@@ -43,31 +43,21 @@ int main(int argc, char** argv) {
     std::cerr << "pair_timing: error: " << e.what() << " (see pair_timing --help)\n";
     return 2;
   }
-  const DatasetKind kind = *ParseDatasetKind(set);
-  DatasetOptions dataset_options = DatasetOptions::ForKind(kind);
-  dataset_options.num_frames = frames;
-  dataset_options.seed = seed;
-  const std::vector<std::string> families = kind == DatasetKind::kCamera
-                                                ? std::vector<std::string>{"16h5", "36h11"}
-                                                : std::vector<std::string>{"16h5"};
+  cv::setNumThreads(1);  // Every detector on this thread, as in tag_comparison.
+  std::string error;
+  const TimingSetup setup = MakeTimingSetup(*ParseDatasetKind(set), frames, seed, &error);
+  if (!setup.aruco) {
+    std::cerr << "pair_timing: " << error << "\n";
+    return 1;
+  }
   DetectorOptions a;
-  a.families = families;
+  a.families = setup.families;
   DetectorOptions b = a;
   (off == "quads_from_scans" ? b.quads_from_scans
    : off == "grow_regions"   ? b.grow_regions
                              : b.refine_corners) = false;
-
-  cv::setNumThreads(1);  // Every detector on this thread, as in tag_comparison.
-  std::string error;
-  const auto dataset = Dataset::Create(dataset_options, &error);
-  auto apriltag = dataset ? MakeAprilTagDetector(families, &error) : nullptr;
-  auto aruco = apriltag ? MakeArucoDetector(families, &error) : nullptr;
-  if (!aruco) {
-    std::cerr << "pair_timing: " << error << "\n";
-    return 1;
-  }
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const auto pairs = RunPairedTiming(*dataset, a, b, *apriltag, *aruco, threads);
+  const auto pairs = RunPairedTiming(*setup.dataset, a, b, *setup.apriltag, *setup.aruco, threads);
   std::printf(
       "pair_timing --set %s --frames %d --seed %llu: defaults (A) against %s off (B), "
       "medians in us\n\n",

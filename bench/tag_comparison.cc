@@ -239,9 +239,7 @@ int main(int argc, char** argv) {
     dataset_options.seed = given.seed;
     dataset_options.photo_dir = given.photo_dir;
   }
-  const std::vector<std::string> families = kind == DatasetKind::kCamera
-                                                ? std::vector<std::string>{"16h5", "36h11"}
-                                                : std::vector<std::string>{"16h5"};
+  const std::vector<std::string> families = DatasetFamilies(kind);
   const bool all_detectors = which_detectors == "all";
 
   // Every detector on one thread, OpenCV's own pool included (ArUco would

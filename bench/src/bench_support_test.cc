@@ -7,6 +7,7 @@
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "chromatag/bench/comparison.h"
 #include "chromatag/bench/competitors.h"
@@ -128,6 +129,26 @@ TEST(DatasetTest, CoversTheRequestedRanges) {
   EXPECT_LT(span.min_size, 20);
   EXPECT_GT(span.max_size, 120);
   EXPECT_GT(span.max_angle, 65);
+}
+
+// The tools that run a set look for DatasetFamilies(kind): exactly the
+// families its tagged frames hold.
+TEST(DatasetTest, DatasetFamiliesAreTheFamiliesOfItsFrames) {
+  for (const DatasetKind kind : {DatasetKind::kClassic, DatasetKind::kCamera}) {
+    DatasetOptions options = DatasetOptions::ForKind(kind);
+    options.num_frames = 40;
+    std::string error;
+    const auto dataset = Dataset::Create(options, &error);
+    ASSERT_TRUE(dataset) << error;
+    std::set<std::string> seen;
+    for (int i = 0; i < options.num_frames; ++i) {
+      const FrameTruth t = dataset->Render(i).truth;
+      if (t.has_tags) seen.insert(t.family);
+    }
+    const std::vector<std::string> families = DatasetFamilies(kind);
+    EXPECT_EQ(seen, std::set<std::string>(families.begin(), families.end()))
+        << DatasetKindName(kind);
+  }
 }
 
 TEST(DatasetTest, TruthCornersFrameTheRenderedTags) {

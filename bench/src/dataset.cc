@@ -115,6 +115,11 @@ std::optional<DatasetKind> ParseDatasetKind(const std::string& name) {
   return std::nullopt;
 }
 
+std::vector<std::string> DatasetFamilies(DatasetKind kind) {
+  if (kind == DatasetKind::kCamera) return {"16h5", "36h11"};
+  return {"16h5"};
+}
+
 const char* BayerModeName(BayerMode mode) {
   switch (mode) {
     case BayerMode::kNone:

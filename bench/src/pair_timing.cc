@@ -51,6 +51,18 @@ std::vector<PairedFrame> RunPairedTiming(const Dataset& dataset, const DetectorO
   return out;
 }
 
+TimingSetup MakeTimingSetup(DatasetKind kind, int num_frames, uint64_t seed, std::string* error) {
+  DatasetOptions options = DatasetOptions::ForKind(kind);
+  options.num_frames = num_frames;
+  options.seed = seed;
+  TimingSetup setup;
+  setup.families = DatasetFamilies(kind);
+  setup.dataset = Dataset::Create(options, error);
+  if (setup.dataset) setup.apriltag = MakeAprilTagDetector(setup.families, error);
+  if (setup.apriltag) setup.aruco = MakeArucoDetector(setup.families, error);
+  return setup;
+}
+
 PairedMedians SummarisePairs(const std::vector<PairedFrame>& frames, bool with_tags) {
   PairedMedians m;
   std::vector<double> a, b, difference, a_first, b_first;

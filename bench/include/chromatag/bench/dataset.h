@@ -39,6 +39,9 @@ enum class DatasetKind { kClassic = 0, kCamera = 1 };
 const char* DatasetKindName(DatasetKind kind);  // "classic", "camera"
 // Parses "classic" or "camera"; nullopt for anything else.
 std::optional<DatasetKind> ParseDatasetKind(const std::string& name);
+// The tag families a set's frames hold: 16h5 and 36h11 in the camera set,
+// 16h5 in the classic one.
+std::vector<std::string> DatasetFamilies(DatasetKind kind);
 
 // The paper's two lighting conditions. In the camera set a frame counts as
 // white-balanced when its cast is "neutral".

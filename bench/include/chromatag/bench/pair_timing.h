@@ -8,6 +8,9 @@
 #ifndef CHROMATAG_BENCH_PAIR_TIMING_H_
 #define CHROMATAG_BENCH_PAIR_TIMING_H_
 
+#include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "chromatag/bench/competitors.h"
@@ -42,6 +45,16 @@ struct PairedMedians {
 // Over the frames with tags (`with_tags`) or without; NaN medians where
 // there are none.
 PairedMedians SummarisePairs(const std::vector<PairedFrame>& frames, bool with_tags);
+
+// What the hand-run timing tools (pair_timing, cold_timing) share: a data
+// set of `num_frames` frames of `kind`, and AprilTag 3 and ArUco looking for
+// its families. Null members and *error set when one cannot be made.
+struct TimingSetup {
+  std::vector<std::string> families;
+  std::unique_ptr<Dataset> dataset;
+  std::unique_ptr<TagDetector> apriltag, aruco;
+};
+TimingSetup MakeTimingSetup(DatasetKind kind, int num_frames, uint64_t seed, std::string* error);
 
 }  // namespace chromatag::bench
 
