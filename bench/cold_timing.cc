@@ -4,14 +4,13 @@
 // AprilTag 3 and ArUco have run. Frames are rendered 64 at a time; on each
 // chunk, one pass per state, in this order:
 //
-//   after others      ArUco and AprilTag 3 on the frame, then ChromaTag (as
-//                     pair_timing, and as the worst of tag_comparison's turns).
-//   after others,     the same, then ChromaTag on two small crops around a
-//   then crops        tag (one of each family): its code and data are back,
-//                     the frame's content is new to it.
-//   after own         ChromaTag frame after frame (as tag_comparison's
-//                     "ChromaTag alone").
-//   same frame again  ChromaTag on the frame twice in a row; the second.
+//   after ArUco and AprilTag 3: then ChromaTag (as pair_timing, and as the
+//     worst of tag_comparison's turns).
+//   the same, then ChromaTag on two small tag crops: crops around a tag of
+//     each family, before the frame: its code and data are back, the
+//     frame's content is new to it.
+//   frame after frame: as tag_comparison's "ChromaTag alone".
+//   the same frame again: ChromaTag on the frame twice in a row; the second.
 //
 // The frame is read once just before each timed call, as in tag_comparison.
 // Run by hand, not by scripts/bench.sh:
@@ -42,8 +41,9 @@ using namespace chromatag::bench;
 namespace {
 
 constexpr int kStates = 4;
-const char* const kStateNames[kStates] = {"after others", "after others, then crops", "after own",
-                                          "same frame again"};
+const char* const kStateNames[kStates] = {"after ArUco and AprilTag 3",
+                                          "the same, then ChromaTag on two small tag crops",
+                                          "frame after frame", "the same frame again"};
 // Per state and frame kind (tag-free, with tags): each stage's time, then
 // the total, per frame.
 using Times = std::array<std::array<std::array<std::vector<double>, kNumStages + 1>, 2>, kStates>;

@@ -39,7 +39,6 @@ ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
       }
     }
   }
-  max_y_ = xyz_[0][255][1] + xyz_[1][255][1] + xyz_[2][255][1];
   for (int i = 0; i < (1 << kFBits) + 2; ++i) {
     f_[i] = static_cast<float>(CieF(static_cast<double>(i) / (1 << kFBits)));
   }
@@ -56,10 +55,10 @@ ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
 }
 
 int32_t ColorTable::YForL(float level) const {
-  // Bisection over [0, max_y_ + 1]: L* of Y never decreases (f() is
+  // Bisection over [0, Y of white + 1]: L* of Y never decreases (f() is
   // interpolated between increasing table entries), so the Y where it first
   // reaches `level` is one number. `!(L < level)` also sends NaN to the end.
-  int32_t lo = 0, hi = max_y_ + 1;  // The answer lies in [lo, hi].
+  int32_t lo = 0, hi = Y(255, 255, 255) + 1;  // The answer lies in [lo, hi].
   while (lo < hi) {
     const int32_t mid = lo + (hi - lo) / 2;
     if (!(LOfY(mid) < level)) {

@@ -85,10 +85,6 @@ constexpr double kMinSwappedRivalRatio = 1.5;
 constexpr double kMinSwappedTieRatio = 1.05;
 constexpr double kMinCorrectedRescueMargin = 0.25;
 
-double MarginFactor(const TagFamily& family, int hamming) {
-  return DecisionMarginFactor(family, hamming);
-}
-
 // Mean distance in cells from where `family` puts the green/black and
 // red/green corners (1 and 2 cells inside the black square) to the nearest
 // measured ones.
@@ -312,7 +308,7 @@ bool DecodeShades(const DetectorOptions& options, const FamilyDecoder& entry,
   const Split red = SplitShades(red_b), green = SplitShades(green_b);
   *margin = std::min(red.margin, green.margin);
   // The least any read of this family needs; the read's own need follows.
-  if (*margin < options.min_decision_margin * MarginFactor(family, 0))
+  if (*margin < options.min_decision_margin * DecisionMarginFactor(family, 0))
     return reject(RejectReason::kLowMargin);
 
   Code observed = 0;
@@ -325,7 +321,7 @@ bool DecodeShades(const DetectorOptions& options, const FamilyDecoder& entry,
   }
   if (observed_bits) *observed_bits = observed;
   if (!entry.decoder->Decode(observed, match)) return reject(RejectReason::kUnknownCode);
-  if (*margin < options.min_decision_margin * MarginFactor(family, match->hamming))
+  if (*margin < options.min_decision_margin * DecisionMarginFactor(family, match->hamming))
     return reject(RejectReason::kLowMargin);
   // Correct only cells whose shade is in doubt. A cell read clearly as the
   // wrong shade is not noise: a tag printed with its shades swapped shows the

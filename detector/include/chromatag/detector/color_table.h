@@ -104,7 +104,6 @@ class ColorTable {
   }
 
   int32_t xyz_[3][256][3];
-  int32_t max_y_ = 0;  // Y() of white: the largest.
   float f_[(1 << kFBits) + 2];
   std::vector<int8_t> coarse_a_;
 };
