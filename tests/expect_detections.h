@@ -1,6 +1,7 @@
 // Shared by the detector's condition tests: a detector looking for both
 // families, and a check that every tag of a synthetic scene is found exactly
-// once with its family and ID and corners within a bound, and nothing else.
+// once with its family and ID and its outer and inner ring corners within a
+// bound, and nothing else.
 #ifndef CHROMATAG_TESTS_EXPECT_DETECTIONS_H_
 #define CHROMATAG_TESTS_EXPECT_DETECTIONS_H_
 
@@ -32,6 +33,11 @@ inline void ExpectEveryTagFoundOnce(const Detector& detector, const Scene& scene
       ++found;
       EXPECT_LT(MaxCornerError(d.corners, truth.corners), max_corner_px)
           << what << ": " << truth.family << " ID " << truth.id;
+      const int cells = d.family->black_square_cells();
+      EXPECT_LT(MaxCornerError(d.green_corners, InnerCorners(truth, cells, 1)), max_corner_px)
+          << what << ": " << truth.family << " ID " << truth.id << ", green/black corners";
+      EXPECT_LT(MaxCornerError(d.red_corners, InnerCorners(truth, cells, 2)), max_corner_px)
+          << what << ": " << truth.family << " ID " << truth.id << ", red/green corners";
     }
     EXPECT_EQ(found, 1) << what << ": " << truth.family << " ID " << truth.id;
   }

@@ -246,4 +246,18 @@ double MaxCornerError(const std::array<cv::Point2d, 4>& a, const std::array<cv::
   return worst;
 }
 
+std::array<cv::Point2d, 4> InnerCorners(const TagTruth& truth, int cells, int inset_cells) {
+  const std::vector<cv::Point2f> unit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const std::vector<cv::Point2f> corners(truth.corners.begin(), truth.corners.end());
+  const cv::Matx33d h(cv::getPerspectiveTransform(unit, corners));
+  const double in = static_cast<double>(inset_cells) / cells;
+  const double square[4][2] = {{in, in}, {1 - in, in}, {1 - in, 1 - in}, {in, 1 - in}};
+  std::array<cv::Point2d, 4> out;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Vec3d p = h * cv::Vec3d(square[i][0], square[i][1], 1.0);
+    out[i] = {p[0] / p[2], p[1] / p[2]};
+  }
+  return out;
+}
+
 }  // namespace chromatag::testing

@@ -85,6 +85,12 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
 // Largest distance between corresponding corners.
 double MaxCornerError(const std::array<cv::Point2d, 4>& a, const std::array<cv::Point2d, 4>& b);
 
+// Where the tag of `truth` has the corners of the square `inset_cells` cells
+// inside its black square of `cells` cells (1: the green/black border, 2:
+// the red/green one), in the same order: the scenes are plane projections,
+// so the black square's homography places them.
+std::array<cv::Point2d, 4> InnerCorners(const TagTruth& truth, int cells, int inset_cells);
+
 }  // namespace chromatag::testing
 
 #endif  // CHROMATAG_TESTS_SYNTHETIC_SCENE_H_

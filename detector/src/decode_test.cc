@@ -20,14 +20,15 @@ cv::Scalar Bgr(const Palette& palette, Shade shade) {
   return cv::Scalar(c.b, c.g, c.r);
 }
 
-// An upright tag of `family` drawn on the pixel grid (cells of kCellPx), its
-// quads where the drawing puts the three borders (pixel centres at integers,
-// so an edge lies half a pixel before the cell's first pixel). With `swap`,
-// each colour's two shades trade places (a misprinted tag).
-cv::Mat DrawTag(const TagFamily& family, int id, bool swap, Candidate* candidate) {
+// An upright tag of `family` drawn on the pixel grid (cells of `cell_px`),
+// its quads where the drawing puts the three borders (pixel centres at
+// integers, so an edge lies half a pixel before the cell's first pixel).
+// With `swap`, each colour's two shades trade places (a misprinted tag).
+cv::Mat DrawTag(const TagFamily& family, int id, bool swap, Candidate* candidate,
+                int cell_px = kCellPx) {
   const Palette palette = *BuiltinPalette("default");
   const int cells = family.black_square_cells(), d = family.payload_width();
-  const int side = cells * kCellPx;
+  const int side = cells * cell_px;
   cv::Mat image(side + 2 * kMarginPx, side + 2 * kMarginPx, CV_8UC3, Bgr(palette, Shade::kWhite));
   cv::rectangle(image, cv::Rect(kMarginPx, kMarginPx, side, side), Bgr(palette, Shade::kBlack),
                 cv::FILLED);
@@ -39,15 +40,15 @@ cv::Mat DrawTag(const TagFamily& family, int id, bool swap, Candidate* candidate
       const Shade shade =
           red ? (bit ? Shade::kRed1 : Shade::kRed0) : (bit ? Shade::kGreen1 : Shade::kGreen0);
       cv::rectangle(image,
-                    cv::Rect(kMarginPx + (col + 1) * kCellPx, kMarginPx + (row + 1) * kCellPx,
-                             kCellPx, kCellPx),
+                    cv::Rect(kMarginPx + (col + 1) * cell_px, kMarginPx + (row + 1) * cell_px,
+                             cell_px, cell_px),
                     Bgr(palette, shade), cv::FILLED);
     }
   }
   // The green/black border is one cell inside the black square, the
   // red/green border two (spec section 2).
   for (int ring = 0; ring < kNumRings; ++ring) {
-    const int inset = (kBlackWhite - ring) * kCellPx;
+    const int inset = (kBlackWhite - ring) * cell_px;
     const double lo = kMarginPx + inset - 0.5, hi = kMarginPx + side - inset - 0.5;
     candidate->quads[ring] = {cv::Point2d(lo, lo), cv::Point2d(hi, lo), cv::Point2d(hi, hi),
                               cv::Point2d(lo, hi)};
@@ -179,6 +180,36 @@ TEST(DecodeTest, RingsOutOfProportionFitNoFamily) {
   RejectReason why;
   EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why));
   EXPECT_EQ(why, RejectReason::kNoFamilyFits);
+}
+
+// Inner quads a little off (as the scans leave them on small tags): Decode
+// finds no family whose proportions they fit; DecodeCandidate moves them onto
+// their edges and reads the tag. Not with the sub-pixel sides switched off.
+TEST(DecodeTest, DecodeCandidateLocatesInnerRingsThatFitNoFamily) {
+  const auto families = Families({"16h5", "36h11"});
+  for (const FamilyDecoder& entry : families) {
+    const int id = entry.family->kept_ids()[3];
+    Candidate candidate;
+    // Cells of 6 px: no family fits beyond 0.35 cells (2.1 px) on average.
+    const cv::Mat image = DrawTag(*entry.family, id, false, &candidate, 6);
+    for (int ring : {kRedGreen, kGreenBlack}) {
+      for (cv::Point2d& corner : candidate.quads[ring]) corner += cv::Point2d(2.0, 2.0);
+    }
+    const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+    Detection detection;
+    RejectReason why;
+    EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why));
+    EXPECT_EQ(why, RejectReason::kNoFamilyFits) << entry.family->name();
+    DetectorOptions no_sides;
+    no_sides.refine_corners = false;
+    Candidate unrefined = candidate;
+    EXPECT_FALSE(DecodeCandidate(view, no_sides, families, &unrefined, &detection, &why));
+    EXPECT_EQ(why, RejectReason::kNoFamilyFits);
+    ASSERT_TRUE(DecodeCandidate(view, DetectorOptions{}, families, &candidate, &detection, &why))
+        << entry.family->name() << ": " << RejectReasonName(why);
+    EXPECT_EQ(detection.family, entry.family.get());
+    EXPECT_EQ(detection.id, id);
+  }
 }
 
 // SumCellGrid (eight points at a time with AVX2 where it can) gives exactly

@@ -235,6 +235,10 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       // candidate it cannot finish, the paper's way through BuildPolygon.
       // The fast path's time goes to the stages it stands in for; what it
       // abandons is not a rejection, since the slow path takes it up.
+      auto decode = [&](RejectReason* reason) {
+        return internal::DecodeCandidate(view, options, impl_->families, &candidate, &detection,
+                                         reason);
+      };
       auto fast_path = [&] {
         if (!options.quads_from_scans || !options.refine_corners) return false;
         RejectReason ignored;
@@ -244,10 +248,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
             timed(
                 Stage::kPolyToQuad,
                 [&] { return internal::NestedAndRefined(view, options, &candidate, &ignored); }) &&
-            timed(Stage::kDecode, [&] {
-              return internal::Decode(view, options, impl_->families, candidate, &detection,
-                                      &ignored);
-            });
+            timed(Stage::kDecode, [&] { return decode(&ignored); });
         if (found) ++summary.fast_path_detections;
         return found;
       };
@@ -256,10 +257,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
                          [&] { return internal::BuildPolygon(view, options, &candidate, &why); }) &&
                run_stage(Stage::kPolyToQuad,
                          [&] { return internal::PolyToQuad(view, options, &candidate, &why); }) &&
-               run_stage(Stage::kDecode, [&] {
-                 return internal::Decode(view, options, impl_->families, candidate, &detection,
-                                         &why);
-               });
+               run_stage(Stage::kDecode, [&] { return decode(&why); });
       };
       if (!run_stage(Stage::kInitialScan,
                      [&] {

@@ -138,7 +138,7 @@ bool NestedAndRefined(const ImageView& image, const DetectorOptions& options, Ca
     *why = RejectReason::kNotNested;
     return false;
   }
-  if (options.refine_corners && !RefineQuads(image, candidate)) {
+  if (options.refine_corners && !RefineOuterQuad(image, candidate)) {
     *why = RejectReason::kRefineFailed;
     return false;
   }

@@ -30,7 +30,9 @@ cv::Mat RenderRings(cv::Size size, const std::array<Quad, kNumRings>& squares) {
 }
 
 // On the antialiased pattern turned by 30 degrees, InitialScan, BuildPolygon
-// and PolyToQuad give each ring's quad within 0.5 px of its drawn corners.
+// and PolyToQuad give the outer quad within 0.5 px of its drawn corners and
+// the inner ones within a pixel (polygon fits); with their own sub-pixel
+// sides, within 0.5 px too.
 TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
   const cv::Point2d centre(100.3, 99.6);
   std::array<Quad, kNumRings> truth;
@@ -45,16 +47,21 @@ TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
   RejectReason why;
   ASSERT_TRUE(PolyToQuad(view, DetectorOptions{}, &candidate, &why))
       << "PolyToQuad rejected: " << RejectReasonName(why);
-  for (int ring = 0; ring < kNumRings; ++ring) {
+  auto expect_near = [&](int ring, double limit, const char* when) {
     const Quad& fitted = candidate.quads[ring];
     // Clockwise like the truth; only the first corner may differ.
     const int shift = NearestCorner(fitted, truth[ring][0]);
     for (int i = 0; i < 4; ++i) {
       const cv::Point2d& p = fitted[(i + shift) % 4];
-      EXPECT_LT(cv::norm(p - truth[ring][i]), 0.5)
-          << "ring " << ring << " corner " << i << ": " << p << " drawn at " << truth[ring][i];
+      EXPECT_LT(cv::norm(p - truth[ring][i]), limit) << when << ", ring " << ring << " corner " << i
+                                                     << ": " << p << " drawn at " << truth[ring][i];
     }
-  }
+  };
+  expect_near(kBlackWhite, 0.5, "PolyToQuad");
+  expect_near(kGreenBlack, 1.0, "PolyToQuad");
+  expect_near(kRedGreen, 1.0, "PolyToQuad");
+  ASSERT_TRUE(RefineInnerQuads(view, &candidate));
+  for (int ring = 0; ring < kNumRings; ++ring) expect_near(ring, 0.5, "RefineInnerQuads");
 }
 
 }  // namespace

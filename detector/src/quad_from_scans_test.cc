@@ -59,6 +59,10 @@ TEST(QuadsFromScansTest, GivesEachRingsDrawnQuadAtAnyTurn) {
     }
     ASSERT_TRUE(NestedAndRefined(view, DetectorOptions{}, &candidate, &why))
         << degrees << " degrees: " << RejectReasonName(why);
+    EXPECT_LT(MaxCornerDistance(candidate.quads[kBlackWhite], truth[kBlackWhite]), 0.25)
+        << degrees << " degrees, after the outer sub-pixel sides";
+    // The inner quads stay as the scans left them until asked for.
+    ASSERT_TRUE(RefineInnerQuads(view, &candidate)) << degrees << " degrees";
     for (int ring = 0; ring < kNumRings; ++ring) {
       EXPECT_LT(MaxCornerDistance(candidate.quads[ring], truth[ring]), 0.25)
           << degrees << " degrees, ring " << ring << " after the sub-pixel sides";

@@ -6,6 +6,12 @@
 // levels; a line is fitted through those edge points, and corners are where
 // the lines meet. Blending is linear in the encoded channels used, so the
 // halfway point is unbiased for antialiasing and symmetric blur.
+//
+// Only the outer (black/white) border is located this way on every
+// candidate: it is the strongest edge, in luminance, which cameras and JPEG
+// keep at full resolution. The inner borders are located only when their
+// rough quads fit no family (Decode's ring proportions); a detection's inner
+// corners are placed from its outer ones (decode.cc says why).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -394,10 +400,18 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
   return true;
 }
 
-bool RefineQuads(const ImageView& image, Candidate* candidate) {
-  // One cell: the width of the black ring, between the outer and green quads.
-  const double cell = 0.5 * (std::sqrt(QuadArea(candidate->quads[kBlackWhite])) -
-                             std::sqrt(QuadArea(candidate->quads[kGreenBlack])));
+namespace {
+
+// One cell: the width of the black ring, between the outer and green quads.
+double CellWidth(const Candidate& candidate) {
+  return 0.5 * (std::sqrt(QuadArea(candidate.quads[kBlackWhite])) -
+                std::sqrt(QuadArea(candidate.quads[kGreenBlack])));
+}
+
+}  // namespace
+
+bool RefineOuterQuad(const ImageView& image, Candidate* candidate) {
+  const double cell = CellWidth(*candidate);
   if (!(cell > 1.0)) return false;
   // The outer border gives the reported corners and the homography. Edge
   // points do not depend on the line they were searched from (EdgePoint), so
@@ -420,13 +434,16 @@ bool RefineQuads(const ImageView& image, Candidate* candidate) {
       moved = std::max(moved, cv::norm(candidate->quads[kBlackWhite][i] - before[i]));
     if (moved < kSettledPx) break;
   }
-  if (!RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, 2.5},
-                  &candidate->quads[kGreenBlack]))
-    return false;
-  if (!RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, 2.5},
-                  &candidate->quads[kRedGreen]))
-    return false;
   return true;
+}
+
+bool RefineInnerQuads(const ImageView& image, Candidate* candidate) {
+  const double cell = CellWidth(*candidate);
+  if (!(cell > 1.0)) return false;
+  return RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, 2.5},
+                    &candidate->quads[kGreenBlack]) &&
+         RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, 2.5},
+                    &candidate->quads[kRedGreen]);
 }
 
 }  // namespace chromatag::internal

@@ -148,14 +148,13 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
 bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
                   RejectReason* why);
 
-// 4. PolyToQuad: length-weighted k-means (K = 4) of each polygon's edge
-// directions, four lines, their intersections; then (if enabled)
-// RefineQuads for sub-pixel corners.
+// 4. PolyToQuad: a quad per polygon (FitQuad: the hull cut to four corners,
+// a line per side, their intersections); then NestedAndRefined.
 bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
                 RejectReason* why);
 
 // PolyToQuad's second half: false (and *why) unless the three quads are
-// nested, each inside the next; then (if enabled) RefineQuads.
+// nested, each inside the next; then (if enabled) RefineOuterQuad.
 bool NestedAndRefined(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
                       RejectReason* why);
 
@@ -182,10 +181,15 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
                 const std::vector<FamilyDecoder>& families, Candidate* candidate,
                 Detection* detection, RejectReason* why);
 
-// Sub-pixel corners: least-squares lines through edge points found along
-// each side of each ring (refine_corners.cc). False if a side has too few
-// edge points to fit.
-bool RefineQuads(const ImageView& image, Candidate* candidate);
+// Sub-pixel sides (refine_corners.cc): least-squares lines through edge
+// points found along each side, corners where they meet. RefineOuterQuad
+// moves the black/white quad (the reported corners and the homography);
+// RefineInnerQuads the green/black and red/green ones, which only Decode's
+// ring proportions read (DecodeCandidate refines them when the rough ones
+// fit no family). False if a side has too few edge points to fit, a corner
+// jumps or the quad turns concave; the ring's cell must exceed a pixel.
+bool RefineOuterQuad(const ImageView& image, Candidate* candidate);
+bool RefineInnerQuads(const ImageView& image, Candidate* candidate);
 
 // Four sides from the convex hull of `points` (the hull cut to its four
 // corners by dropping the vertex of the smallest triangle, a line fitted
@@ -266,6 +270,14 @@ PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du
 bool Decode(const ImageView& image, const DetectorOptions& options,
             const std::vector<FamilyDecoder>& families, const Candidate& candidate,
             Detection* detection, RejectReason* why);
+
+// Decode for a candidate whose inner quads are still rough (from the scans or
+// the polygons; only the outer one has its sub-pixel sides): where they fit
+// no family's proportions, RefineInnerQuads (if options.refine_corners) and
+// Decode once more. The first reason stands if that fails too.
+bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
+                     const std::vector<FamilyDecoder>& families, Candidate* candidate,
+                     Detection* detection, RejectReason* why);
 
 // Geometry helpers (geometry.cc), unsigned areas in square pixels.
 double PolygonArea(const std::vector<cv::Point2f>& polygon);

@@ -40,7 +40,13 @@ struct Detection {
   // top-left of the upright tag, then clockwise. Pixel centres are at integer
   // coordinates (OpenCV's convention).
   std::array<cv::Point2d, 4> corners;
-  // The green/black and red/green borders, in the same order.
+  // The green/black and red/green borders, in the same order: where the
+  // tag's proportions put them, one and two cells inside `corners`
+  // (image_from_tag). The black/white border is the tag's strongest edge and
+  // a luminance one; the inner ones are weaker, and cameras blur their
+  // chroma (JPEG 4:2:0, demosaicing), so located on their own edges they
+  // came out worse (docs/benchmarks.md, "Corner error"). Lens distortion
+  // across one tag is not modelled here.
   std::array<cv::Point2d, 4> green_corners;
   std::array<cv::Point2d, 4> red_corners;
   // Maps the upright black square, the unit square (0,0)-(1,1) with x right
