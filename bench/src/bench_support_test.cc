@@ -487,6 +487,23 @@ TEST(MetricsTest, ScoreFrame) {
   s = ScoreFrame({right}, nullptr, nullptr);
   EXPECT_FALSE(s.found);
   EXPECT_EQ(s.false_positives, 1);
+  // Inner ring corners, when a detector gives them, against the squares one
+  // and two cells (of 6 for 16h5) inside the true black square: here the
+  // square from (100, 100) to (140, 140), so the green/black corners lie
+  // 40 / 6 px in and the red/green ones 80 / 6.
+  EXPECT_TRUE(ScoreFrame({right}, &truth, nullptr).inner_corner_error_px.empty());
+  FoundTag inner = right;
+  inner.has_inner_corners = true;
+  const double in[2] = {40.0 / 6, 80.0 / 6};
+  for (int ring = 0; ring < 2; ++ring) {
+    const double lo = 100 + in[ring], hi = 140 - in[ring];
+    const cv::Point2d square[4] = {{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}};
+    for (int c = 0; c < 4; ++c) inner.inner_corners[4 * ring + c] = square[c];
+  }
+  inner.inner_corners[5].y += 2.0;  // One red/green corner 2 px off.
+  s = ScoreFrame({inner}, &truth, nullptr);
+  ASSERT_EQ(s.inner_corner_error_px.size(), 8u);
+  for (int k = 0; k < 8; ++k) EXPECT_NEAR(s.inner_corner_error_px[k], k == 5 ? 2.0 : 0.0, 1e-9);
 }
 
 TEST(MissAnalysisTest, OuterBorderGrowsByTheQuietZone) {

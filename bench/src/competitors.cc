@@ -171,6 +171,9 @@ void ChromaTagDetector::Detect(const cv::Mat& bgr, std::vector<FoundTag>* found)
     tag.id = d.id;
     tag.corners = d.corners;
     if (d.family) tag.family = d.family->name();
+    tag.has_inner_corners = true;
+    std::copy(d.green_corners.begin(), d.green_corners.end(), tag.inner_corners.begin());
+    std::copy(d.red_corners.begin(), d.red_corners.end(), tag.inner_corners.begin() + 4);
     found->push_back(tag);
   }
 }

@@ -5,6 +5,8 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/families/family.h"
+
 namespace chromatag::bench {
 namespace {
 
@@ -83,6 +85,22 @@ FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
         if (length > 0) score.mean_radial_offset_px += delta.dot(outwards) / length / 4.0;
       }
       score.mean_offset_px = sum / 4.0;
+      if (tag.has_inner_corners) {
+        const auto family = TagFamily::Load(truth->family);
+        const std::vector<cv::Point2f> unit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        const std::vector<cv::Point2f> square(t.begin(), t.end());
+        const cv::Matx33d h(cv::getPerspectiveTransform(unit, square));
+        for (int ring = 1; ring <= 2; ++ring) {
+          const double in = static_cast<double>(ring) / family->black_square_cells();
+          const double corner[4][2] = {{in, in}, {1 - in, in}, {1 - in, 1 - in}, {in, 1 - in}};
+          for (int c = 0; c < 4; ++c) {
+            const cv::Vec3d p = h * cv::Vec3d(corner[c][0], corner[c][1], 1.0);
+            const cv::Point2d delta =
+                tag.inner_corners[4 * (ring - 1) + c] - cv::Point2d(p[0] / p[2], p[1] / p[2]);
+            score.inner_corner_error_px.push_back(std::hypot(delta.x, delta.y));
+          }
+        }
+      }
       continue;
     }
     ++score.false_positives;

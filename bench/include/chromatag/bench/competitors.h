@@ -23,6 +23,11 @@ struct FoundTag {
   int id = -1;
   std::array<cv::Point2d, 4> corners;  // Spec section 7 order and pixel convention.
   std::string family = "16h5";         // "16h5" or "36h11".
+  // ChromaTag's inner ring corners, green/black then red/green, each in the
+  // order of `corners` (no allocation: the conversion is inside the timed
+  // call). Detectors without them leave has_inner_corners false.
+  bool has_inner_corners = false;
+  std::array<cv::Point2d, 8> inner_corners{};
 };
 
 class TagDetector {

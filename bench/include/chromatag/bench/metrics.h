@@ -33,6 +33,10 @@ struct FrameScore {
   // Mean offset along the direction from the true centre to each true
   // corner: negative when the square is found too small.
   double mean_radial_offset_px = 0.0;
+  // For a detector reporting inner ring corners (FoundTag::inner_corners):
+  // each one's distance to where the true black square's homography puts
+  // it (the data sets' tags are plane projections).
+  std::vector<double> inner_corner_error_px;
 };
 
 // Scores one detector's output on one frame. `truth` is the tag this
