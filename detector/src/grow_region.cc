@@ -163,6 +163,27 @@ bool Grow(const Grid& grid, cv::Point start, int max_cells, Inside&& inside,
   return static_cast<int>(outline->size()) >= kMinOutlinePoints;
 }
 
+// Keeps only the leftmost and rightmost of the outline's cells on each grid
+// row, in row order. Their convex hull is the whole outline's (a hull vertex
+// is extreme in its row), and FitQuad then sorts a few dozen points instead
+// of every cell on the outline: the same quad.
+void RowEnds(const Grid& grid, std::vector<cv::Point2f>* outline) {
+  thread_local std::vector<std::array<float, 2>> ends;  // Per row: least x, greatest x.
+  ends.assign(grid.height, {1e30f, -1e30f});
+  for (const cv::Point2f& p : *outline) {
+    auto& row = ends[(static_cast<int>(p.y) - grid.y0) / grid.step];
+    row[0] = std::min(row[0], p.x);
+    row[1] = std::max(row[1], p.x);
+  }
+  outline->clear();
+  for (int j = 0; j < grid.height; ++j) {
+    if (ends[j][0] > ends[j][1]) continue;
+    const float y = static_cast<float>(grid.y0 + j * grid.step);
+    outline->push_back({ends[j][0], y});
+    if (ends[j][1] > ends[j][0]) outline->push_back({ends[j][1], y});
+  }
+}
+
 // Whether, along each ray from the centre through a red/green border point,
 // the image turns at least as light as L* `threshold` (given as
 // ColorTable::YForL of it) within `reach` times the border point's distance
@@ -281,6 +302,7 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
 
   *why = RejectReason::kSquareNotQuad;
   Quad outer;
+  RowEnds(grid, &outline);
   if (!FitQuad(outline, &outer)) return false;
   if (QuadArea(outer) < kMinAreaRatio * red_area || QuadArea(outer) > kMaxAreaRatio * widened)
     return false;
