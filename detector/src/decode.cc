@@ -77,7 +77,9 @@ constexpr float kCrosstalk[] = {0.08f, 0.16f};
 //   swapped print's 0.288, a ratio of 1.10) got through. Correct exact reads
 //   with a swapped rival keep well clear: on those 8,000 frames the lowest
 //   ratio of 3,394 was 1.41. At 1.25 the stress run's wrong reads are back
-//   to 2 and the same 8,000 frames lose no tag.
+//   to 2 and those 8,000 frames lose no tag; on the full 10,000 classic
+//   frames one small tag (under 30 px) more is refused as a swapped print
+//   (5,992 found at 1.05, 5,991 at 1.25).
 // - A read whose margin is too low is accepted when its code explains every
 //   cell to within kMaxCellMisfit, no swapped print comes within
 //   kMinSwappedRivalRatio of it, and, if bits were corrected, the margin is
