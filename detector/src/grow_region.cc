@@ -209,14 +209,6 @@ bool BoundedAlongRays(const ImageView& image, const Candidate& candidate, int32_
   return true;
 }
 
-Quad SquareThrough(const cv::Matx33d& image_from_tag, double lo, double hi) {
-  const double corners[4][2] = {{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}};
-  Quad quad;
-  for (int i = 0; i < 4; ++i)
-    quad[i] = ApplyHomography(image_from_tag, corners[i][0], corners[i][1]);
-  return quad;
-}
-
 // Places the green/black and red/green borders of a tag of `family` inside
 // the outer quad, from the family's proportions, and fits each on its edge.
 bool PlaceInnerRings(const ImageView& image, const TagFamily& family, Candidate* candidate) {
@@ -224,8 +216,8 @@ bool PlaceInnerRings(const ImageView& image, const TagFamily& family, Candidate*
   const cv::Matx33d from_outer = UnitSquareToQuad(candidate->quads[kBlackWhite]);
   const double cell = std::sqrt(QuadArea(candidate->quads[kBlackWhite])) / cells;
   const double half = std::max(1.5, 0.35 * cell);
-  Quad green = SquareThrough(from_outer, 1 / cells, 1 - 1 / cells);
-  Quad red = SquareThrough(from_outer, 2 / cells, 1 - 2 / cells);
+  Quad green = InsetSquare(from_outer, 1 / cells);
+  Quad red = InsetSquare(from_outer, 2 / cells);
   if (!RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, half}, &green) ||
       !RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, half},
                   &red))

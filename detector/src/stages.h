@@ -346,6 +346,14 @@ inline cv::Point2d ApplyHomography(const cv::Matx33d& h, double x, double y) {
   const cv::Vec3d p = h * cv::Vec3d(x, y, 1.0);
   return {p[0] / p[2], p[1] / p[2]};
 }
+// The square from (inset, inset) to (1 - inset, 1 - inset) of the unit
+// square through `h`, clockwise from its top-left: with `h` a tag's
+// UnitSquareToQuad, the border `inset` * cells cells inside its black square.
+inline Quad InsetSquare(const cv::Matx33d& h, double inset) {
+  const double lo = inset, hi = 1 - inset;
+  return {ApplyHomography(h, lo, lo), ApplyHomography(h, hi, lo), ApplyHomography(h, hi, hi),
+          ApplyHomography(h, lo, hi)};
+}
 
 }  // namespace chromatag::internal
 
