@@ -6,10 +6,11 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/families/color.h"
+
 namespace chromatag::testing {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // The scanner's lid, seen through the glass around the paper: linear light
 // relative to the paper's white.
 constexpr double kLidWhite = 0.85;

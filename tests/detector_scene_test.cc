@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/detector/detector.h"
+#include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
 #include "synthetic_scene.h"
 
@@ -123,7 +124,7 @@ TEST(DetectorSceneTest, UnblurredCornersAreSubPixelOverSizesRotationsAndTilts) {
     for (double size : {24., 32., 48., 64., 100., 160., 250., 400.}) {
       for (double tilt : {0., 30., 45., 60.}) {
         for (double rotation : {0., 17., 45., 100., 200., 290.}) {
-          if (size / cells * std::cos(tilt * M_PI / 180) < 3.5) {
+          if (size / cells * std::cos(tilt * kPi / 180) < 3.5) {
             ++skipped;
             continue;
           }
@@ -437,7 +438,7 @@ TEST(DetectorSceneTest, FastPathFindsWhatBuildPolygonFinds) {
       for (double tilt : {0., 45., 60.}) {
         for (double rotation : {0., 22.5, 45., 100.}) {
           const int cells = name == "16h5" ? 6 : 8;
-          if (size / cells * std::cos(tilt * M_PI / 180) < 3.5) continue;
+          if (size / cells * std::cos(tilt * kPi / 180) < 3.5) continue;
           const Scene scene = OneTagView(name, name == "16h5" ? 7 : 101, size, tilt, rotation);
           const DetectionResult a = fast->Detect(scene.bgr), b = slow->Detect(scene.bgr);
           const std::string view = name + " size " + std::to_string(size) + " tilt " +
@@ -573,10 +574,10 @@ TEST(DetectorSceneTest, PoseMatchesTheSceneCamera) {
   // frame, from how the scene rotated the tag plane.
   cv::Matx33d r;
   cv::Rodrigues(d.pose.rvec, r);
-  const double a = tag.tilt_axis_deg * M_PI / 180;
+  const double a = tag.tilt_axis_deg * kPi / 180;
   cv::Matx33d tilt, spin;
-  cv::Rodrigues(cv::Vec3d(std::cos(a), std::sin(a), 0) * (tag.tilt_deg * M_PI / 180), tilt);
-  cv::Rodrigues(cv::Vec3d(0, 0, tag.rotation_deg * M_PI / 180), spin);
+  cv::Rodrigues(cv::Vec3d(std::cos(a), std::sin(a), 0) * (tag.tilt_deg * kPi / 180), tilt);
+  cv::Rodrigues(cv::Vec3d(0, 0, tag.rotation_deg * kPi / 180), spin);
   const cv::Matx33d plane = tilt * spin;  // Tag plane (u right, v down) to camera.
   const cv::Vec3d x_axis = plane * cv::Vec3d(1, 0, 0), y_axis = plane * cv::Vec3d(0, -1, 0);
   EXPECT_GT((r * cv::Vec3d(1, 0, 0)).dot(x_axis), 0.999);

@@ -8,14 +8,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/tag_renderer.h"
 
 namespace chromatag::testing {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 cv::Matx33d Rotation(const cv::Vec3d& axis, double degrees) {
   cv::Matx33d r;

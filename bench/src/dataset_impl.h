@@ -16,13 +16,12 @@
 #include <opencv2/core.hpp>
 
 #include "chromatag/bench/dataset.h"
+#include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/tag_renderer.h"
 
 namespace chromatag::bench {
-
-inline constexpr double kPi = 3.14159265358979323846;
 
 // A small portable random source: frames must not depend on the standard
 // library's distributions, which differ between implementations.

@@ -7,10 +7,11 @@
 #include <cstdio>
 #include <memory>
 
+#include "chromatag/families/color.h"
+
 namespace chromatag::bench {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kWidth = 720, kHeight = 480;
 constexpr double kLeft = 70, kRight = 170, kTop = 44, kBottom = 60;
 

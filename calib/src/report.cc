@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "chromatag/families/color.h"
 #include "chromatag/families/version.h"
 #include "chromatag/generator/cairo_util.h"
 #include "chromatag/generator/units.h"
@@ -15,7 +16,6 @@
 namespace chromatag {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kPlotX = 40, kPlotY = 92, kPlotSide = 400;
 constexpr double kMapTop = 560;  // First row of per-photo maps.
 constexpr double kMapWidth = 185, kMapRowHeight = 300;

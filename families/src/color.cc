@@ -8,8 +8,6 @@
 namespace chromatag {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Linear sRGB -> XYZ (D65), from the IEC 61966-2-1 primaries
 // (x, y) = R (0.64, 0.33), G (0.30, 0.60), B (0.15, 0.06) and the white.
 // Row sums equal kD65White.

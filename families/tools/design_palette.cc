@@ -24,11 +24,10 @@
 
 namespace {
 
+using chromatag::kPi;
 using chromatag::Lab;
 
 constexpr double kInset = 12.0 / 255.0;
-
-constexpr double kPi = 3.14159265358979323846;
 
 bool HueWithin(const Lab& lab, double low_degrees, double high_degrees) {
   double hue = std::atan2(lab.b, lab.a) * 180.0 / kPi;

@@ -11,14 +11,13 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/families/color.h"
 #include "chromatag/families/input_file.h"
 
 namespace chromatag {
 namespace {
 
 constexpr double kMmPerInch = 25.4;
-constexpr double kPi = 3.14159265358979323846;
-
 using internal::Format;
 
 // ---------------------------------------------------------------------------

@@ -5,11 +5,12 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "chromatag/families/color.h"
+
 namespace chromatag {
 namespace {
 
 constexpr double kFocalPx = 800.0;
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kRasterPixelsPerCell = 16;
 
 // Projects a point of the tag plane (black-square units, centre at 0, x

@@ -44,6 +44,9 @@ struct Rgb8 {
 // The D65 reference white of spec section 5.
 inline constexpr Xyz kD65White{0.95047, 1.0, 1.08883};
 
+// Pi, the toolkit's one definition (C++17 has no std::numbers).
+inline constexpr double kPi = 3.14159265358979323846;
+
 // IEC 61966-2-1 transfer curve, one channel in [0, 1] (values outside are
 // extended symmetrically so that out-of-gamut colours round-trip).
 double SrgbToLinear(double encoded);
