@@ -134,5 +134,28 @@ TEST(InitialScanTest, AddsTheRegionRejectedAfterCentring) {
   EXPECT_EQ(rejected.size(), 1u);
 }
 
+// After the first centring pass only the rings to the right and below are
+// checked; a pattern whose black ring is missing on the left passes those, and
+// the final scans, which check all four directions, still reject it.
+TEST(InitialScanTest, FinalScansCheckTheDirectionsTheFirstPassSkips) {
+  const int cx = 100, cy = 100;
+  cv::Mat image = RenderRings({200, 200}, cx, cy);
+  // White over the black ring's left side.
+  cv::rectangle(image, {cx - kBlackHalf, cy - kBlackHalf}, {cx - kGreenHalf - 1, cy + kBlackHalf},
+                kWhite, cv::FILLED);
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  // Each axis scan from the drawn centre: only the one to the left fails.
+  for (int i = 0; i < 4; ++i) {
+    RingHits hits;
+    EXPECT_EQ(
+        ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), kAxes[i], view.A(cx, cy), &hits),
+        i != 2)
+        << "direction " << kAxes[i];
+  }
+  std::vector<RejectedRegion> rejected;
+  EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 1, cy}, &rejected), RejectReason::kRingScan);
+  EXPECT_EQ(rejected.size(), 1u);
+}
+
 }  // namespace
 }  // namespace chromatag::internal
