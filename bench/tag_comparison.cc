@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "chromatag/bench/comparison.h"
+#include "chromatag/detector/config.h"
 
 namespace {
 
@@ -217,7 +218,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--out", out_dir, "folder for report.md, the PNG figures and frames.csv")
       ->capture_default_str();
-  std::string label, dump_dir;
+  std::string label, dump_dir, config;
+  app.add_option("--config", config,
+                 "ChromaTag's options from a detector config JSON (as 'chromatag detect "
+                 "--config'); the set's families replace any it names");
   app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
   app.add_option("--dump-misses", dump_dir,
                  "also write each frame whose tag ChromaTag missed to this folder, as PNG with a "
@@ -252,10 +256,16 @@ int main(int argc, char** argv) {
     std::cerr << "tag_comparison: " << error << "\n";
     return 2;
   }
-  auto chromatag = ChromaTagDetector::Create(families, &error);
+  chromatag::DetectorOptions chromatag_options;
+  if (!config.empty() && !chromatag::LoadDetectorConfig(config, &chromatag_options, &error)) {
+    std::cerr << "tag_comparison: " << error << "\n";
+    return 2;
+  }
+  chromatag_options.families = families;
+  auto chromatag = ChromaTagDetector::CreateWithOptions(chromatag_options, &error);
   if (!chromatag) {
     std::cerr << "tag_comparison: " << error << "\n";
-    return 1;
+    return config.empty() ? 1 : 2;
   }
   std::unique_ptr<TagDetector> apriltag, aruco;
   if (all_detectors) {

@@ -434,6 +434,27 @@ TEST(CameraSetTest, InvalidOptionsAreRejectedWithAMessage) {
   EXPECT_FALSE(error.empty());
 }
 
+// tag_comparison --config: the detector runs with the options given (here
+// FindADiff's row spacing: a red square on green seeds once per sampled row
+// crossing it), and options the detector refuses are refused with its message.
+TEST(ComparisonTest, ChromaTagDetectorTakesTheGivenOptions) {
+  cv::Mat image(200, 200, CV_8UC3, cv::Scalar(60, 160, 40));
+  cv::rectangle(image, cv::Rect(80, 81, 40, 40), cv::Scalar(60, 20, 220), cv::FILLED);
+  std::string error;
+  DetectorOptions options;
+  std::vector<FoundTag> found;
+  for (const auto& [row_step, rows_crossing] : {std::pair{0, 10}, std::pair{7, 6}}) {
+    options.row_step = row_step;
+    auto chromatag = ChromaTagDetector::CreateWithOptions(options, &error);
+    ASSERT_NE(chromatag, nullptr) << error;
+    chromatag->Detect(image, &found);
+    EXPECT_EQ(chromatag->last_summary().seeds, rows_crossing) << "row_step " << row_step;
+  }
+  options.step = 0;
+  EXPECT_EQ(ChromaTagDetector::CreateWithOptions(options, &error), nullptr);
+  EXPECT_NE(error.find("step (N)"), std::string::npos) << error;
+}
+
 Quad Square(double x, double y, double side) {
   return {cv::Point2d(x, y), {x + side, y}, {x + side, y + side}, {x, y + side}};
 }

@@ -149,10 +149,17 @@ ChromaTagDetector::~ChromaTagDetector() = default;
 
 std::unique_ptr<ChromaTagDetector> ChromaTagDetector::Create(
     const std::vector<std::string>& families, std::string* error) {
-  if (!ValidFamilies(families, error)) return nullptr;
-  auto impl = std::make_unique<Impl>();
   DetectorOptions options;
   options.families = families;
+  return CreateWithOptions(options, error);
+}
+
+std::unique_ptr<ChromaTagDetector> ChromaTagDetector::CreateWithOptions(
+    const DetectorOptions& given, std::string* error) {
+  if (!ValidFamilies(given.families, error)) return nullptr;
+  auto impl = std::make_unique<Impl>();
+  DetectorOptions options = given;
+  options.report_rejected = false;
   impl->detector = Detector::Create(options, error);
   if (!impl->detector) return nullptr;
   options.report_rejected = true;

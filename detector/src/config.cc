@@ -46,6 +46,8 @@ void Apply(const Json& options, DetectorOptions* out) {
       }
     } else if (key == "step") {
       out->step = Integer(value, key);
+    } else if (key == "row_step") {
+      out->row_step = Integer(value, key);
     } else if (key == "adiff_thresh") {
       out->adiff_thresh = Number(value, key);
     } else if (key == "border_thresh") {
@@ -65,8 +67,8 @@ void Apply(const Json& options, DetectorOptions* out) {
       out->refine_corners = value.get<bool>();
     } else {
       throw ConfigError{"unknown option \"" + key +
-                        "\" (allowed: families, step, adiff_thresh, border_thresh, border_run, "
-                        "max_green_a, conv_thresh, max_hamming, min_decision_margin, "
+                        "\" (allowed: families, step, row_step, adiff_thresh, border_thresh, "
+                        "border_run, max_green_a, conv_thresh, max_hamming, min_decision_margin, "
                         "refine_corners)"};
     }
   }
@@ -79,6 +81,7 @@ std::string DetectorConfigToJson(const DetectorOptions& options,
                                  const std::string& provenance_json) {
   const Json all = {{"families", options.families},
                     {"step", options.step},
+                    {"row_step", options.row_step},
                     {"adiff_thresh", options.adiff_thresh},
                     {"border_thresh", options.border_thresh},
                     {"border_run", options.border_run},

@@ -9,6 +9,7 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   DetectorOptions options;
   options.families = {"16h5", "36h11"};
   options.step = 3;
+  options.row_step = 5;
   options.adiff_thresh = 12.5;
   options.border_thresh = 7.25;
   options.border_run = 4;
@@ -22,6 +23,7 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   ASSERT_TRUE(ParseDetectorConfig(DetectorConfigToJson(options), &back, &error)) << error;
   EXPECT_EQ(back.families, options.families);
   EXPECT_EQ(back.step, 3);
+  EXPECT_EQ(back.row_step, 5);
   EXPECT_DOUBLE_EQ(back.adiff_thresh, 12.5);
   EXPECT_DOUBLE_EQ(back.border_thresh, 7.25);
   EXPECT_EQ(back.border_run, 4);

@@ -222,7 +222,8 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
     return passed;
   };
 
-  for (int y = 0; y < view.height(); y += options.step) {
+  const int row_step = options.sampled_row_step();
+  for (int y = 0; y < view.height(); y += row_step) {
     internal::RowCursor cursor;
     cursor.y = y;
     cv::Point seed;

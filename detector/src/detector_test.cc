@@ -55,5 +55,30 @@ TEST(DetectorTest, RedOnGreenWithoutRingsIsRejectedAndCounted) {
   EXPECT_EQ(result.summary.rejected[static_cast<int>(Stage::kInitialScan)], result.summary.seeds);
 }
 
+// FindADiff samples every sampled_row_step()-th row from the top: a red square
+// on green seeds once on each sampled row that crosses it, at its left edge.
+TEST(DetectorTest, RowStepSetsTheRowsThatSeed) {
+  cv::Mat image(200, 200, CV_8UC3, cv::Scalar(60, 160, 40));  // BGR green.
+  const cv::Rect red(80, 81, 40, 40);                         // Rows 81-120.
+  cv::rectangle(image, red, cv::Scalar(60, 20, 220), cv::FILLED);
+  for (int row_step : {0, 5, 7}) {
+    DetectorOptions options;
+    options.row_step = row_step;
+    options.report_rejected = true;
+    auto detector = Detector::Create(options);
+    ASSERT_TRUE(detector);
+    const int rows = options.sampled_row_step();
+    int expected = 0;
+    for (int y = 0; y < image.rows; y += rows) expected += red.y <= y && y < red.br().y;
+    const DetectionResult result = detector->Detect(image);
+    EXPECT_EQ(result.summary.seeds, expected) << "row_step " << row_step;
+    ASSERT_EQ(static_cast<int>(result.rejected.size()), expected);
+    for (const RejectedCandidate& candidate : result.rejected) {
+      EXPECT_EQ(candidate.seed.y % rows, 0) << "row_step " << row_step;
+      EXPECT_EQ(candidate.seed.x, red.x) << "row_step " << row_step;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace chromatag

@@ -174,10 +174,11 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
     }
     // The next sampled row, into the caches while this one is sampled: a
     // frame from a camera or another thread is not in the caches, and the
-    // jump of `step` rows defeats the hardware's stream prefetch at each
+    // jump of several rows defeats the hardware's stream prefetch at each
     // row's start.
-    if (y + step < image.height()) {
-      const char* next = reinterpret_cast<const char*>(image.Pixel(0, y + step));
+    const int next_y = y + options.sampled_row_step();
+    if (next_y < image.height()) {
+      const char* next = reinterpret_cast<const char*>(image.Pixel(0, next_y));
       const int bytes = 3 * image.width();
       for (int offset = 0; offset < bytes; offset += 64) __builtin_prefetch(next + offset);
     }

@@ -35,6 +35,10 @@ bool DetectorOptions::IsValid(std::string* error) const {
   }
   if (step < 1 || step > 64)
     return fail("step (N) must be in [1, 64], got " + std::to_string(step));
+  if (row_step < 0 || row_step > 64) {
+    return fail("row_step must be 0 (the same as step) or in [1, 64], got " +
+                std::to_string(row_step));
+  }
   if (!(adiff_thresh > 0.0 && adiff_thresh <= 200.0)) {
     return fail("adiff_thresh (ADiffThresh) must be in (0, 200]");
   }

@@ -10,10 +10,22 @@ TEST(DetectorOptionsTest, DefaultsAreThePapersAndValid) {
   std::string error;
   EXPECT_TRUE(options.IsValid(&error)) << error;
   EXPECT_EQ(options.step, 4);
+  EXPECT_EQ(options.row_step, 0);
+  EXPECT_EQ(options.sampled_row_step(), 4);
   EXPECT_EQ(options.adiff_thresh, 25.0);
   EXPECT_EQ(options.border_thresh, 5.0);
   EXPECT_EQ(options.border_run, 3);
   EXPECT_EQ(options.conv_thresh, 0.98);
+}
+
+TEST(DetectorOptionsTest, RowStepDefaultsToStep) {
+  DetectorOptions options;
+  options.step = 6;
+  EXPECT_EQ(options.sampled_row_step(), 6);
+  options.row_step = 5;
+  std::string error;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+  EXPECT_EQ(options.sampled_row_step(), 5);
 }
 
 TEST(DetectorOptionsTest, RefusesOutOfRangeValuesNamingTheField) {
@@ -22,6 +34,12 @@ TEST(DetectorOptionsTest, RefusesOutOfRangeValuesNamingTheField) {
   options.step = 0;
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("step (N)"), std::string::npos) << error;
+  options = {};
+  for (int row_step : {-1, 65}) {
+    options.row_step = row_step;
+    EXPECT_FALSE(options.IsValid(&error));
+    EXPECT_NE(error.find("row_step"), std::string::npos) << error;
+  }
   options = {};
   options.families = {"25h9"};
   EXPECT_FALSE(options.IsValid(&error));

@@ -20,6 +20,7 @@ const chromatag::Detector* DetectorFor(uint8_t choice) {
     options.families = (choice & 1) ? std::vector<std::string>{"16h5", "36h11"}
                                     : std::vector<std::string>{"36h11"};
     options.step = (choice & 2) ? 1 : 4;
+    options.row_step = (choice & 3) == 1 ? 5 : 0;  // Rows apart from columns.
     options.refine_corners = (choice & 4) == 0;
     options.report_rejected = true;
     if (choice & 4) {

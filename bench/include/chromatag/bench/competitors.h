@@ -16,6 +16,7 @@
 #include "chromatag/bench/dataset.h"
 #include "chromatag/bench/miss_analysis.h"
 #include "chromatag/detector/detection.h"
+#include "chromatag/detector/options.h"
 
 namespace chromatag::bench {
 
@@ -55,12 +56,16 @@ std::unique_ptr<TagDetector> MakeArucoDetector(const std::vector<std::string>& f
                                                std::string* error = nullptr);
 
 // This project's detector (default DetectorOptions, the given families, as
-// `chromatag detect --family all` for both). The last frame's summary
+// `chromatag detect --family all` for both; or the options given). The last frame's summary
 // (per-stage times and rejections) is kept for Tables 2 and 4.
 class ChromaTagDetector : public TagDetector {
  public:
   static std::unique_ptr<ChromaTagDetector> Create(
       const std::vector<std::string>& families = {"16h5"}, std::string* error = nullptr);
+  // With `options` (their families; report_rejected is the detector's own
+  // business and ignored), e.g. a config from `chromatag calibrate`.
+  static std::unique_ptr<ChromaTagDetector> CreateWithOptions(const DetectorOptions& options,
+                                                              std::string* error = nullptr);
   ~ChromaTagDetector() override;
   const std::string& name() const override;
   void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) override;

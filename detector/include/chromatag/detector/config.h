@@ -25,7 +25,7 @@ namespace chromatag {
 inline constexpr const char* kDetectorConfigSchema = "chromatag-detector-config";
 
 // Writes `fields` of `options` (names as in the file; empty: every colour and
-// scan field: families, step, adiff_thresh, border_thresh, border_run,
+// scan field: families, step, row_step, adiff_thresh, border_thresh, border_run,
 // conv_thresh, max_hamming, min_decision_margin, refine_corners; never the
 // camera or tag size, which belong to a rig, not a print) with `provenance`
 // (a JSON object's text, or empty) as "calibration".
