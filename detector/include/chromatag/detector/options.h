@@ -54,8 +54,9 @@ struct DetectorOptions {
   // and is faster. Measured with 5 (docs/benchmarks.md, AMD EPYC): median
   // time 8-17 % less on tag-free frames and 4-7 % less on frames with a tag;
   // 2,155 tags found instead of 2,156 on the camera set, 5,989 instead of
-  // 6,001 on the classic one (tags under 30 px and steep views). A speed
-  // knob; `step` is not (other than 4 it loses FindADiff's fastest path).
+  // 6,001 on the classic one (the lost ones nearly all under 30 px or seen at
+  // 64 degrees and more). A speed knob; `step` is not (other than 4 it loses
+  // FindADiff's fastest path).
   // Range 0 or [1, 64].
   int row_step = 0;
 
