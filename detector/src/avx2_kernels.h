@@ -23,6 +23,14 @@ inline bool CpuHasAvx2() {
   return has;
 }
 
+// Whether the running CPU has the AVX-512 subsets of FindADiff's widest path
+// (byte and word lanes, and byte permutes).
+inline bool CpuHasAvx512Vbmi() {
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                          __builtin_cpu_supports("avx512vbmi");
+  return has;
+}
+
 // RoundToInt (image_view.h) of eight floats: nearest, halves up.
 __attribute__((target("avx2"))) inline __m256i RoundToInt8(__m256 v) {
   const __m256 shifted = _mm256_add_ps(v, _mm256_set1_ps(0.5f));

@@ -15,6 +15,11 @@ double CieF(double t) {
   return t > kEpsilon ? std::cbrt(t) : (kKappa * t + 16.0) / 116.0;
 }
 
+// _mm512_mulhrs_epi16 of one lane: (a b + 2^14) >> 15, rounded.
+int16_t MulHighRound(int16_t a, int16_t b) {
+  return static_cast<int16_t>((static_cast<int32_t>(a) * b + 0x4000) >> 15);
+}
+
 }  // namespace
 
 const ColorTable& ColorTable::Get() {
@@ -42,6 +47,25 @@ ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
   for (int i = 0; i < (1 << kFBits) + 2; ++i) {
     f_[i] = static_cast<float>(CieF(static_cast<double>(i) / (1 << kFBits)));
   }
+  // The computed a*'s tables (FastATables).
+  for (int i = 0; i < 64; ++i) {
+    fast_a_.linear[i] =
+        static_cast<int16_t>(std::lround(SrgbToLinear((4 * i + 1.5) / 255.0) * 32767));
+  }
+  for (int channel = 0; channel < 3; ++channel) {
+    Rgb unit;
+    (channel == 0 ? unit.r : channel == 1 ? unit.g : unit.b) = 1.0;
+    const Xyz column = LinearRgbToXyz(unit);
+    fast_a_.x_weight[channel] = static_cast<int16_t>(std::lround(column.X / white[0] * 32768));
+    fast_a_.y_weight[channel] = static_cast<int16_t>(std::lround(column.Y / white[1] * 32768));
+  }
+  auto fixed_f = [](int t) { return static_cast<int16_t>(std::lround(CieF(t / 32768.0) * 16384)); };
+  for (int i = 0; i < 64; ++i) {
+    fast_a_.f_low[i] = fixed_f(32 * i);
+    fast_a_.f_low_step[i] = static_cast<int16_t>(fixed_f(32 * (i + 1)) - fast_a_.f_low[i]);
+    fast_a_.f_high[i] = fixed_f(512 * i);
+    fast_a_.f_high_step[i] = static_cast<int16_t>(fixed_f(512 * (i + 1)) - fast_a_.f_high[i]);
+  }
   // Coarse a*: the exact a* of each 8x8x8 block's centre colour.
   for (int r = 0; r < 32; ++r) {
     for (int g = 0; g < 32; ++g) {
@@ -52,6 +76,30 @@ ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
       }
     }
   }
+}
+
+int ColorTable::FastA(uint8_t r, uint8_t g, uint8_t b) const {
+  const FastATables& t = fast_a_;
+  const int16_t linear[3] = {t.linear[r >> 2], t.linear[g >> 2], t.linear[b >> 2]};
+  // 16-bit sums, as the vector code's lanes (no overflow: the weights of X/Xn
+  // and of Y each add up to 1.0), then clamped below 1.0.
+  uint16_t x = 0, y = 0;
+  for (int c = 0; c < 3; ++c) {
+    x = static_cast<uint16_t>(x + MulHighRound(linear[c], t.x_weight[c]));
+    y = static_cast<uint16_t>(y + MulHighRound(linear[c], t.y_weight[c]));
+  }
+  auto f = [&t](uint16_t v) -> int16_t {
+    v = std::min<uint16_t>(v, 32767);
+    if (v < 2048) {
+      const int i = v >> 5;
+      return static_cast<int16_t>(
+          t.f_low[i] + MulHighRound(t.f_low_step[i], static_cast<int16_t>((v & 31) << 10)));
+    }
+    const int i = v >> 9;
+    return static_cast<int16_t>(
+        t.f_high[i] + MulHighRound(t.f_high_step[i], static_cast<int16_t>((v & 511) << 6)));
+  };
+  return f(x) - f(y);
 }
 
 int32_t ColorTable::YForL(float level) const {
@@ -80,6 +128,7 @@ void ColorTable::Prefetch() const {
   stream(coarse_a_.data(), coarse_a_.size());
   stream(xyz_, sizeof(xyz_));
   stream(f_, sizeof(f_));
+  stream(&fast_a_, sizeof(fast_a_));
 }
 
 }  // namespace chromatag

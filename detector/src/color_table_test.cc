@@ -42,6 +42,25 @@ TEST(ColorTableTest, MatchesTheExactFormulaForEveryColour) {
               worst_coarse);
 }
 
+// FindADiff's AVX-512 path relies on the computed a* being within its bound
+// of the accurate path (the one its re-check uses) for every colour.
+TEST(ColorTableTest, ComputedAIsWithinItsBoundForEveryColour) {
+  const ColorTable& table = ColorTable::Get();
+  double worst = 0;
+  for (int r = 0; r < 256; ++r) {
+    for (int g = 0; g < 256; ++g) {
+      for (int b = 0; b < 256; ++b) {
+        const double fast = table.FastA(r, g, b) / ColorTable::kFastAUnitsPerA;
+        worst = std::max(worst, std::abs(fast - table.A(r, g, b)));
+      }
+    }
+  }
+  EXPECT_LE(worst, ColorTable::kFastAErrorBound);
+  // Not loose: the path passes rises down to ADiffThresh minus twice it.
+  EXPECT_GT(worst, ColorTable::kFastAErrorBound - 0.25);
+  std::printf("worst |computed a* - a*|: %.3f\n", worst);
+}
+
 TEST(ColorTableTest, SingleChannelsAgreeWithLab) {
   const ColorTable& table = ColorTable::Get();
   for (int v = 0; v < 256; v += 5) {

@@ -134,14 +134,191 @@ __attribute__((target("avx2"))) int SampleRowAvx2(const RowSampler& s, int32_t* 
 }
 #endif
 
-// Fills `coarse` and `rises`; returns the number of rises.
-int SampleRow(const RowSampler& s, int32_t* coarse, int* rises) {
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
-  if (CpuHasAvx2()) return SampleRowAvx2(s, coarse, rises);
-#endif
-  CoarseRowScalar(s, 0, coarse);
-  return RisesScalar(s, 1, coarse, rises, 0);
+#define CHROMATAG_AVX512_TARGET __attribute__((target("avx512f,avx512bw,avx512vbmi")))
+
+// The computed a* (ColorTable::FastA) of 32 samples' channel words.
+struct FastALanes {
+  __m512i linear_low, linear_high;
+  __m512i f_low, f_low_high, f_low_step, f_low_step_high;
+  __m512i f_high, f_high_high, f_high_step, f_high_step_high;
+  __m512i x_weight[3], y_weight[3];
+};
+
+CHROMATAG_AVX512_TARGET void LoadFastALanes(const ColorTable::FastATables& t, FastALanes* l) {
+  l->linear_low = _mm512_load_si512(t.linear);
+  l->linear_high = _mm512_load_si512(t.linear + 32);
+  l->f_low = _mm512_load_si512(t.f_low);
+  l->f_low_high = _mm512_load_si512(t.f_low + 32);
+  l->f_low_step = _mm512_load_si512(t.f_low_step);
+  l->f_low_step_high = _mm512_load_si512(t.f_low_step + 32);
+  l->f_high = _mm512_load_si512(t.f_high);
+  l->f_high_high = _mm512_load_si512(t.f_high + 32);
+  l->f_high_step = _mm512_load_si512(t.f_high_step);
+  l->f_high_step_high = _mm512_load_si512(t.f_high_step + 32);
+  for (int c = 0; c < 3; ++c) {
+    l->x_weight[c] = _mm512_set1_epi16(t.x_weight[c]);
+    l->y_weight[c] = _mm512_set1_epi16(t.y_weight[c]);
+  }
 }
+
+// f() of 32 values of t (ColorTable::FastA's f).
+CHROMATAG_AVX512_TARGET inline __m512i FastF(const FastALanes& l, __m512i t) {
+  t = _mm512_min_epu16(t, _mm512_set1_epi16(32767));
+  const __m512i low_index = _mm512_srli_epi16(t, 5), high_index = _mm512_srli_epi16(t, 9);
+  // The remainders, moved up to the top of a signed word: (t & 31) << 10
+  // and (t & 511) << 6.
+  const __m512i low_fraction = _mm512_srli_epi16(_mm512_slli_epi16(t, 11), 1);
+  const __m512i high_fraction = _mm512_srli_epi16(_mm512_slli_epi16(t, 7), 1);
+  const __m512i low = _mm512_add_epi16(
+      _mm512_permutex2var_epi16(l.f_low, low_index, l.f_low_high),
+      _mm512_mulhrs_epi16(_mm512_permutex2var_epi16(l.f_low_step, low_index, l.f_low_step_high),
+                          low_fraction));
+  const __m512i high = _mm512_add_epi16(
+      _mm512_permutex2var_epi16(l.f_high, high_index, l.f_high_high),
+      _mm512_mulhrs_epi16(_mm512_permutex2var_epi16(l.f_high_step, high_index, l.f_high_step_high),
+                          high_fraction));
+  return _mm512_mask_blend_epi16(_mm512_cmplt_epu16_mask(t, _mm512_set1_epi16(2048)), high, low);
+}
+
+// N = 4 only: 32 samples from six 64-byte loads, each sample's channel
+// bytes moved into word lanes by byte permutes over pairs of loads (a
+// sample's three bytes never straddle two loads), a* computed (FastA), and
+// the rises found by comparing each lane with the one before. Returns the
+// number of rises; `threshold` is in FastA's units.
+CHROMATAG_AVX512_TARGET int SampleRowAvx512(const RowSampler& s, int row_bytes,
+                                            const ColorTable::FastATables& tables, int threshold,
+                                            int* rises) {
+  FastALanes lanes;
+  LoadFastALanes(tables, &lanes);
+  // Per pair of loads p (bytes 128 p to 128 p + 127 of the block), the
+  // byte to put in the low byte of word j for each sample j of the pair.
+  static const auto kPick = [] {
+    struct {
+      uint8_t index[3][64];
+      __mmask64 words[3];
+    } pick{};
+    for (int j = 0; j < 32; ++j) {
+      const int p = 12 * j / 128;
+      pick.index[p][2 * j] = static_cast<uint8_t>(12 * j - 128 * p);
+      pick.words[p] |= __mmask64{1} << (2 * j);
+    }
+    return pick;
+  }();
+  __m512i index[3][3];  // [channel][pair]
+  const int offsets[3] = {s.r, 1, s.b};
+  for (int p = 0; p < 3; ++p) {
+    const __m512i base = _mm512_loadu_si512(kPick.index[p]);
+    for (int c = 0; c < 3; ++c) index[c][p] = _mm512_add_epi8(base, _mm512_set1_epi8(offsets[c]));
+  }
+  alignas(64) static const int16_t kPrevious[32] = {63, 0,  1,  2,  3,  4,  5,  6,  7,  8,  9,
+                                                    10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
+                                                    21, 22, 23, 24, 25, 26, 27, 28, 29, 30};
+  const __m512i previous_index = _mm512_load_si512(kPrevious);
+  const __m512i rise_threshold = _mm512_set1_epi16(static_cast<int16_t>(threshold));
+  __m512i previous = _mm512_setzero_si512();
+  int n = 0;
+  for (int i = 0; i < s.count; i += 32) {
+    const uint8_t* block = s.row + 12 * static_cast<ptrdiff_t>(i);
+    __m512i z[6];
+    const int left = row_bytes - 12 * i;
+    for (int q = 0; q < 6; ++q) {
+      // The row's last block is read with a mask, never past the row.
+      const int here = left - 64 * q;
+      const __mmask64 mask = here >= 64  ? ~__mmask64{0}
+                             : here <= 0 ? __mmask64{0}
+                                         : (__mmask64{1} << here) - 1;
+      z[q] = _mm512_maskz_loadu_epi8(mask, block + 64 * q);
+    }
+    __m512i linear[3];
+    for (int c = 0; c < 3; ++c) {
+      const __m512i bytes = _mm512_or_si512(
+          _mm512_or_si512(_mm512_maskz_permutex2var_epi8(kPick.words[0], z[0], index[c][0], z[1]),
+                          _mm512_maskz_permutex2var_epi8(kPick.words[1], z[2], index[c][1], z[3])),
+          _mm512_maskz_permutex2var_epi8(kPick.words[2], z[4], index[c][2], z[5]));
+      linear[c] = _mm512_permutex2var_epi16(lanes.linear_low, _mm512_srli_epi16(bytes, 2),
+                                            lanes.linear_high);
+    }
+    __m512i x = _mm512_mulhrs_epi16(linear[0], lanes.x_weight[0]);
+    __m512i y = _mm512_mulhrs_epi16(linear[0], lanes.y_weight[0]);
+    for (int c = 1; c < 3; ++c) {
+      x = _mm512_add_epi16(x, _mm512_mulhrs_epi16(linear[c], lanes.x_weight[c]));
+      y = _mm512_add_epi16(y, _mm512_mulhrs_epi16(linear[c], lanes.y_weight[c]));
+    }
+    const __m512i a = _mm512_sub_epi16(FastF(lanes, x), FastF(lanes, y));
+    const __m512i before = _mm512_permutex2var_epi16(a, previous_index, previous);
+    uint32_t mask = _mm512_cmpgt_epi16_mask(_mm512_subs_epi16(a, before), rise_threshold);
+    if (i == 0) mask &= ~1u;  // The first sample has none before it.
+    if (s.count - i < 32) mask &= (1u << (s.count - i)) - 1;
+    while (mask) {
+      rises[n++] = i + __builtin_ctz(mask);
+      mask &= mask - 1;
+    }
+    previous = a;
+  }
+  return n;
+}
+#endif
+
+}  // namespace
+
+int ComputedARiseThreshold(double adiff_thresh) {
+  const double units =
+      std::floor((adiff_thresh - 2 * ColorTable::kFastAErrorBound) * ColorTable::kFastAUnitsPerA);
+  return static_cast<int>(std::clamp(units, -32768.0, 32767.0));
+}
+
+bool RowScanPathAvailable(RowScanPath path) {
+  switch (path) {
+    case RowScanPath::kComputedAAvx512:
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
+      return CpuHasAvx512Vbmi();
+#else
+      return false;
+#endif
+    case RowScanPath::kCoarseAvx2:
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
+      return CpuHasAvx2();
+#else
+      return false;
+#endif
+    default:
+      return true;
+  }
+}
+
+int ScanRow(const ImageView& image, const DetectorOptions& options, int y, RowScanPath path,
+            int32_t* coarse, int* rises) {
+  const int step = options.step;
+  const int count = (image.width() + step - 1) / step;
+  // The coarse table is within kCoarseErrorBound of the accurate a*, so a
+  // true rise above ADiffThresh shows at least this much in coarse values.
+  const int coarse_thresh =
+      static_cast<int>(std::floor(options.adiff_thresh)) - 2 * ColorTable::kCoarseErrorBound;
+  const ColorTable& table = image.table();
+  const RowSampler sampler{
+      image.Pixel(0, y),      count,        3 * step, image.r_offset(), image.b_offset(),
+      table.coarse_a_table(), coarse_thresh};
+  if (path == RowScanPath::kWidest) {
+    path = step == 4 && RowScanPathAvailable(RowScanPath::kComputedAAvx512)
+               ? RowScanPath::kComputedAAvx512
+           : RowScanPathAvailable(RowScanPath::kCoarseAvx2) ? RowScanPath::kCoarseAvx2
+                                                            : RowScanPath::kCoarseScalar;
+  }
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
+  if (path == RowScanPath::kComputedAAvx512 && step == 4 && CpuHasAvx512Vbmi()) {
+    return SampleRowAvx512(sampler, 3 * image.width(), table.fast_a_tables(),
+                           ComputedARiseThreshold(options.adiff_thresh), rises);
+  }
+  if (path != RowScanPath::kCoarseScalar && CpuHasAvx2()) {
+    return SampleRowAvx2(sampler, coarse, rises);
+  }
+#endif
+  CoarseRowScalar(sampler, 0, coarse);
+  return RisesScalar(sampler, 1, coarse, rises, 0);
+}
+
+namespace {
 
 bool InSpans(const std::array<std::pair<int, int>, 64>& spans, int num_spans, int x) {
   for (int k = 0; k < num_spans; ++k) {
@@ -161,10 +338,6 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
   const int y = cursor->y;
   const uint8_t* row = image.Pixel(0, y);
   if (!cursor->sampled) {
-    // The coarse table is within kCoarseErrorBound of the exact a*, so a true
-    // rise above ADiffThresh shows at least this much in coarse values.
-    const int coarse_thresh =
-        static_cast<int>(std::floor(options.adiff_thresh)) - 2 * ColorTable::kCoarseErrorBound;
     const int count = (image.width() + step - 1) / step;
     thread_local std::vector<int32_t> coarse;
     thread_local std::vector<int> rises;
@@ -183,8 +356,7 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
       for (int offset = 0; offset < bytes; offset += 64) __builtin_prefetch(next + offset);
     }
     cursor->num_rises =
-        SampleRow({row, count, 3 * step, r, b, table.coarse_a_table(), coarse_thresh},
-                  coarse.data(), rises.data());
+        ScanRow(image, options, y, RowScanPath::kWidest, coarse.data(), rises.data());
     cursor->rises = rises.data();
     cursor->next = 0;
     cursor->sampled = true;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -98,6 +99,81 @@ TEST_P(FindADiffTest, SkipsDetectedAreas) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Steps, FindADiffTest, testing::Values(1, 3, 4, 5, 8));
+
+// Rows of random colours, many short runs and some long ones, at widths
+// that end each of the vector paths' blocks anywhere.
+cv::Mat RandomRows(int width, cv::RNG* rng) {
+  cv::Mat image(9, width, CV_8UC3);
+  for (int y = 0; y < image.rows; ++y) {
+    cv::Vec3b colour;
+    for (int x = 0; x < width; ++x) {
+      if (x == 0 || rng->uniform(0, y + 1) == 0) {
+        // Extremes too: the computed a*'s tables end at 0 and 255.
+        for (int c = 0; c < 3; ++c)
+          colour[c] = rng->uniform(0, 4) == 0 ? 255 * rng->uniform(0, 2) : rng->uniform(0, 256);
+      }
+      image.at<cv::Vec3b>(y, x) = colour;
+    }
+  }
+  return image;
+}
+
+// Every path lists every sample whose accurate a* rises by more than
+// ADiffThresh, each once and in order; the AVX-512 path lists exactly the
+// samples whose ColorTable::FastA rises by more than its threshold, so that
+// the vector code is its scalar reference.
+TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
+  const ColorTable& table = ColorTable::Get();
+  cv::RNG rng(17);
+  int paths_run = 0, true_rises = 0;
+  for (RowScanPath path : {RowScanPath::kWidest, RowScanPath::kComputedAAvx512,
+                           RowScanPath::kCoarseAvx2, RowScanPath::kCoarseScalar}) {
+    if (!RowScanPathAvailable(path)) continue;
+    ++paths_run;
+    for (int width : {1, 2, 4, 5, 124, 125, 128, 129, 131, 255, 256, 257, 383, 752}) {
+      const cv::Mat image = RandomRows(width, &rng);
+      for (PixelOrder order : {PixelOrder::kBgr, PixelOrder::kRgb}) {
+        const ImageView view(image, order, table);
+        const int ri = order == PixelOrder::kBgr ? 2 : 0, bi = 2 - ri;
+        for (double adiff : {8.0, 25.0, 60.0}) {
+          DetectorOptions options;
+          options.step = 4;
+          options.adiff_thresh = adiff;
+          const int count = (width + 3) / 4;
+          for (int y = 0; y < image.rows; ++y) {
+            std::vector<int32_t> coarse(count);
+            std::vector<int> rises(count);
+            rises.resize(ScanRow(view, options, y, path, coarse.data(), rises.data()));
+            const auto* row = image.ptr<uint8_t>(y);
+            std::vector<int> exact, computed;
+            for (int i = 1; i < count; ++i) {
+              const uint8_t* p = row + 12 * i;
+              const uint8_t* q = p - 12;
+              if (table.A(p[ri], p[1], p[bi]) - table.A(q[ri], q[1], q[bi]) > adiff)
+                exact.push_back(i);
+              const int rise = table.FastA(p[ri], p[1], p[bi]) - table.FastA(q[ri], q[1], q[bi]);
+              if (std::clamp(rise, -32768, 32767) > ComputedARiseThreshold(adiff))
+                computed.push_back(i);
+            }
+            true_rises += exact.size();
+            const auto where = testing::Message()
+                               << "path " << static_cast<int>(path) << " width " << width << " row "
+                               << y << " ADiffThresh " << adiff;
+            EXPECT_TRUE(std::is_sorted(rises.begin(), rises.end())) << where;
+            EXPECT_EQ(std::adjacent_find(rises.begin(), rises.end()), rises.end()) << where;
+            EXPECT_TRUE(std::includes(rises.begin(), rises.end(), exact.begin(), exact.end()))
+                << where;
+            if (path == RowScanPath::kComputedAAvx512) {
+              EXPECT_EQ(rises, computed) << where;
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GE(paths_run, 2);  // kWidest and kCoarseScalar run anywhere.
+  EXPECT_GT(true_rises, 1000);
+}
 
 // A quad's span on a row runs between the two sides the row crosses.
 TEST(DetectedAreaTest, RowSpanOfADiamond) {

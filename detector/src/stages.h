@@ -66,14 +66,41 @@ struct DetectedArea {
 
 // FindADiff's position on its current sampled row. On the first call the
 // whole row is sampled at once (SIMD where available) and the rises the
-// coarse prefilter lets through are listed; later calls walk that list.
+// prefilter lets through are listed (ScanRow); later calls walk that list.
 struct RowCursor {
   int y = 0;
   bool sampled = false;
-  const int* rises = nullptr;  // Sample indices i with a coarse rise from i - 1.
+  const int* rises = nullptr;  // Sample indices i that may rise from i - 1.
   int num_rises = 0;
   int next = 0;  // Next entry of `rises` to look at.
 };
+
+// How FindADiff's row scan finds the samples that may rise. Each is a
+// conservative prefilter of the accurate rise (none is ever missed); they
+// differ in speed and in how many false rises they let through:
+// - kComputedAAvx512: a* computed in 16-bit lanes (ColorTable::FastA, within
+//   kFastAErrorBound), 32 samples at a time. AVX-512 with byte permutes
+//   (VBMI), N = 4 only.
+// - kCoarseAvx2: the coarse a* table, eight samples at a time. AVX2.
+// - kCoarseScalar: the coarse a* table, one sample at a time. Anywhere.
+// kWidest is the first of these the CPU and N allow; FindADiff uses it.
+enum class RowScanPath { kWidest, kComputedAAvx512, kCoarseAvx2, kCoarseScalar };
+
+// The rise in ColorTable::FastA units that kComputedAAvx512 lets through: a
+// true rise above `adiff_thresh` shows at least this much, as each of the two
+// samples' FastA is within kFastAErrorBound of its accurate a*.
+int ComputedARiseThreshold(double adiff_thresh);
+
+// Whether this CPU can take `path` (kWidest and kCoarseScalar always).
+bool RowScanPathAvailable(RowScanPath path);
+
+// FindADiff's scan of sampled row y: fills `rises` (one entry per sample at
+// most) with the indices i (x = i N) whose a* may rise from sample i - 1 by
+// more than ADiffThresh, in order, and returns their number. `coarse` is
+// scratch of one entry per sample. A path the CPU or N cannot take falls
+// back to the next one.
+int ScanRow(const ImageView& image, const DetectorOptions& options, int y, RowScanPath path,
+            int32_t* coarse, int* rises);
 
 // A family the detector looks for, with its decoder.
 struct FamilyDecoder {
@@ -93,8 +120,8 @@ std::vector<Code> SwappedCodes(const TagFamily& family);
 // 1. FindADiff: advances along the cursor's row, sampling every N-th pixel,
 // to the next sample whose a* rises by more than ADiffThresh over the previous
 // sample of the row, skipping accepted areas. False at the row's end.
-// *prefilter_rejects counts rises the coarse table suggested but the accurate
-// a* refuted.
+// *prefilter_rejects counts rises the row scan's prefilter suggested but the
+// accurate a* refuted.
 bool FindADiff(const ImageView& image, const DetectorOptions& options,
                const std::vector<DetectedArea>& skip, RowCursor* cursor, cv::Point* seed,
                int* prefilter_rejects);
