@@ -61,10 +61,10 @@ ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
   }
   auto fixed_f = [](int t) { return static_cast<int16_t>(std::lround(CieF(t / 32768.0) * 16384)); };
   for (int i = 0; i < 64; ++i) {
-    fast_a_.f_low[i] = fixed_f(32 * i);
-    fast_a_.f_low_step[i] = static_cast<int16_t>(fixed_f(32 * (i + 1)) - fast_a_.f_low[i]);
-    fast_a_.f_high[i] = fixed_f(512 * i);
-    fast_a_.f_high_step[i] = static_cast<int16_t>(fixed_f(512 * (i + 1)) - fast_a_.f_high[i]);
+    const int t = i < 32 ? 128 * i : 1024 * (i - 32);
+    const int next = i < 32 ? t + 128 : t + 1024;
+    fast_a_.f[i] = fixed_f(t);
+    fast_a_.f_step[i] = static_cast<int16_t>(fixed_f(next) - fast_a_.f[i]);
   }
   // Coarse a*: the exact a* of each 8x8x8 block's centre colour.
   for (int r = 0; r < 32; ++r) {
@@ -90,14 +90,11 @@ int ColorTable::FastA(uint8_t r, uint8_t g, uint8_t b) const {
   }
   auto f = [&t](uint16_t v) -> int16_t {
     v = std::min<uint16_t>(v, 32767);
-    if (v < 2048) {
-      const int i = v >> 5;
-      return static_cast<int16_t>(
-          t.f_low[i] + MulHighRound(t.f_low_step[i], static_cast<int16_t>((v & 31) << 10)));
-    }
-    const int i = v >> 9;
-    return static_cast<int16_t>(
-        t.f_high[i] + MulHighRound(t.f_high_step[i], static_cast<int16_t>((v & 511) << 6)));
+    const bool low = v < 4096;
+    const int i = low ? v >> 7 : 32 + (v >> 10);
+    // The remainder at the top of a signed word: (v & 127) << 8 or (v & 1023) << 5.
+    const int fraction = low ? (v & 127) << 8 : (v & 1023) << 5;
+    return static_cast<int16_t>(t.f[i] + MulHighRound(t.f_step[i], static_cast<int16_t>(fraction)));
   };
   return f(x) - f(y);
 }

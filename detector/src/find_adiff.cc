@@ -139,23 +139,18 @@ __attribute__((target("avx2"))) int SampleRowAvx2(const RowSampler& s, int32_t* 
 
 // The computed a* (ColorTable::FastA) of 32 samples' channel words.
 struct FastALanes {
-  __m512i linear_low, linear_high;
-  __m512i f_low, f_low_high, f_low_step, f_low_step_high;
-  __m512i f_high, f_high_high, f_high_step, f_high_step_high;
+  __m512i linear_low, linear_high;  // Entries 0-31 and 32-63 of each table.
+  __m512i f_low, f_high, f_step_low, f_step_high;
   __m512i x_weight[3], y_weight[3];
 };
 
 CHROMATAG_AVX512_TARGET void LoadFastALanes(const ColorTable::FastATables& t, FastALanes* l) {
   l->linear_low = _mm512_load_si512(t.linear);
   l->linear_high = _mm512_load_si512(t.linear + 32);
-  l->f_low = _mm512_load_si512(t.f_low);
-  l->f_low_high = _mm512_load_si512(t.f_low + 32);
-  l->f_low_step = _mm512_load_si512(t.f_low_step);
-  l->f_low_step_high = _mm512_load_si512(t.f_low_step + 32);
-  l->f_high = _mm512_load_si512(t.f_high);
-  l->f_high_high = _mm512_load_si512(t.f_high + 32);
-  l->f_high_step = _mm512_load_si512(t.f_high_step);
-  l->f_high_step_high = _mm512_load_si512(t.f_high_step + 32);
+  l->f_low = _mm512_load_si512(t.f);
+  l->f_high = _mm512_load_si512(t.f + 32);
+  l->f_step_low = _mm512_load_si512(t.f_step);
+  l->f_step_high = _mm512_load_si512(t.f_step + 32);
   for (int c = 0; c < 3; ++c) {
     l->x_weight[c] = _mm512_set1_epi16(t.x_weight[c]);
     l->y_weight[c] = _mm512_set1_epi16(t.y_weight[c]);
@@ -165,20 +160,17 @@ CHROMATAG_AVX512_TARGET void LoadFastALanes(const ColorTable::FastATables& t, Fa
 // f() of 32 values of t (ColorTable::FastA's f).
 CHROMATAG_AVX512_TARGET inline __m512i FastF(const FastALanes& l, __m512i t) {
   t = _mm512_min_epu16(t, _mm512_set1_epi16(32767));
-  const __m512i low_index = _mm512_srli_epi16(t, 5), high_index = _mm512_srli_epi16(t, 9);
-  // The remainders, moved up to the top of a signed word: (t & 31) << 10
-  // and (t & 511) << 6.
-  const __m512i low_fraction = _mm512_srli_epi16(_mm512_slli_epi16(t, 11), 1);
-  const __m512i high_fraction = _mm512_srli_epi16(_mm512_slli_epi16(t, 7), 1);
-  const __m512i low = _mm512_add_epi16(
-      _mm512_permutex2var_epi16(l.f_low, low_index, l.f_low_high),
-      _mm512_mulhrs_epi16(_mm512_permutex2var_epi16(l.f_low_step, low_index, l.f_low_step_high),
-                          low_fraction));
-  const __m512i high = _mm512_add_epi16(
-      _mm512_permutex2var_epi16(l.f_high, high_index, l.f_high_high),
-      _mm512_mulhrs_epi16(_mm512_permutex2var_epi16(l.f_high_step, high_index, l.f_high_step_high),
-                          high_fraction));
-  return _mm512_mask_blend_epi16(_mm512_cmplt_epu16_mask(t, _mm512_set1_epi16(2048)), high, low);
+  const __mmask32 low = _mm512_cmplt_epu16_mask(t, _mm512_set1_epi16(4096));
+  const __m512i index = _mm512_mask_blend_epi16(
+      low, _mm512_add_epi16(_mm512_srli_epi16(t, 10), _mm512_set1_epi16(32)),
+      _mm512_srli_epi16(t, 7));
+  // The remainder at the top of a signed word: (t & 1023) << 5 or (t & 127) << 8.
+  const __m512i fraction =
+      _mm512_mask_blend_epi16(low, _mm512_srli_epi16(_mm512_slli_epi16(t, 6), 1),
+                              _mm512_srli_epi16(_mm512_slli_epi16(t, 9), 1));
+  return _mm512_add_epi16(
+      _mm512_permutex2var_epi16(l.f_low, index, l.f_high),
+      _mm512_mulhrs_epi16(_mm512_permutex2var_epi16(l.f_step_low, index, l.f_step_high), fraction));
 }
 
 // N = 4 only: 32 samples from six 64-byte loads, each sample's channel
@@ -191,25 +183,29 @@ CHROMATAG_AVX512_TARGET int SampleRowAvx512(const RowSampler& s, int row_bytes,
                                             int* rises) {
   FastALanes lanes;
   LoadFastALanes(tables, &lanes);
-  // Per pair of loads p (bytes 128 p to 128 p + 127 of the block), the
-  // byte to put in the low byte of word j for each sample j of the pair.
+  // Per pair of loads p (bytes 128 p to 128 p + 127 of the block), for each
+  // sample j of the pair: its first two bytes into word j (low, high), and
+  // its third into the low byte of word j.
   static const auto kPick = [] {
     struct {
-      uint8_t index[3][64];
-      __mmask64 words[3];
+      uint8_t first_two[3][64], third[3][64];
+      __mmask64 two_bytes[3], low_bytes[3];
     } pick{};
     for (int j = 0; j < 32; ++j) {
       const int p = 12 * j / 128;
-      pick.index[p][2 * j] = static_cast<uint8_t>(12 * j - 128 * p);
-      pick.words[p] |= __mmask64{1} << (2 * j);
+      const int at = 12 * j - 128 * p;
+      pick.first_two[p][2 * j] = static_cast<uint8_t>(at);
+      pick.first_two[p][2 * j + 1] = static_cast<uint8_t>(at + 1);
+      pick.third[p][2 * j] = static_cast<uint8_t>(at + 2);
+      pick.two_bytes[p] |= __mmask64{3} << (2 * j);
+      pick.low_bytes[p] |= __mmask64{1} << (2 * j);
     }
     return pick;
   }();
-  __m512i index[3][3];  // [channel][pair]
-  const int offsets[3] = {s.r, 1, s.b};
+  __m512i first_two[3], third[3];
   for (int p = 0; p < 3; ++p) {
-    const __m512i base = _mm512_loadu_si512(kPick.index[p]);
-    for (int c = 0; c < 3; ++c) index[c][p] = _mm512_add_epi8(base, _mm512_set1_epi8(offsets[c]));
+    first_two[p] = _mm512_loadu_si512(kPick.first_two[p]);
+    third[p] = _mm512_loadu_si512(kPick.third[p]);
   }
   alignas(64) static const int16_t kPrevious[32] = {63, 0,  1,  2,  3,  4,  5,  6,  7,  8,  9,
                                                     10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
@@ -230,15 +226,26 @@ CHROMATAG_AVX512_TARGET int SampleRowAvx512(const RowSampler& s, int row_bytes,
                                          : (__mmask64{1} << here) - 1;
       z[q] = _mm512_maskz_loadu_epi8(mask, block + 64 * q);
     }
-    __m512i linear[3];
-    for (int c = 0; c < 3; ++c) {
-      const __m512i bytes = _mm512_or_si512(
-          _mm512_or_si512(_mm512_maskz_permutex2var_epi8(kPick.words[0], z[0], index[c][0], z[1]),
-                          _mm512_maskz_permutex2var_epi8(kPick.words[1], z[2], index[c][1], z[3])),
-          _mm512_maskz_permutex2var_epi8(kPick.words[2], z[4], index[c][2], z[5]));
-      linear[c] = _mm512_permutex2var_epi16(lanes.linear_low, _mm512_srli_epi16(bytes, 2),
-                                            lanes.linear_high);
-    }
+    const __m512i bytes01 = _mm512_or_si512(
+        _mm512_or_si512(
+            _mm512_maskz_permutex2var_epi8(kPick.two_bytes[0], z[0], first_two[0], z[1]),
+            _mm512_maskz_permutex2var_epi8(kPick.two_bytes[1], z[2], first_two[1], z[3])),
+        _mm512_maskz_permutex2var_epi8(kPick.two_bytes[2], z[4], first_two[2], z[5]));
+    const __m512i bytes2 = _mm512_or_si512(
+        _mm512_or_si512(_mm512_maskz_permutex2var_epi8(kPick.low_bytes[0], z[0], third[0], z[1]),
+                        _mm512_maskz_permutex2var_epi8(kPick.low_bytes[1], z[2], third[1], z[3])),
+        _mm512_maskz_permutex2var_epi8(kPick.low_bytes[2], z[4], third[2], z[5]));
+    // The word permutes read the index's low six bits: a byte's top six are
+    // its word shifted right by 2 (low byte) or 10 (high byte).
+    auto linear_of = [&lanes](__m512i index) CHROMATAG_AVX512_TARGET {
+      return _mm512_permutex2var_epi16(lanes.linear_low, index, lanes.linear_high);
+    };
+    const __m512i linear0 = linear_of(_mm512_srli_epi16(bytes01, 2));
+    const __m512i linear2 = linear_of(_mm512_srli_epi16(bytes2, 2));
+    __m512i linear[3];  // R, G, B
+    linear[0] = s.r == 0 ? linear0 : linear2;
+    linear[1] = linear_of(_mm512_srli_epi16(bytes01, 10));
+    linear[2] = s.r == 0 ? linear2 : linear0;
     __m512i x = _mm512_mulhrs_epi16(linear[0], lanes.x_weight[0]);
     __m512i y = _mm512_mulhrs_epi16(linear[0], lanes.y_weight[0]);
     for (int c = 1; c < 3; ++c) {

@@ -15,12 +15,12 @@
 //   the exact a*, so a rise that could exceed ADiffThresh is always re-checked
 //   with the accurate path and none is missed.
 // - the computed a*: FindADiff's AVX-512 path computes a* instead of looking
-//   it up, in 16-bit fixed point from 640 bytes of tables (FastATables):
+//   it up, in 16-bit fixed point from 384 bytes of tables (FastATables):
 //   each channel's linear light from its top six bits, X/Xn and Y as
-//   weighted sums, and f() interpolated on two ranges. Within
+//   weighted sums, and f() interpolated on two ranges of one table. Within
 //   kFastAErrorBound of the accurate path for every colour (a test checks all
-//   16.7 million), 2.4 times tighter than the coarse table, so fewer rises
-//   need the accurate re-check, and without the coarse table's random reads.
+//   16.7 million), twice as tight as the coarse table, so fewer rises need
+//   the accurate re-check, and without the coarse table's random reads.
 //
 // A ColorTable is immutable after construction and safe to share between
 // threads.
@@ -88,20 +88,18 @@ class ColorTable {
   // The computed a* (see above), in units of 1 / kFastAUnitsPerA. FastA is
   // the scalar reference: the vector code gives the same number for every
   // colour, and |FastA / kFastAUnitsPerA - A| <= kFastAErrorBound (measured
-  // 2.45; both checked by tests).
+  // 2.65; both checked by tests).
   static constexpr float kFastAUnitsPerA = 16384.f / 500.f;
-  static constexpr float kFastAErrorBound = 2.5f;
+  static constexpr float kFastAErrorBound = 2.7f;
   struct FastATables {
     // Linear light (1.0 is 32767) of each 8-bit value's top six bits, taken
     // at the centre of its four values.
     alignas(64) int16_t linear[64];
-    // f() (1.0 is 16384) on t = X/Xn or Y (1.0 is 32768): at t = 32 i / 32768
-    // below t = 1/16 (low) and at 512 i / 32768 above it (high), with the step
-    // to the next entry.
-    alignas(64) int16_t f_low[64];
-    alignas(64) int16_t f_low_step[64];
-    alignas(64) int16_t f_high[64];
-    alignas(64) int16_t f_high_step[64];
+    // f() (1.0 is 16384) on t = X/Xn or Y (1.0 is 32768), with the step to
+    // the next entry: entry i < 32 at t = 128 i (below 1/8, where f() is
+    // steepest), entry i >= 36 at t = 1024 (i - 32); 32-35 are not used.
+    alignas(64) int16_t f[64];
+    alignas(64) int16_t f_step[64];
     // Each channel's weight (1.0 is 32768) in X/Xn and in Y.
     int16_t x_weight[3], y_weight[3];
   };
