@@ -115,14 +115,14 @@ int32_t ColorTable::YForL(float level) const {
   return lo;
 }
 
-void ColorTable::Prefetch() const {
+void ColorTable::Prefetch(bool coarse) const {
   constexpr size_t kLine = 64;
   // Volatile reads: they are made although their values are not used.
   auto stream = [](const void* data, size_t bytes) {
     const auto* p = static_cast<const volatile uint8_t*>(data);
     for (size_t i = 0; i < bytes; i += kLine) static_cast<void>(p[i]);
   };
-  stream(coarse_a_.data(), coarse_a_.size());
+  if (coarse) stream(coarse_a_.data(), coarse_a_.size());
   stream(xyz_, sizeof(xyz_));
   stream(f_, sizeof(f_));
   stream(&fast_a_, sizeof(fast_a_));

@@ -201,7 +201,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   result->summary = DetectorSummary{};
   if (image.empty() || image.type() != CV_8UC3) return;
   const DetectorOptions& options = impl_->options;
-  impl_->table->Prefetch();
+  impl_->table->Prefetch(/*coarse=*/!internal::RowScanComputesA(options));
   const internal::ImageView view(image, order, *impl_->table);
   Scratch& scratch = ThreadScratch();
   scratch.areas.clear();

@@ -294,6 +294,10 @@ bool RowScanPathAvailable(RowScanPath path) {
   }
 }
 
+bool RowScanComputesA(const DetectorOptions& options) {
+  return options.step == 4 && RowScanPathAvailable(RowScanPath::kComputedAAvx512);
+}
+
 int ScanRow(const ImageView& image, const DetectorOptions& options, int y, RowScanPath path,
             int32_t* coarse, int* rises) {
   const int step = options.step;
@@ -307,8 +311,7 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, RowSc
       image.Pixel(0, y),      count,        3 * step, image.r_offset(), image.b_offset(),
       table.coarse_a_table(), coarse_thresh};
   if (path == RowScanPath::kWidest) {
-    path = step == 4 && RowScanPathAvailable(RowScanPath::kComputedAAvx512)
-               ? RowScanPath::kComputedAAvx512
+    path = RowScanComputesA(options)                        ? RowScanPath::kComputedAAvx512
            : RowScanPathAvailable(RowScanPath::kCoarseAvx2) ? RowScanPath::kCoarseAvx2
                                                             : RowScanPath::kCoarseScalar;
   }
@@ -361,6 +364,14 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
       const char* next = reinterpret_cast<const char*>(image.Pixel(0, next_y));
       const int bytes = 3 * image.width();
       for (int offset = 0; offset < bytes; offset += 64) __builtin_prefetch(next + offset);
+    }
+    if (RowScanComputesA(options)) {
+      // The coarse table, for the ring scans of this frame's seeds, spread
+      // over the sampled rows (Detect did not stream it).
+      const int row_step = options.sampled_row_step();
+      const int rows = (image.height() + row_step - 1) / row_step;
+      const int per_row = (ColorTable::kCoarseLines + rows - 1) / rows;
+      table.PrefetchCoarseLines(y / row_step * per_row, per_row);
     }
     cursor->num_rises =
         ScanRow(image, options, y, RowScanPath::kWidest, coarse.data(), rises.data());

@@ -94,6 +94,12 @@ int ComputedARiseThreshold(double adiff_thresh);
 // Whether this CPU can take `path` (kWidest and kCoarseScalar always).
 bool RowScanPathAvailable(RowScanPath path);
 
+// Whether FindADiff computes a* (kComputedAAvx512) with these options on this
+// CPU. Then its row scan does not read the coarse a* table, and FindADiff
+// brings the table in for the later stages a few lines per sampled row
+// (ColorTable::PrefetchCoarseLines) instead of Detect streaming it first.
+bool RowScanComputesA(const DetectorOptions& options);
+
 // FindADiff's scan of sampled row y: fills `rises` (one entry per sample at
 // most) with the indices i (x = i N) whose a* may rise from sample i - 1 by
 // more than ADiffThresh, in order, and returns their number. `coarse` is

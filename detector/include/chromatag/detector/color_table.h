@@ -27,6 +27,7 @@
 #ifndef CHROMATAG_DETECTOR_COLOR_TABLE_H_
 #define CHROMATAG_DETECTOR_COLOR_TABLE_H_
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -111,8 +112,20 @@ class ColorTable {
   // once per frame, with other work in between (the camera driver, the
   // rest of a robot's pipeline, other detectors), otherwise takes a cache
   // miss on each first lookup of a line, one after another; streamed in
-  // order, the 58 KiB arrive with many reads in flight at once.
-  void Prefetch() const;
+  // order, the 58 KiB arrive with many reads in flight at once. With
+  // `coarse` false the coarse a* table (32 KiB) is left out, for a caller
+  // that brings it in by PrefetchCoarseLines while it works on other things.
+  void Prefetch(bool coarse = true) const;
+  // Hints (no waiting) that lines [first, first + count) of the coarse a*
+  // table's kCoarseLines 64-byte lines will be read soon; lines past the
+  // end are ignored.
+  static constexpr int kCoarseLines = (32 * 32 * 32 + 63) / 64;
+  void PrefetchCoarseLines(int first, int count) const {
+    const char* table = reinterpret_cast<const char*>(coarse_a_.data());
+    for (int line = std::max(first, 0); line < std::min(first + count, kCoarseLines); ++line) {
+      __builtin_prefetch(table + 64 * line);
+    }
+  }
 
   size_t memory_bytes() const {
     return sizeof(xyz_) + sizeof(f_) + coarse_a_.size() + sizeof(fast_a_);
