@@ -81,8 +81,9 @@ ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
 int ColorTable::FastA(uint8_t r, uint8_t g, uint8_t b) const {
   const FastATables& t = fast_a_;
   const int16_t linear[3] = {t.linear[r >> 2], t.linear[g >> 2], t.linear[b >> 2]};
-  // 16-bit sums, as the vector code's lanes (no overflow: the weights of X/Xn
-  // and of Y each add up to 1.0), then clamped below 1.0.
+  // 16-bit sums, as the vector code's lanes, then clamped below 1.0. No
+  // overflow: each set of weights adds up to 32768 within one unit and linear
+  // light stays below 32331, so a sum stays below 32400.
   uint16_t x = 0, y = 0;
   for (int c = 0; c < 3; ++c) {
     x = static_cast<uint16_t>(x + MulHighRound(linear[c], t.x_weight[c]));
@@ -126,6 +127,21 @@ void ColorTable::Prefetch(bool coarse) const {
   stream(xyz_, sizeof(xyz_));
   stream(f_, sizeof(f_));
   stream(&fast_a_, sizeof(fast_a_));
+}
+
+int ColorTable::coarse_lines() const {
+  const auto begin = reinterpret_cast<uintptr_t>(coarse_a_.data());
+  const uintptr_t end = begin + coarse_a_.size();
+  return static_cast<int>((end + 63) / 64 - begin / 64);
+}
+
+void ColorTable::PrefetchCoarseLines(int first, int count) const {
+  // Lines counted from the one holding the table's first byte (a vector's
+  // data need not start on a line).
+  const auto* line0 =
+      reinterpret_cast<const char*>(reinterpret_cast<uintptr_t>(coarse_a_.data()) & ~uintptr_t{63});
+  const int end = std::min(first + count, coarse_lines());
+  for (int line = std::max(first, 0); line < end; ++line) __builtin_prefetch(line0 + 64 * line);
 }
 
 }  // namespace chromatag

@@ -2,6 +2,7 @@
 // frame, so it is the one that sets the speed on frames without tags.
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -180,7 +181,7 @@ CHROMATAG_AVX512_TARGET inline __m512i FastF(const FastALanes& l, __m512i t) {
 // number of rises; `threshold` is in FastA's units.
 CHROMATAG_AVX512_TARGET int SampleRowAvx512(const RowSampler& s, int row_bytes,
                                             const ColorTable::FastATables& tables, int threshold,
-                                            int* rises) {
+                                            int* rises, int16_t* a_out = nullptr) {
   FastALanes lanes;
   LoadFastALanes(tables, &lanes);
   // Per pair of loads p (bytes 128 p to 128 p + 127 of the block), for each
@@ -253,6 +254,7 @@ CHROMATAG_AVX512_TARGET int SampleRowAvx512(const RowSampler& s, int row_bytes,
       y = _mm512_add_epi16(y, _mm512_mulhrs_epi16(linear[c], lanes.y_weight[c]));
     }
     const __m512i a = _mm512_sub_epi16(FastF(lanes, x), FastF(lanes, y));
+    if (a_out) _mm512_storeu_si512(a_out + i, a);  // ComputedARow (tests).
     const __m512i before = _mm512_permutex2var_epi16(a, previous_index, previous);
     uint32_t mask = _mm512_cmpgt_epi16_mask(_mm512_subs_epi16(a, before), rise_threshold);
     if (i == 0) mask &= ~1u;  // The first sample has none before it.
@@ -292,6 +294,26 @@ bool RowScanPathAvailable(RowScanPath path) {
     default:
       return true;
   }
+}
+
+bool ComputedARow(const ImageView& image, const DetectorOptions& options, int y,
+                  std::vector<int16_t>* a) {
+#ifdef CHROMATAG_HAVE_AVX2_PATHS
+  if (!RowScanComputesA(options)) return false;
+  const int count = (image.width() + 3) / 4;
+  const RowSampler sampler{image.Pixel(0, y), count,   12,     image.r_offset(),
+                           image.b_offset(),  nullptr, INT_MAX};
+  std::vector<int> rises(count);
+  a->assign((count + 31) / 32 * 32, 0);
+  // The highest threshold: no rise is listed, only the values stored.
+  SampleRowAvx512(sampler, 3 * image.width(), image.table().fast_a_tables(), 32767, rises.data(),
+                  a->data());
+  a->resize(count);
+  return true;
+#else
+  (void)image, (void)options, (void)y, (void)a;
+  return false;
+#endif
 }
 
 bool RowScanComputesA(const DetectorOptions& options) {
@@ -370,7 +392,7 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
       // over the sampled rows (Detect did not stream it).
       const int row_step = options.sampled_row_step();
       const int rows = (image.height() + row_step - 1) / row_step;
-      const int per_row = (ColorTable::kCoarseLines + rows - 1) / rows;
+      const int per_row = (table.coarse_lines() + rows - 1) / rows;
       table.PrefetchCoarseLines(y / row_step * per_row, per_row);
     }
     cursor->num_rises =

@@ -1,12 +1,18 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
 
 #include "stages.h"
+
+#ifdef __linux__
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
 
 namespace chromatag::internal {
 namespace {
@@ -172,8 +178,88 @@ TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
     }
   }
   EXPECT_GE(paths_run, 2);  // kWidest and kCoarseScalar run anywhere.
+  if (!RowScanPathAvailable(RowScanPath::kComputedAAvx512)) {
+    std::printf("this CPU has no AVX-512 with VBMI: that path was not tested\n");
+  }
   EXPECT_GT(true_rises, 1000);
 }
+
+// The AVX-512 kernel computes exactly ColorTable::FastA, for every one of
+// the 16.7 million colours (a row per red and green level, one sample per
+// blue level), in both pixel orders for some red levels.
+TEST(ScanRowTest, ComputedAIsFastAForEveryColour) {
+  const ColorTable& table = ColorTable::Get();
+  DetectorOptions options;
+  options.step = 4;
+  if (!RowScanComputesA(options)) GTEST_SKIP() << "this CPU has no AVX-512 with VBMI";
+  cv::Mat image(256, 4 * 256, CV_8UC3, cv::Scalar::all(0));
+  std::vector<int16_t> a;
+  long mismatches = 0;
+  for (int red = 0; red < 256; ++red) {
+    for (PixelOrder order : {PixelOrder::kBgr, PixelOrder::kRgb}) {
+      if (order == PixelOrder::kRgb && red % 51 != 0) continue;
+      const int ri = order == PixelOrder::kBgr ? 2 : 0, bi = 2 - ri;
+      for (int green = 0; green < 256; ++green) {
+        auto* row = image.ptr<uint8_t>(green);
+        for (int blue = 0; blue < 256; ++blue) {
+          row[12 * blue + ri] = static_cast<uint8_t>(red);
+          row[12 * blue + 1] = static_cast<uint8_t>(green);
+          row[12 * blue + bi] = static_cast<uint8_t>(blue);
+        }
+      }
+      const ImageView view(image, order, table);
+      for (int green = 0; green < 256; ++green) {
+        ASSERT_TRUE(ComputedARow(view, options, green, &a));
+        ASSERT_EQ(a.size(), 256u);
+        for (int blue = 0; blue < 256; ++blue) {
+          if (a[blue] != table.FastA(red, green, blue) && ++mismatches <= 5) {
+            ADD_FAILURE() << "colour (" << red << ", " << green << ", " << blue << "): kernel "
+                          << a[blue] << ", FastA " << table.FastA(red, green, blue);
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+
+#ifdef __linux__
+// No path reads a byte past the row: each row is placed against a page
+// that may not be read, so a read past it faults (the AVX-512 path's masked
+// loads of the row's last block included).
+TEST(ScanRowTest, ReadsNothingPastTheRow) {
+  const long page = sysconf(_SC_PAGESIZE);
+  const size_t length = 2 * static_cast<size_t>(page);
+  void* memory = mmap(nullptr, length, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(memory, MAP_FAILED);
+  auto* guard = static_cast<uint8_t*>(memory) + page;
+  ASSERT_EQ(mprotect(guard, page, PROT_NONE), 0);
+  cv::RNG rng(5);
+  const ColorTable& table = ColorTable::Get();
+  int runs = 0;
+  for (RowScanPath path : {RowScanPath::kWidest, RowScanPath::kComputedAAvx512,
+                           RowScanPath::kCoarseAvx2, RowScanPath::kCoarseScalar}) {
+    if (!RowScanPathAvailable(path)) continue;
+    for (int width : {1, 2, 5, 31, 125, 128, 129, 383, 752, 1000}) {
+      uint8_t* data = guard - 3 * width;
+      cv::Mat image(1, width, CV_8UC3, data);
+      rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+      for (int step : {4, 5}) {
+        DetectorOptions options;
+        options.step = step;
+        const int count = (width + step - 1) / step;
+        std::vector<int32_t> coarse(count);
+        std::vector<int> rises(count);
+        ScanRow(ImageView(image, PixelOrder::kBgr, table), options, 0, path, coarse.data(),
+                rises.data());
+        ++runs;
+      }
+    }
+  }
+  munmap(memory, length);
+  EXPECT_GE(runs, 40);
+}
+#endif
 
 // A quad's span on a row runs between the two sides the row crosses.
 TEST(DetectedAreaTest, RowSpanOfADiamond) {

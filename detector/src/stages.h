@@ -94,6 +94,12 @@ int ComputedARiseThreshold(double adiff_thresh);
 // Whether this CPU can take `path` (kWidest and kCoarseScalar always).
 bool RowScanPathAvailable(RowScanPath path);
 
+// The computed a* (ColorTable::FastA units) of row y's samples as the
+// kComputedAAvx512 path computes them, for tests; false (and `a` left as it
+// is) where that path is not taken (RowScanComputesA).
+bool ComputedARow(const ImageView& image, const DetectorOptions& options, int y,
+                  std::vector<int16_t>* a);
+
 // Whether FindADiff computes a* (kComputedAAvx512) with these options on this
 // CPU. Then its row scan does not read the coarse a* table, and FindADiff
 // brings the table in for the later stages a few lines per sampled row

@@ -15,7 +15,7 @@
 //   the exact a*, so a rise that could exceed ADiffThresh is always re-checked
 //   with the accurate path and none is missed.
 // - the computed a*: FindADiff's AVX-512 path computes a* instead of looking
-//   it up, in 16-bit fixed point from 384 bytes of tables (FastATables):
+//   it up, in 16-bit fixed point from 448 bytes of tables (FastATables):
 //   each channel's linear light from its top six bits, X/Xn and Y as
 //   weighted sums, and f() interpolated on two ranges of one table. Within
 //   kFastAErrorBound of the accurate path for every colour (a test checks all
@@ -27,7 +27,6 @@
 #ifndef CHROMATAG_DETECTOR_COLOR_TABLE_H_
 #define CHROMATAG_DETECTOR_COLOR_TABLE_H_
 
-#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -89,19 +88,20 @@ class ColorTable {
   // The computed a* (see above), in units of 1 / kFastAUnitsPerA. FastA is
   // the scalar reference: the vector code gives the same number for every
   // colour, and |FastA / kFastAUnitsPerA - A| <= kFastAErrorBound (measured
-  // 2.65; both checked by tests).
+  // 2.646; both checked by tests over all 16.7 million colours).
   static constexpr float kFastAUnitsPerA = 16384.f / 500.f;
   static constexpr float kFastAErrorBound = 2.7f;
   struct FastATables {
-    // Linear light (1.0 is 32767) of each 8-bit value's top six bits, taken
-    // at the centre of its four values.
+    // Linear light (1.0 is 32767, so that it fits a signed word) of each
+    // 8-bit value's top six bits, taken at the centre of its four values.
     alignas(64) int16_t linear[64];
     // f() (1.0 is 16384) on t = X/Xn or Y (1.0 is 32768), with the step to
     // the next entry: entry i < 32 at t = 128 i (below 1/8, where f() is
     // steepest), entry i >= 36 at t = 1024 (i - 32); 32-35 are not used.
     alignas(64) int16_t f[64];
     alignas(64) int16_t f_step[64];
-    // Each channel's weight (1.0 is 32768) in X/Xn and in Y.
+    // Each channel's weight (1.0 is 32768) in X/Xn and in Y; each set adds
+    // up to 32768 within rounding (X/Xn: 32769).
     int16_t x_weight[3], y_weight[3];
   };
   const FastATables& fast_a_tables() const { return fast_a_; }
@@ -117,15 +117,10 @@ class ColorTable {
   // that brings it in by PrefetchCoarseLines while it works on other things.
   void Prefetch(bool coarse = true) const;
   // Hints (no waiting) that lines [first, first + count) of the coarse a*
-  // table's kCoarseLines 64-byte lines will be read soon; lines past the
+  // table's coarse_lines() cache lines will be read soon; lines past either
   // end are ignored.
-  static constexpr int kCoarseLines = (32 * 32 * 32 + 63) / 64;
-  void PrefetchCoarseLines(int first, int count) const {
-    const char* table = reinterpret_cast<const char*>(coarse_a_.data());
-    for (int line = std::max(first, 0); line < std::min(first + count, kCoarseLines); ++line) {
-      __builtin_prefetch(table + 64 * line);
-    }
-  }
+  void PrefetchCoarseLines(int first, int count) const;
+  int coarse_lines() const;
 
   size_t memory_bytes() const {
     return sizeof(xyz_) + sizeof(f_) + coarse_a_.size() + sizeof(fast_a_);
