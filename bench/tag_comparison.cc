@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "chromatag/bench/comparison.h"
+#include "chromatag/bench/prints.h"
 #include "chromatag/detector/config.h"
 
 namespace {
@@ -223,6 +224,9 @@ int main(int argc, char** argv) {
                  "ChromaTag's options from a detector config JSON (as 'chromatag detect "
                  "--config'); the set's families replace any it names");
   app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
+  bool skip_calibrated = false;
+  app.add_flag("--skip-calibrated", skip_calibrated,
+               "camera set: do not calibrate for each print and run ChromaTag with those configs");
   app.add_option("--dump-misses", dump_dir,
                  "also write each frame whose tag ChromaTag missed to this folder, as PNG with a "
                  "JSON of its truth and Table 4(b)'s reason");
@@ -267,6 +271,30 @@ int main(int argc, char** argv) {
     std::cerr << "tag_comparison: " << error << "\n";
     return config.empty() ? 1 : 2;
   }
+  // The camera set's prints, each with the config calibrated for it.
+  std::vector<std::unique_ptr<ChromaTagDetector>> calibrated_owned;
+  CalibratedDetectors calibrated{};
+  std::vector<std::pair<std::string, chromatag::DetectorOptions>> calibrated_options;
+  if (kind == DatasetKind::kCamera && !skip_calibrated) {
+    std::cerr << "tag_comparison: calibrating for each print\n";
+    for (int k = 0; k < kNumPrintKinds; ++k) {
+      const PrintKind print = static_cast<PrintKind>(k);
+      auto options = CalibratedOptions(print, &error);
+      if (!options) {
+        std::cerr << "tag_comparison: calibration for " << PrintKindName(print) << ": " << error
+                  << "\n";
+        return 1;
+      }
+      options->families = families;
+      calibrated_owned.push_back(ChromaTagDetector::CreateWithOptions(*options, &error));
+      if (!calibrated_owned.back()) {
+        std::cerr << "tag_comparison: " << error << "\n";
+        return 1;
+      }
+      calibrated[k] = calibrated_owned.back().get();
+      calibrated_options.emplace_back(PrintKindName(print), *options);
+    }
+  }
   std::unique_ptr<TagDetector> apriltag, aruco;
   if (all_detectors) {
     apriltag = MakeAprilTagDetector(families, &error);
@@ -288,16 +316,17 @@ int main(int argc, char** argv) {
   const std::string load_before = LoadAverage();
   const bool terminal = isatty(STDERR_FILENO);
   int reported = 0;
-  const auto records = RunComparison(*dataset, *chromatag, apriltag.get(), aruco.get(), run_options,
-                                     &times, [&](int done, int total) {
-                                       if (terminal) {
-                                         std::cerr << "\r  " << done << " / " << total << " frames"
-                                                   << std::flush;
-                                       } else if (done * 10 / total > reported || done == total) {
-                                         reported = done * 10 / total;
-                                         std::cerr << "  " << done << " / " << total << " frames\n";
-                                       }
-                                     });
+  const auto records = RunComparison(
+      *dataset, *chromatag, apriltag.get(), aruco.get(), run_options, &times,
+      [&](int done, int total) {
+        if (terminal) {
+          std::cerr << "\r  " << done << " / " << total << " frames" << std::flush;
+        } else if (done * 10 / total > reported || done == total) {
+          reported = done * 10 / total;
+          std::cerr << "  " << done << " / " << total << " frames\n";
+        }
+      },
+      calibrated);
   if (terminal) std::cerr << "\n";
 
   ReportInfo info;
@@ -317,6 +346,7 @@ int main(int argc, char** argv) {
   info.photos = dataset->photos();
   info.times = times;
   info.active = {true, all_detectors, all_detectors};
+  info.calibrated = calibrated_options;
   std::string markdown;
   if (!WriteReport(records, info, out_dir, &markdown, &error)) {
     std::cerr << "tag_comparison: " << error << "\n";

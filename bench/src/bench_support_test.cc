@@ -16,7 +16,9 @@
 #include "chromatag/bench/miss_analysis.h"
 #include "chromatag/bench/pair_timing.h"
 #include "chromatag/bench/plot.h"
+#include "chromatag/bench/prints.h"
 #include "chromatag/families/family.h"
+#include "chromatag/families/palette.h"
 
 namespace chromatag::bench {
 namespace {
@@ -47,7 +49,7 @@ std::vector<Frame> EasyFrames(int count) {
     const FrameTruth& t = frame.truth;
     if (!t.has_tags || t.condition != ColorCondition::kWhiteBalanced) continue;
     if (std::min(t.chromatag.size_px, t.apriltag.size_px) < 60) continue;
-    if (std::max(t.chromatag.view_angle_deg, t.apriltag.view_angle_deg) > 40) continue;
+    if (std::max(t.chromatag.view_angle_deg, t.apriltag.view_angle_deg) > 35) continue;
     if (t.motion_blur_px > 0) continue;
     frames.push_back(std::move(frame));
   }
@@ -195,7 +197,7 @@ TEST(DatasetTest, TruthCornersFrameTheRenderedTags) {
 const Dataset& CameraDataset() {
   static const std::unique_ptr<Dataset> dataset = [] {
     DatasetOptions options = DatasetOptions::ForKind(DatasetKind::kCamera);
-    options.num_frames = 400;
+    options.num_frames = 2000;  // Truth() is cheap; EasyCameraFrames needs the choice.
     options.seed = 7;
     std::string error;
     auto d = Dataset::Create(options, &error);
@@ -216,7 +218,8 @@ std::vector<Frame> EasyCameraFrames(const std::string& family, int count) {
   for (int i = 0; i < dataset.options().num_frames && static_cast<int>(frames.size()) < count;
        ++i) {
     const FrameTruth t = dataset.Truth(i);
-    if (!t.has_tags || t.family != family || t.motion_blur_px > 0 || t.blur_sigma_px > 0.6) {
+    if (!t.has_tags || t.family != family || t.motion_blur_px > 0 || t.blur_sigma_px > 0.6 ||
+        (t.print != PrintKind::kDefault && t.print != PrintKind::kDefaultPress)) {
       continue;
     }
     if (std::min(t.chromatag.size_px, t.apriltag.size_px) < 50) continue;
@@ -317,6 +320,68 @@ TEST(ComparisonTest, ChromaTagIsAlsoTimedAloneWhenOthersRun) {
   }
 }
 
+// Each print's shades as printed (CIELAB of the rendered sRGB), index Shade.
+std::array<Lab, kNumShades> PrintedLabs(PrintKind kind) {
+  std::string error;
+  const Printer printer = MakePrinter(kind, &error);
+  EXPECT_TRUE(printer) << error;
+  const TagColors colors = PrintedTagColors(kind, printer);
+  std::array<Lab, kNumShades> labs;
+  for (Shade s : kAllShades) labs[static_cast<int>(s)] = SrgbToLab(ToRgb8(colors[s]));
+  return labs;
+}
+
+TEST(PrintsTest, EachPrintWashesThePaletteOutAsDocumented) {
+  const auto exact = PrintedLabs(PrintKind::kIccv17);
+  const auto faded = PrintedLabs(PrintKind::kIccv17Faded);
+  const Palette iccv17 = *BuiltinPalette("iccv17");
+  for (Shade s : {Shade::kRed1, Shade::kRed0, Shade::kGreen1, Shade::kGreen0}) {
+    const int i = static_cast<int>(s);
+    // The file's colours within 8-bit rounding, then a* and b* x 0.8.
+    EXPECT_NEAR(exact[i].a, iccv17[s].a, 1.0) << i;
+    EXPECT_NEAR(exact[i].b, iccv17[s].b, 1.0) << i;
+    EXPECT_NEAR(faded[i].a, kFadedChroma * exact[i].a, 1.0) << i;
+    EXPECT_NEAR(faded[i].b, kFadedChroma * exact[i].b, 1.0) << i;
+  }
+  // Ink's black and the paper are no darker than L* 14 and no whiter than 95.
+  EXPECT_NEAR(exact[static_cast<int>(Shade::kBlack)].L, 14.0, 0.6);
+  EXPECT_NEAR(exact[static_cast<int>(Shade::kWhite)].L, 95.0, 0.6);
+  // The press desaturates the default palette's reds and greens.
+  const auto file = PrintedLabs(PrintKind::kDefault);
+  const auto press = PrintedLabs(PrintKind::kDefaultPress);
+  const int red = static_cast<int>(Shade::kRed1), green = static_cast<int>(Shade::kGreen1);
+  EXPECT_LT(press[red].a - press[green].a, file[red].a - file[green].a - 5.0);
+}
+
+TEST(PrintsTest, CalibratedRunsOnEachPrintsFramesAndEveryTagFreeFrame) {
+  DatasetOptions options = DatasetOptions::ForKind(DatasetKind::kCamera);
+  options.num_frames = 16;
+  std::string error;
+  const auto dataset = Dataset::Create(options, &error);
+  ASSERT_NE(dataset, nullptr) << error;
+  auto chromatag = ChromaTagDetector::Create({"16h5", "36h11"}, &error);
+  ASSERT_TRUE(chromatag) << error;
+  // Only iccv17's calibrated detector: the other prints' frames stay unrun.
+  const auto calibrated_options = CalibratedOptions(PrintKind::kIccv17, &error);
+  ASSERT_TRUE(calibrated_options) << error;
+  EXPECT_TRUE(calibrated_options->IsValid(&error)) << error;
+  DetectorOptions o = *calibrated_options;
+  o.families = {"16h5", "36h11"};
+  auto calibrated = ChromaTagDetector::CreateWithOptions(o, &error);
+  ASSERT_TRUE(calibrated) << error;
+  CalibratedDetectors detectors{};
+  detectors[static_cast<int>(PrintKind::kIccv17)] = calibrated.get();
+  const auto records =
+      RunComparison(*dataset, *chromatag, nullptr, nullptr, RunOptions{}, nullptr, {}, detectors);
+  int ran = 0;
+  for (const FrameRecord& r : records) {
+    const bool expected = !r.truth.has_tags || r.truth.print == PrintKind::kIccv17;
+    EXPECT_EQ(r.calibrated.ran, expected) << r.truth.index;
+    ran += r.calibrated.ran && r.truth.has_tags ? 1 : 0;
+  }
+  EXPECT_GT(ran, 0);
+}
+
 TEST(CameraSetTest, SameSeedSamePixelsAnyOrder) {
   DatasetOptions options = CameraDataset().options();
   std::string error;
@@ -340,7 +405,8 @@ TEST(CameraSetTest, SameSeedSamePixelsAnyOrder) {
 TEST(CameraSetTest, EveryConditionOccurs) {
   std::map<std::string, int> families, casts;
   std::array<int, 3> quiet{}, bayer{};
-  int tag_free = 0, jpeg = 0, shaken = 0;
+  std::array<int, kNumPrintKinds> prints{};
+  int tag_free = 0, jpeg = 0, shaken = 0, dim = 0;
   GeometrySpan span;
   const auto family16 = TagFamily::Load("16h5"), family36 = TagFamily::Load("36h11");
   for (int i = 0; i < 400; ++i) {
@@ -351,7 +417,8 @@ TEST(CameraSetTest, EveryConditionOccurs) {
     jpeg += t.jpeg_quality > 0 ? 1 : 0;
     shaken += t.motion_blur_px > 0 ? 1 : 0;
     EXPECT_TRUE(t.jpeg_quality == 0 || (t.jpeg_quality >= 60 && t.jpeg_quality <= 95));
-    EXPECT_TRUE(t.exposure >= 0.5 && t.exposure <= 1.5);
+    EXPECT_TRUE(t.exposure >= 0.3 && t.exposure <= 1.5);
+    dim += t.exposure < 0.5 ? 1 : 0;
     EXPECT_TRUE(t.tone_gamma >= 0.75 && t.tone_gamma <= 1.35);
     if (!t.has_tags) {  // No truth at all.
       ++tag_free;
@@ -368,7 +435,7 @@ TEST(CameraSetTest, EveryConditionOccurs) {
     EXPECT_EQ(t.apriltag.family, t.family);
     EXPECT_EQ(t.chromatag.id, t.apriltag.id);
     EXPECT_TRUE((t.family == "16h5" ? family16 : family36)->IsValidId(t.chromatag.id));
-    EXPECT_TRUE(t.print_chroma >= 0.75 && t.print_chroma <= 1.0);
+    ++prints[static_cast<int>(t.print)];
     EXPECT_TRUE(t.gradient >= 1.0 && t.gradient <= 1.6);
     span.Add(t, i);
   }
@@ -385,6 +452,8 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   EXPECT_GT(jpeg, 120);  // About 40 %.
   EXPECT_LT(jpeg, 200);
   EXPECT_GT(shaken, 60);  // About 25 %.
+  EXPECT_GT(dim, 40);     // About a sixth below half the light.
+  for (int k = 0; k < kNumPrintKinds; ++k) EXPECT_GT(prints[k], 50) << k;  // A quarter each.
   EXPECT_LT(span.min_size, 16);
   EXPECT_GT(span.max_size, 180);
   EXPECT_GT(span.max_angle, 65);

@@ -32,10 +32,11 @@ constexpr int kNumCasts = sizeof(kCasts) / sizeof(kCasts[0]);
 // residual of a white balance).
 constexpr double kCastJitter = 0.04;
 
-constexpr double kMinExposure = 0.5, kMaxExposure = 1.5;
+// Light on the card: exposure times light level, 1 for paper white at the
+// encoding's white; dim rooms and short exposures give 0.3.
+constexpr double kMinExposure = 0.3, kMaxExposure = 1.5;
 constexpr double kMaxGradient = 1.6;  // Brightest over darkest light on the card.
 constexpr double kMinToneGamma = 0.75, kMaxToneGamma = 1.35;
-constexpr double kMinPrintChroma = 0.75, kMaxPrintChroma = 1.0;
 constexpr double kMaxBlurSigma = 1.5;  // Pixels.
 constexpr double kMotionShare = 0.25;  // Frames with motion blur of 1-5 px.
 // Shot noise: sigma^2 = v * k, with k such that linear mid-grey (0.18) has
@@ -70,7 +71,7 @@ void DrawConditions(Rng& rng, CameraPlan* plan) {
   truth->gradient = rng.Uniform(1.0, kMaxGradient);
   plan->gradient_angle = rng.Uniform(0.0, 2 * kPi);
   truth->tone_gamma = rng.Uniform(kMinToneGamma, kMaxToneGamma);
-  truth->print_chroma = rng.Uniform(kMinPrintChroma, kMaxPrintChroma);
+  truth->print = static_cast<PrintKind>(rng.Index(kNumPrintKinds));
   truth->blur_sigma_px = rng.Uniform(0.0, kMaxBlurSigma);
   const bool shake = rng.Uniform() < kMotionShare;
   const double length = rng.Uniform(1.0, 5.0);
@@ -287,7 +288,7 @@ Frame Dataset::Impl::RenderCamera(int index) const {
     if (!footprint.roi.empty()) {
       const int ppc =
           std::clamp(static_cast<int>(std::ceil(footprint.needed_ppc)), 2, kMaxPixelsPerCell);
-      const TagColors colors = PrintedColors(palette, plan.truth.print_chroma);
+      const TagColors& colors = printed_colors[static_cast<int>(plan.truth.print)];
       const cv::Mat cells = CardCells(*plan.family->family, plan.id, colors,
                                       plan.family->april_pictures[plan.id], plan.layout);
       const cv::Mat sheet = WarpSheet(CardTexture(cells, ppc, srgb_to_linear), ppc, plan.camera,

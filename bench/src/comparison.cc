@@ -41,7 +41,8 @@ uint64_t TouchFrame(const cv::Mat& image) {
 std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
                                        TagDetector* apriltag, TagDetector* aruco,
                                        const RunOptions& options, RunTimes* times,
-                                       const std::function<void(int, int)>& progress) {
+                                       const std::function<void(int, int)>& progress,
+                                       const CalibratedDetectors& calibrated) {
   const int total = dataset.options().num_frames;
   std::array<TagDetector*, kNumDetectors> detectors = {&chromatag, apriltag, aruco};
   std::vector<FrameRecord> records(total);
@@ -100,6 +101,28 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
     }
     local.detect_s += Seconds(detect_start, Clock::now());
     const auto analysis_start = Clock::now();
+    for (int i = 0; i < count; ++i) {
+      FrameRecord& record = records[first + i];
+      const FrameTruth& truth = record.truth;
+      if (truth.has_tags) {
+        ChromaTagDetector* detector = calibrated[static_cast<int>(truth.print)];
+        if (!detector) continue;
+        detector->Detect(frames[i].bgr, &found);
+        record.calibrated.ran = true;
+        record.calibrated.num_found = static_cast<int>(found.size());
+        record.calibrated.score = ScoreFrame(found, &truth.chromatag, &truth.apriltag);
+        continue;
+      }
+      // A tag-free frame has no print: every calibrated config must find nothing.
+      for (ChromaTagDetector* detector : calibrated) {
+        if (!detector) continue;
+        detector->Detect(frames[i].bgr, &found);
+        record.calibrated.ran = true;
+        record.calibrated.num_found += static_cast<int>(found.size());
+        record.calibrated.score.false_positives +=
+            ScoreFrame(found, nullptr, nullptr).false_positives;
+      }
+    }
     for (int i = 0; i < count; ++i) {
       FrameRecord& record = records[first + i];
       if (record.truth.has_tags && !record.detectors[kChromaTag].score.found) {

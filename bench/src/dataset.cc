@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "chromatag/bench/prints.h"
 #include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/palette.h"
@@ -120,6 +121,24 @@ std::vector<std::string> DatasetFamilies(DatasetKind kind) {
   return {"16h5"};
 }
 
+const char* PrintKindName(PrintKind kind) {
+  switch (kind) {
+    case PrintKind::kDefault:
+      return "default";
+    case PrintKind::kDefaultPress:
+      return "default-press";
+    case PrintKind::kIccv17:
+      return "iccv17";
+    case PrintKind::kIccv17Faded:
+      return "iccv17-faded";
+  }
+  return "?";
+}
+
+const char* PrintKindPalette(PrintKind kind) {
+  return kind == PrintKind::kDefault || kind == PrintKind::kDefaultPress ? "default" : "iccv17";
+}
+
 const char* BayerModeName(BayerMode mode) {
   switch (mode) {
     case BayerMode::kNone:
@@ -187,7 +206,6 @@ std::unique_ptr<Dataset> Dataset::Create(const DatasetOptions& options, std::str
   if (!impl->family) return nullptr;
   const auto palette = BuiltinPalette(options.palette, error);
   if (!palette) return nullptr;
-  impl->palette = *palette;
   for (const char* name : kPhotoNames) {
     const std::filesystem::path path = std::filesystem::path(options.photo_dir) / name;
     cv::Mat photo = cv::imread(path.string(), cv::IMREAD_COLOR);
@@ -212,6 +230,12 @@ std::unique_ptr<Dataset> Dataset::Create(const DatasetOptions& options, std::str
   }
   if (options.kind == DatasetKind::kCamera) {
     if (!impl->LoadCameraFamilies(error)) return nullptr;
+    for (int k = 0; k < kNumPrintKinds; ++k) {
+      const PrintKind kind = static_cast<PrintKind>(k);
+      const Printer printer = MakePrinter(kind, error);
+      if (!printer) return nullptr;
+      impl->printed_colors[k] = PrintedTagColors(kind, printer);
+    }
     return std::unique_ptr<Dataset>(new Dataset(std::move(impl)));
   }
   const TagColors colors = PrintedColors(*palette, kPrintChroma);

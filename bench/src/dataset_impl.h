@@ -159,8 +159,8 @@ struct Dataset::Impl {
   std::vector<float> srgb_to_linear;    // 256 entries.
   std::vector<uint8_t> linear_to_srgb;  // 4096 entries over [0, 1].
   // Camera set.
-  Palette palette;
-  std::array<CameraFamily, 2> camera_families;  // 16h5, 36h11.
+  std::array<TagColors, kNumPrintKinds> printed_colors;  // By PrintKind.
+  std::array<CameraFamily, 2> camera_families;           // 16h5, 36h11.
 
   cv::Mat LinearBackground(int photo, Rng& rng) const;
   // Classic set.

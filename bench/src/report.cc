@@ -470,12 +470,12 @@ bool WriteCsv(const Context& c) {
   out << "index,condition,has_tags,id,photo,exposure,blur_sigma_px,motion_blur_px,noise_sigma,"
          "jpeg_quality,chromatag_size_px,chromatag_angle_deg,apriltag_size_px,apriltag_angle_deg,"
          "set,family,quiet_zone_cells,cast,gradient,tone_gamma,print_chroma,shot_snr,read_noise,"
-         "bayer";
+         "bayer,print";
   const char* keys[] = {"chromatag", "apriltag", "aruco"};
   for (const char* key : keys) {
     out << "," << key << "_us," << key << "_found," << key << "_false," << key << "_corner_px";
   }
-  out << ",chromatag_alone_us";
+  out << ",chromatag_alone_us,calibrated_found,calibrated_false";
   for (int s = 0; s < kNumStages; ++s) out << ",us_" << StageName(static_cast<Stage>(s));
   for (int s = 0; s < kNumStages; ++s) out << ",rejected_" << StageName(static_cast<Stage>(s));
   out << ",seeds,chromatag_miss_stage,chromatag_miss_reason\n";
@@ -488,7 +488,7 @@ bool WriteCsv(const Context& c) {
         << t.apriltag.size_px << "," << t.apriltag.view_angle_deg << "," << DatasetKindName(t.kind)
         << "," << t.family << "," << t.quiet_zone_cells << "," << t.cast << "," << t.gradient << ","
         << t.tone_gamma << "," << t.print_chroma << "," << t.shot_snr << "," << t.read_noise << ","
-        << BayerModeName(t.bayer);
+        << BayerModeName(t.bayer) << "," << PrintKindName(t.print);
     for (const DetectorRecord& d : r.detectors) {
       double mean = 0;
       for (double e : d.score.corner_error_px) mean += e / 4;
@@ -501,6 +501,11 @@ bool WriteCsv(const Context& c) {
     }
     out << ",";
     if (!std::isnan(r.chromatag_alone_us)) out << r.chromatag_alone_us;
+    out << ",";
+    if (r.calibrated.ran)
+      out << r.calibrated.score.found << "," << r.calibrated.score.false_positives;
+    else
+      out << ",";
     for (double us : r.chromatag_summary.stage_time_us) out << "," << us;
     for (int n : r.chromatag_summary.rejected) out << "," << n;
     out << "," << r.chromatag_summary.seeds << ",";
@@ -545,6 +550,7 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
       << FailureTable(c) << "\n"
       << figures << "\n"
       << FamilyRecallSection(c) << "\n"
+      << PrintRecallSection(c) << "\n"
       << ConditionRecallSection(c) << "\n"
       << CornerTable(c) << "\n"
       << FalseDetectionTable(c);

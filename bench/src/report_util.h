@@ -80,6 +80,7 @@ struct Context {
 // Sections of the report that break recall down (report_breakdown.cc).
 std::string FamilyRecallSection(const Context& c);
 std::string ConditionRecallSection(const Context& c);
+std::string PrintRecallSection(const Context& c);  // Camera set only; empty otherwise.
 std::string TargetsSection(const Context& c);  // Camera set only; empty otherwise.
 std::string MissTable(const Context& c);       // Table 4(b), from the miss analysis.
 

@@ -14,6 +14,7 @@
 #include "chromatag/bench/dataset.h"
 #include "chromatag/bench/metrics.h"
 #include "chromatag/detector/detection.h"
+#include "chromatag/detector/options.h"
 
 namespace chromatag::bench {
 
@@ -39,7 +40,15 @@ struct FrameRecord {
   // detectors[kChromaTag].time_us already is that.
   double chromatag_alone_us = std::numeric_limits<double>::quiet_NaN();
   MissCause chromatag_miss;  // Why ChromaTag missed its tag, if it did.
+  // ChromaTag with the config calibrated for the frame's print
+  // (CalibratedDetectors), untimed; ran = false when not run.
+  DetectorRecord calibrated;
 };
+
+// ChromaTag with the detector config `chromatag calibrate` derives for each
+// print of the camera set (CalibratedOptions in prints.h), by PrintKind;
+// each runs on the frames of its print. Null entries are not run.
+using CalibratedDetectors = std::array<ChromaTagDetector*, kNumPrintKinds>;
 
 struct RunOptions {
   int render_threads = 2;  // Frames are rendered in parallel...
@@ -58,11 +67,14 @@ struct RunTimes {
 // as the other two left them, as in a pipeline that does other work between frames. With the
 // other detectors, ChromaTag is also timed on each chunk alone (FrameRecord::chromatag_alone_us).
 // `apriltag` and `aruco` may be null (a ChromaTag-only run; their records then say ran = false).
-// `progress(done, total)` is called after each chunk (may be empty).
+// `progress(done, total)` is called after each chunk (may be empty). The
+// `calibrated` detectors run after the timed loop, on the frames with tags
+// of their print (FrameRecord::calibrated).
 std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
                                        TagDetector* apriltag, TagDetector* aruco,
                                        const RunOptions& options, RunTimes* times,
-                                       const std::function<void(int, int)>& progress = {});
+                                       const std::function<void(int, int)>& progress = {},
+                                       const CalibratedDetectors& calibrated = {});
 
 // Frames [first, first + count) of `dataset`, rendered on `threads` threads.
 std::vector<Frame> RenderFrames(const Dataset& dataset, int first, int count, int threads);
@@ -85,6 +97,8 @@ struct ReportInfo {
   RunTimes times;
   std::array<std::string, kNumDetectors> names = {"ChromaTag", "AprilTag 3", "OpenCV ArUco"};
   std::array<bool, kNumDetectors> active = {true, true, true};  // Which ones ran.
+  // The configs of CalibratedDetectors, by print name; empty when not run.
+  std::vector<std::pair<std::string, DetectorOptions>> calibrated;
 };
 
 // Writes report.md, the PNG figures and frames.csv into `out_dir` (which

@@ -12,12 +12,14 @@
 //   70-95 on every frame. Kinder than a camera; kept pixel-identical.
 // - "camera" (issue 10): as hard as real cameras. 16h5 and 36h11 on
 //   alternate frames, a 1-cell quiet zone on 40 % of the cards, sizes of
-//   about 12-250 px, exposure x0.5-1.5 with light falling off across the card
-//   by up to 1.6x, six colour casts (uncorrected white balance), inks at
-//   75-100 % of the file's chroma, a tone curve on top of sRGB, optical and
-//   motion blur, shot and read noise in linear light, an RGGB Bayer mosaic
-//   demosaiced by OpenCV on a third of the frames, and JPEG 60-95 with 4:2:0
-//   chroma on 40 %. A quarter of the frames hold no tag.
+//   about 12-250 px, the tags printed four ways (PrintKind: the default
+//   palette exactly and through a CMYK press, the paper's iccv17 shades and
+//   those faded further), light on the card of x0.3-1.5 (exposure times
+//   light level) falling off across it by up to 1.6x, six colour casts
+//   (uncorrected white balance), a tone curve on top of sRGB,
+//   optical and motion blur, shot and read noise in linear light, an RGGB
+//   Bayer mosaic demosaiced by OpenCV on a third of the frames, and JPEG
+//   60-95 with 4:2:0 chroma on 40 %. A quarter of the frames hold no tag.
 //
 // Every frame is a pure function of (options, index): frames may be rendered
 // in any order and on any thread, and the same seed gives the same pixels.
@@ -58,6 +60,23 @@ enum class BayerMode { kNone = 0, kBilinear = 1, kEdgeAware = 2 };
 inline constexpr int kNumBayerModes = 3;
 const char* BayerModeName(BayerMode mode);  // "none", "bilinear", "edge-aware"
 
+// How the camera set's ChromaTags were printed: a palette and what the
+// printer did to it. Printers wash colours out; the iccv17 shades are what
+// the paper's authors measured on their own prints (spec section 6).
+enum class PrintKind {
+  kDefault = 0,       // The default palette, printed as its file says.
+  kDefaultPress = 1,  // The default palette through a CMYK SWOP press (Ghostscript's
+                      // default_cmyk.icc applied with LittleCMS, as the tests' IccPress).
+  kIccv17 = 2,        // The iccv17 palette as its file says.
+  kIccv17Faded = 3,   // The iccv17 palette with a* and b* scaled by kFadedChroma.
+};
+inline constexpr int kNumPrintKinds = 4;
+inline constexpr double kFadedChroma = 0.8;
+// "default", "default-press", "iccv17", "iccv17-faded".
+const char* PrintKindName(PrintKind kind);
+// The built-in palette the tags of `kind` were generated in.
+const char* PrintKindPalette(PrintKind kind);
+
 struct DatasetOptions {
   // Which set; see the top of this file. The defaults below are the classic
   // set's; ForKind gives each set's own.
@@ -78,7 +97,8 @@ struct DatasetOptions {
   double focal_px = 640.0;  // About a 60 degree horizontal field of view.
   // Folder of natural photographs (Debian's opencv-doc).
   std::string photo_dir = "/usr/share/doc/opencv-doc/examples/data";
-  // Built-in palette the ChromaTags are printed with.
+  // Built-in palette the classic set's ChromaTags are printed with (the
+  // camera set's follow PrintKind).
   std::string palette = "default";
   // Each output pixel averages supersampling^2 samples (antialiased edges).
   int supersampling = 3;
@@ -117,12 +137,13 @@ struct FrameTruth {
   std::string photo;  // File name of the background photograph.
   // How the frame was made, for the per-frame record. The classic set fills
   // the fields it has: cast "neutral" or "tungsten", tone gamma 1, print
-  // chroma 0.85, noise_sigma only.
-  std::string cast = "neutral";  // neutral, tungsten, cool, cyan, green, magenta.
+  // chroma 0.85 of DatasetOptions::palette, noise_sigma only.
+  PrintKind print = PrintKind::kDefault;  // Camera set, frames with tags.
+  std::string cast = "neutral";           // neutral, tungsten, cool, cyan, green, magenta.
   double exposure = 1.0;
   double gradient = 1.0;       // Light on the card, brightest over darkest.
   double tone_gamma = 1.0;     // Exponent applied to the sRGB-encoded value.
-  double print_chroma = 1.0;   // Ink chroma as a share of the file's.
+  double print_chroma = 1.0;   // Classic: ink chroma as a share of the file's.
   double blur_sigma_px = 0.0;  // Gaussian, in linear light.
   double motion_blur_px = 0.0;
   double noise_sigma = 0.0;  // Classic: Gaussian noise on the 8-bit values, levels.
