@@ -81,8 +81,8 @@ struct Context {
 std::string FamilyRecallSection(const Context& c);
 std::string ConditionRecallSection(const Context& c);
 std::string PrintRecallSection(const Context& c);  // Camera set only; empty otherwise.
-std::string TargetsSection(const Context& c);  // Camera set only; empty otherwise.
-std::string MissTable(const Context& c);       // Table 4(b), from the miss analysis.
+std::string TargetsSection(const Context& c);      // Camera set only; empty otherwise.
+std::string MissTable(const Context& c);           // Table 4(b), from the miss analysis.
 
 }  // namespace chromatag::bench
 
