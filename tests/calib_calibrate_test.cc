@@ -2,8 +2,10 @@
 // that find washed-out tags, a LUT that corrects the printer, a palette
 // chosen from the candidates, and photos that must be refused.
 #include <gtest/gtest.h>
+
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -135,6 +137,36 @@ TEST(CalibCalibrateTest, MaxGreenAFollowsTheGreensMeasuredA) {
   ThresholdOptions careful;
   careful.safety_factor = 3.0;
   EXPECT_DOUBLE_EQ(DeriveThresholds({cast}, careful).options.max_green_a, 16.0);
+}
+
+// ADiffThresh: the a* gap as it would be in a third of the photos' light
+// (a* follows the cube root of the light), over the safety factor; never
+// above the detector's default, nor is the decision margin: a stricter
+// config would lose tags in dimmer light than the photos'.
+TEST(CalibCalibrateTest, ThresholdsAllowForDimmerLightAndNeverExceedTheDefaults) {
+  Margins washed;
+  washed.a_gap = 40.0;
+  washed.max_green_a = -10.0;
+  washed.red_decision = washed.green_decision = 2.4;
+  const DetectorOptions d = DeriveThresholds({washed}).options;
+  EXPECT_NEAR(d.adiff_thresh, std::round(40.0 * std::cbrt(0.3) / 2.0 * 10.0) / 10.0, 1e-9);
+  EXPECT_DOUBLE_EQ(d.min_decision_margin, 1.2);
+  ThresholdOptions bright;
+  bright.dimmest_light = 1.0;
+  EXPECT_DOUBLE_EQ(DeriveThresholds({washed}, bright).options.adiff_thresh, 20.0);
+
+  Margins vivid = washed;
+  vivid.a_gap = 115.0;
+  vivid.red_decision = vivid.green_decision = 30.0;
+  const DetectorOptions v = DeriveThresholds({vivid}).options;
+  EXPECT_DOUBLE_EQ(v.adiff_thresh, DetectorOptions{}.adiff_thresh);
+  EXPECT_DOUBLE_EQ(v.min_decision_margin, DetectorOptions{}.min_decision_margin);
+
+  std::string error;
+  ThresholdOptions bad;
+  bad.dimmest_light = 0.0;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_NE(error.find("dimmest light"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ DetectorOptions DeriveOptions(const Margins& w, const ThresholdOptions& o,
                               std::vector<std::string>* warnings) {
   const double s = o.safety_factor;
   DetectorOptions d;
-  d.adiff_thresh = std::clamp(w.a_gap / s, o.min_adiff, o.max_adiff);
+  d.adiff_thresh = std::clamp(w.a_gap * std::cbrt(o.dimmest_light) / s, o.min_adiff, o.max_adiff);
   // BorderThresh must stay above the a* step between two shades of one
   // colour (with the safety factor) plus twice the pixel noise (the scan
   // needs M pixels in a row past it, so rarer noise does not count), or the
@@ -124,6 +124,10 @@ void RoundToTenths(DetectorOptions* d) {
 bool ThresholdOptions::IsValid(std::string* error) const {
   if (!(safety_factor >= 1 && safety_factor <= 10)) {
     if (error) *error = "safety factor must be in [1, 10]";
+    return false;
+  }
+  if (!(dimmest_light > 0 && dimmest_light <= 1)) {
+    if (error) *error = "dimmest light must be in (0, 1] (a share of the photos' light)";
     return false;
   }
   if (!(min_adiff > 0 && max_adiff >= min_adiff && max_adiff <= 200 && min_border > 0 &&

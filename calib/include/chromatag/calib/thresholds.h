@@ -65,14 +65,23 @@ struct ThresholdOptions {
   // margin (ADiffThresh = a* gap / factor, ...). [1, 10]. 2 leaves room for
   // light, angle and blur the calibration photos did not see.
   double safety_factor = 2.0;
-  // Bounds for the derived values.
+  // The dimmest light, as a share of the calibration photos', in which the
+  // tags must still be found. (0, 1]. a* scales with the cube root of the
+  // light (CIELAB), so ADiffThresh is derived from the a* gap times
+  // cbrt(dimmest_light): 0.3 keeps 0.67 of it, as in a dim room.
+  double dimmest_light = 0.3;
+  // Bounds for the derived values. ADiffThresh and the decision margin are
+  // never raised above the detector's defaults: a higher ADiffThresh only
+  // saves candidates and loses tags in dimmer light than the photos', and
+  // a higher margin loses small and blurred tags (blur lowers the margins
+  // the detector sees well below what a sharp photo of a patch shows)
+  // without fewer wrong IDs (decode.cc's checks keep those out at the
+  // default).
   double min_adiff = 4.0;
-  double max_adiff = 60.0;
+  double max_adiff = DetectorOptions{}.adiff_thresh;
   double min_border = 3.0;
   double min_decision_margin = 1.0;
-  // Never above this: blur on small tags lowers the margins the detector
-  // sees well below what a sharp photo of a patch shows.
-  double max_decision_margin = 3.0;
+  double max_decision_margin = DetectorOptions{}.min_decision_margin;
   // Below these the margin is reported as too thin to be trusted.
   double thin_adiff = 10.0;    // ADiffThresh: natural scenes seed near this.
   double thin_b_gap = 8.0;     // b* units between two shades.
