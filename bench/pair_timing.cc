@@ -1,9 +1,9 @@
 // ChromaTag's time with its default options and with one of them switched
-// off, paired frame by frame after AprilTag 3 and ArUco (pair_timing.h): how
-// much a part of the detector costs or saves under the comparison's
-// conditions, free of the machine's drift between runs.
+// off (or on), paired frame by frame after AprilTag 3 and ArUco
+// (pair_timing.h): how much a part of the detector costs or saves under the
+// comparison's conditions, free of the machine's drift between runs.
 //
-//   pair_timing [--set camera|classic] [--frames N] [--seed S] --off OPTION
+//   pair_timing [--set camera|classic] [--frames N] [--seed S] (--off OPTION | --on OPTION)
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "ChromaTag's time with its defaults and with one option off, paired frame by frame "
       "after AprilTag 3 and ArUco"};
-  std::string set = "camera", off;
+  std::string set = "camera", off, on;
   int frames = 1500;
   uint64_t seed = 1;
   app.add_option("--set", set, "data set (as tag_comparison)")
@@ -33,14 +33,22 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 1'000'000))
       ->capture_default_str();
   app.add_option("--seed", seed, "data set seed")->capture_default_str();
-  app.add_option("--off", off, "the DetectorOptions switch that the second setting turns off")
-      ->required()
-      ->check(CLI::IsMember({"quads_from_scans", "grow_regions", "refine_corners"}));
+  auto* off_option =
+      app.add_option("--off", off, "the DetectorOptions switch that the second setting turns off")
+          ->check(CLI::IsMember({"quads_from_scans", "grow_regions", "refine_corners"}));
+  auto* on_option =
+      app.add_option("--on", on, "the DetectorOptions switch that the second setting turns on")
+          ->check(CLI::IsMember({"two_step_rises"}));
+  off_option->excludes(on_option);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help.
     std::cerr << "pair_timing: error: " << e.what() << " (see pair_timing --help)\n";
+    return 2;
+  }
+  if (off.empty() && on.empty()) {
+    std::cerr << "pair_timing: error: give --off OPTION or --on OPTION (see pair_timing --help)\n";
     return 2;
   }
   cv::setNumThreads(1);  // Every detector on this thread, as in tag_comparison.
@@ -53,15 +61,20 @@ int main(int argc, char** argv) {
   DetectorOptions a;
   a.families = setup.families;
   DetectorOptions b = a;
-  (off == "quads_from_scans" ? b.quads_from_scans
-   : off == "grow_regions"   ? b.grow_regions
-                             : b.refine_corners) = false;
+  if (!off.empty()) {
+    (off == "quads_from_scans" ? b.quads_from_scans
+     : off == "grow_regions"   ? b.grow_regions
+                               : b.refine_corners) = false;
+  } else {
+    b.two_step_rises = true;
+  }
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const auto pairs = RunPairedTiming(*setup.dataset, a, b, *setup.apriltag, *setup.aruco, threads);
   std::printf(
-      "pair_timing --set %s --frames %d --seed %llu: defaults (A) against %s off (B), "
+      "pair_timing --set %s --frames %d --seed %llu: defaults (A) against %s %s (B), "
       "medians in us\n\n",
-      set.c_str(), frames, static_cast<unsigned long long>(seed), off.c_str());
+      set.c_str(), frames, static_cast<unsigned long long>(seed), (off.empty() ? on : off).c_str(),
+      off.empty() ? "on" : "off");
   std::printf(
       "| frames | n | A | B | B - A, paired | B - A, A timed first | B - A, B timed first | "
       "detections A / B |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");

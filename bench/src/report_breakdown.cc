@@ -135,13 +135,15 @@ std::string PrintRecallSection(const Context& c) {
     Table configs;
     for (const auto& [print, o] : c.info.calibrated) {
       configs.push_back({print, Fixed(o.adiff_thresh, 1), Fixed(o.border_thresh, 1),
-                         Fixed(o.min_decision_margin, 1), Fixed(o.max_green_a, 1)});
+                         Fixed(o.min_decision_margin, 1), Fixed(o.max_green_a, 1),
+                         o.two_step_rises ? "on" : "off"});
     }
     out << "The calibrated configs (the defaults: " << Fixed(DetectorOptions{}.adiff_thresh, 1)
         << ", " << Fixed(DetectorOptions{}.border_thresh, 1) << ", "
         << Fixed(DetectorOptions{}.min_decision_margin, 1) << ", "
-        << Fixed(DetectorOptions{}.max_green_a, 1) << "):\n\n"
-        << Markdown({"print", "ADiffThresh", "BorderThresh", "min decision margin", "max green a*"},
+        << Fixed(DetectorOptions{}.max_green_a, 1) << ", off):\n\n"
+        << Markdown({"print", "ADiffThresh", "BorderThresh", "min decision margin", "max green a*",
+                     "two-step rises"},
                     configs)
         << "\n";
   }

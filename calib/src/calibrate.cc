@@ -185,11 +185,11 @@ std::optional<CalibrationResult> Calibrate(const CalibSheetLayout& layout,
 std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
                                          const std::string& folder) {
   std::vector<OutputFile> files;
-  files.push_back(
-      {Join(folder, kDetectorConfigFile),
-       DetectorConfigToJson(result.thresholds.options,
-                            {"adiff_thresh", "border_thresh", "min_decision_margin", "max_green_a"},
-                            Provenance(result))});
+  files.push_back({Join(folder, kDetectorConfigFile),
+                   DetectorConfigToJson(result.thresholds.options,
+                                        {"adiff_thresh", "border_thresh", "min_decision_margin",
+                                         "max_green_a", "two_step_rises"},
+                                        Provenance(result))});
   if (result.palette)
     files.push_back({Join(folder, kPaletteFile), PaletteToJson(result.palette->palette)});
   files.push_back({Join(folder, kLutFile), result.cube});

@@ -29,7 +29,12 @@ DetectorOptions DeriveOptions(const Margins& w, const ThresholdOptions& o,
                               std::vector<std::string>* warnings) {
   const double s = o.safety_factor;
   DetectorOptions d;
-  d.adiff_thresh = std::clamp(w.a_gap * std::cbrt(o.dimmest_light) / s, o.min_adiff, o.max_adiff);
+  const double dim_gap = w.a_gap * std::cbrt(o.dimmest_light) / s;
+  d.adiff_thresh = std::clamp(dim_gap, o.min_adiff, o.max_adiff);
+  // A print whose gap falls under the detector's default ADiffThresh in dim
+  // light is washed out: its blurred red/green borders also need the rises
+  // over two samples (DetectorOptions::two_step_rises).
+  d.two_step_rises = dim_gap < DetectorOptions{}.adiff_thresh;
   // BorderThresh must stay above the a* step between two shades of one
   // colour (with the safety factor) plus twice the pixel noise (the scan
   // needs M pixels in a row past it, so rarer noise does not count), or the
@@ -39,7 +44,12 @@ DetectorOptions DeriveOptions(const Margins& w, const ThresholdOptions& o,
   // finds nothing at all.
   const double need = s * w.a_spread + 2.0 * w.noise_a;
   const double room = std::max(o.min_border, std::min(w.a_gap, w.l_gap_white) / s);
-  d.border_thresh = std::clamp(need, o.min_border, room);
+  // Never above the detector's default: the ring scans' own floors (a third
+  // of the red's a*, 0.3 of the green's L*) already keep them past a shade
+  // step, and a higher one loses dim and small tags (a derived 19.7 found 3
+  // fewer of the camera set's 288 default-press tags from 30 px).
+  d.border_thresh = std::clamp(
+      need, o.min_border, std::max(o.min_border, std::min(room, DetectorOptions{}.border_thresh)));
   if (need > room) {
     warnings->push_back(Format(
         "BorderThresh: the two shades of a colour differ by %.1f in a* (noise %.1f), too close "

@@ -62,14 +62,17 @@ void Apply(const Json& options, DetectorOptions* out) {
       out->max_hamming = Integer(value, key);
     } else if (key == "min_decision_margin") {
       out->min_decision_margin = Number(value, key);
+    } else if (key == "two_step_rises") {
+      if (!value.is_boolean()) throw ConfigError{"\"two_step_rises\" must be true or false"};
+      out->two_step_rises = value.get<bool>();
     } else if (key == "refine_corners") {
       if (!value.is_boolean()) throw ConfigError{"\"refine_corners\" must be true or false"};
       out->refine_corners = value.get<bool>();
     } else {
       throw ConfigError{"unknown option \"" + key +
                         "\" (allowed: families, step, row_step, adiff_thresh, border_thresh, "
-                        "border_run, max_green_a, conv_thresh, max_hamming, min_decision_margin, "
-                        "refine_corners)"};
+                        "border_run, two_step_rises, max_green_a, conv_thresh, max_hamming, "
+                        "min_decision_margin, refine_corners)"};
     }
   }
 }
@@ -85,6 +88,7 @@ std::string DetectorConfigToJson(const DetectorOptions& options,
                     {"adiff_thresh", options.adiff_thresh},
                     {"border_thresh", options.border_thresh},
                     {"border_run", options.border_run},
+                    {"two_step_rises", options.two_step_rises},
                     {"max_green_a", options.max_green_a},
                     {"conv_thresh", options.conv_thresh},
                     {"max_hamming", options.max_hamming},

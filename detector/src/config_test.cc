@@ -18,12 +18,14 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   options.max_hamming = 1;
   options.min_decision_margin = 1.5;
   options.refine_corners = false;
+  options.two_step_rises = true;
   DetectorOptions back;
   std::string error;
   ASSERT_TRUE(ParseDetectorConfig(DetectorConfigToJson(options), &back, &error)) << error;
   EXPECT_EQ(back.families, options.families);
   EXPECT_EQ(back.step, 3);
   EXPECT_EQ(back.row_step, 5);
+  EXPECT_TRUE(back.two_step_rises);
   EXPECT_DOUBLE_EQ(back.adiff_thresh, 12.5);
   EXPECT_DOUBLE_EQ(back.border_thresh, 7.25);
   EXPECT_EQ(back.border_run, 4);

@@ -4,6 +4,7 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -54,8 +55,21 @@ struct RowSampler {
   int pixel_step;  // Bytes between samples: 3 N.
   int r, b;        // Byte offsets of red and blue in a pixel.
   const int8_t* table;
-  int threshold;
+  int threshold;    // A rise (one step, or two from green) above this may seed.
+  int step_thresh;  // Each of two steps rises above this (kTwoStepShare)...
+  int green_limit;  // ...from a sample two back below this (kTwoStepGreenA)...
+  int red_floor;    // ...to a sample above this (kTwoStepMinRedA).
 };
+
+// Whether sample i's coarse a* may seed (SeedsAt, each value within the
+// table's error bound; RowSampler's thresholds allow for it).
+inline bool CoarseRiseAt(const RowSampler& s, const int32_t* coarse, int i) {
+  const int rise = coarse[i] - coarse[i - 1];
+  if (rise > s.threshold) return true;
+  return i >= 2 && coarse[i - 2] < s.green_limit && coarse[i] > s.red_floor &&
+         coarse[i] - coarse[i - 2] > s.threshold && rise > s.step_thresh &&
+         coarse[i - 1] - coarse[i - 2] > s.step_thresh;
+}
 
 void CoarseRowScalar(const RowSampler& s, int first, int32_t* coarse) {
   const uint8_t* p = s.row + static_cast<ptrdiff_t>(first) * s.pixel_step;
@@ -63,9 +77,9 @@ void CoarseRowScalar(const RowSampler& s, int first, int32_t* coarse) {
     coarse[i] = s.table[((p[s.r] >> 3) << 10) | ((p[1] >> 3) << 5) | (p[s.b] >> 3)];
 }
 
-int RisesScalar(const RowSampler& s, int first, const int32_t* coarse, int* rises, int n) {
-  for (int i = std::max(1, first); i < s.count; ++i) {
-    if (coarse[i] - coarse[i - 1] > s.threshold) rises[n++] = i;
+int RisesScalar(const RowSampler& s, int first, int end, const int32_t* coarse, int* rises, int n) {
+  for (int i = std::max(1, first); i < end; ++i) {
+    if (CoarseRiseAt(s, coarse, i)) rises[n++] = i;
   }
   return n;
 }
@@ -117,21 +131,32 @@ __attribute__((target("avx2"))) int SampleRowAvx2(const RowSampler& s, int32_t* 
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(coarse + i), a);
   }
   CoarseRowScalar(s, i, coarse);
-  int n = 0;
+  // Sample 1 has no sample two before it: the scalar test.
+  int n = RisesScalar(s, 1, std::min(2, s.count), coarse, rises, 0);
   const __m256i threshold = _mm256_set1_epi32(s.threshold);
-  int j = 1;
+  const __m256i step_thresh = _mm256_set1_epi32(s.step_thresh);
+  const __m256i green_limit = _mm256_set1_epi32(s.green_limit);
+  const __m256i red_floor = _mm256_set1_epi32(s.red_floor);
+  int j = 2;
   for (; j + 8 <= s.count; j += 8) {
-    const __m256i rise =
-        _mm256_sub_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(coarse + j)),
-                         _mm256_loadu_si256(reinterpret_cast<const __m256i*>(coarse + j - 1)));
-    unsigned mask = static_cast<unsigned>(
-        _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(rise, threshold))));
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(coarse + j));
+    const __m256i before = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(coarse + j - 1));
+    const __m256i two_before = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(coarse + j - 2));
+    const __m256i rise = _mm256_sub_epi32(a, before);
+    const __m256i two_step = _mm256_and_si256(
+        _mm256_and_si256(_mm256_and_si256(_mm256_cmpgt_epi32(green_limit, two_before),
+                                          _mm256_cmpgt_epi32(a, red_floor)),
+                         _mm256_cmpgt_epi32(_mm256_sub_epi32(a, two_before), threshold)),
+        _mm256_and_si256(_mm256_cmpgt_epi32(rise, step_thresh),
+                         _mm256_cmpgt_epi32(_mm256_sub_epi32(before, two_before), step_thresh)));
+    const __m256i seeds = _mm256_or_si256(_mm256_cmpgt_epi32(rise, threshold), two_step);
+    unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(seeds)));
     while (mask) {
       rises[n++] = j + __builtin_ctz(mask);
       mask &= mask - 1;
     }
   }
-  return RisesScalar(s, j, coarse, rises, n);
+  return RisesScalar(s, j, s.count, coarse, rises, n);
 }
 #endif
 
@@ -181,6 +206,7 @@ CHROMATAG_AVX512_TARGET inline __m512i FastF(const FastALanes& l, __m512i t) {
 // number of rises; `threshold` is in FastA's units.
 CHROMATAG_AVX512_TARGET int SampleRowAvx512(const RowSampler& s, int row_bytes,
                                             const ColorTable::FastATables& tables, int threshold,
+                                            int step_thresh, int green_limit, int red_floor,
                                             int* rises, int16_t* a_out = nullptr) {
   FastALanes lanes;
   LoadFastALanes(tables, &lanes);
@@ -211,8 +237,15 @@ CHROMATAG_AVX512_TARGET int SampleRowAvx512(const RowSampler& s, int row_bytes,
   alignas(64) static const int16_t kPrevious[32] = {63, 0,  1,  2,  3,  4,  5,  6,  7,  8,  9,
                                                     10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
                                                     21, 22, 23, 24, 25, 26, 27, 28, 29, 30};
+  alignas(64) static const int16_t kTwoBefore[32] = {62, 63, 0,  1,  2,  3,  4,  5,  6,  7,  8,
+                                                     9,  10, 11, 12, 13, 14, 15, 16, 17, 18, 19,
+                                                     20, 21, 22, 23, 24, 25, 26, 27, 28, 29};
   const __m512i previous_index = _mm512_load_si512(kPrevious);
+  const __m512i two_before_index = _mm512_load_si512(kTwoBefore);
   const __m512i rise_threshold = _mm512_set1_epi16(static_cast<int16_t>(threshold));
+  const __m512i step_threshold = _mm512_set1_epi16(static_cast<int16_t>(step_thresh));
+  const __m512i green = _mm512_set1_epi16(static_cast<int16_t>(green_limit));
+  const __m512i red = _mm512_set1_epi16(static_cast<int16_t>(red_floor));
   __m512i previous = _mm512_setzero_si512();
   int n = 0;
   for (int i = 0; i < s.count; i += 32) {
@@ -256,7 +289,15 @@ CHROMATAG_AVX512_TARGET int SampleRowAvx512(const RowSampler& s, int row_bytes,
     const __m512i a = _mm512_sub_epi16(FastF(lanes, x), FastF(lanes, y));
     if (a_out) _mm512_storeu_si512(a_out + i, a);  // ComputedARow (tests).
     const __m512i before = _mm512_permutex2var_epi16(a, previous_index, previous);
-    uint32_t mask = _mm512_cmpgt_epi16_mask(_mm512_subs_epi16(a, before), rise_threshold);
+    const __m512i two_before = _mm512_permutex2var_epi16(a, two_before_index, previous);
+    const __m512i rise = _mm512_subs_epi16(a, before);
+    uint32_t two_step =
+        _mm512_cmplt_epi16_mask(two_before, green) & _mm512_cmpgt_epi16_mask(a, red) &
+        _mm512_cmpgt_epi16_mask(_mm512_subs_epi16(a, two_before), rise_threshold) &
+        _mm512_cmpgt_epi16_mask(rise, step_threshold) &
+        _mm512_cmpgt_epi16_mask(_mm512_subs_epi16(before, two_before), step_threshold);
+    if (i == 0) two_step &= ~3u;  // The first two samples have none two before them.
+    uint32_t mask = _mm512_cmpgt_epi16_mask(rise, rise_threshold) | two_step;
     if (i == 0) mask &= ~1u;  // The first sample has none before it.
     if (s.count - i < 32) mask &= (1u << (s.count - i)) - 1;
     while (mask) {
@@ -275,6 +316,16 @@ int ComputedARiseThreshold(double adiff_thresh) {
   const double units =
       std::floor((adiff_thresh - 2 * ColorTable::kFastAErrorBound) * ColorTable::kFastAUnitsPerA);
   return static_cast<int>(std::clamp(units, -32768.0, 32767.0));
+}
+
+int ComputedATwoStepRedFloor() {
+  return static_cast<int>(
+      std::floor((kTwoStepMinRedA - ColorTable::kFastAErrorBound) * ColorTable::kFastAUnitsPerA));
+}
+
+int ComputedAGreenLimit() {
+  return static_cast<int>(
+      std::ceil((kTwoStepGreenA + ColorTable::kFastAErrorBound) * ColorTable::kFastAUnitsPerA));
 }
 
 bool RowScanPathAvailable(RowScanPath path) {
@@ -301,13 +352,13 @@ bool ComputedARow(const ImageView& image, const DetectorOptions& options, int y,
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
   if (!RowScanComputesA(options)) return false;
   const int count = (image.width() + 3) / 4;
-  const RowSampler sampler{image.Pixel(0, y), count,   12,     image.r_offset(),
-                           image.b_offset(),  nullptr, INT_MAX};
+  const RowSampler sampler{image.Pixel(0, y), count,   12,      image.r_offset(), image.b_offset(),
+                           nullptr,           INT_MAX, INT_MAX, INT_MIN,          INT_MAX};
   std::vector<int> rises(count);
   a->assign((count + 31) / 32 * 32, 0);
   // The highest threshold: no rise is listed, only the values stored.
-  SampleRowAvx512(sampler, 3 * image.width(), image.table().fast_a_tables(), 32767, rises.data(),
-                  a->data());
+  SampleRowAvx512(sampler, 3 * image.width(), image.table().fast_a_tables(), 32767, 32767, -32768,
+                  32767, rises.data(), a->data());
   a->resize(count);
   return true;
 #else
@@ -328,10 +379,19 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, RowSc
   // true rise above ADiffThresh shows at least this much in coarse values.
   const int coarse_thresh =
       static_cast<int>(std::floor(options.adiff_thresh)) - 2 * ColorTable::kCoarseErrorBound;
+  const int coarse_step_thresh =
+      static_cast<int>(std::floor(kTwoStepShare * options.adiff_thresh)) -
+      2 * ColorTable::kCoarseErrorBound;
+  // Without two_step_rises, no sample counts as green.
+  const int coarse_green = options.two_step_rises ? static_cast<int>(std::ceil(kTwoStepGreenA)) +
+                                                        ColorTable::kCoarseErrorBound
+                                                  : INT_MIN;
+  const int coarse_red =
+      static_cast<int>(std::floor(kTwoStepMinRedA)) - ColorTable::kCoarseErrorBound - 1;
   const ColorTable& table = image.table();
   const RowSampler sampler{
-      image.Pixel(0, y),      count,        3 * step, image.r_offset(), image.b_offset(),
-      table.coarse_a_table(), coarse_thresh};
+      image.Pixel(0, y),      count,         3 * step,           image.r_offset(), image.b_offset(),
+      table.coarse_a_table(), coarse_thresh, coarse_step_thresh, coarse_green,     coarse_red};
   if (path == RowScanPath::kWidest) {
     path = RowScanComputesA(options)                        ? RowScanPath::kComputedAAvx512
            : RowScanPathAvailable(RowScanPath::kCoarseAvx2) ? RowScanPath::kCoarseAvx2
@@ -340,14 +400,17 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, RowSc
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
   if (path == RowScanPath::kComputedAAvx512 && step == 4 && CpuHasAvx512Vbmi()) {
     return SampleRowAvx512(sampler, 3 * image.width(), table.fast_a_tables(),
-                           ComputedARiseThreshold(options.adiff_thresh), rises);
+                           ComputedARiseThreshold(options.adiff_thresh),
+                           ComputedARiseThreshold(kTwoStepShare * options.adiff_thresh),
+                           options.two_step_rises ? ComputedAGreenLimit() : -32768,
+                           ComputedATwoStepRedFloor(), rises);
   }
   if (path != RowScanPath::kCoarseScalar && CpuHasAvx2()) {
     return SampleRowAvx2(sampler, coarse, rises);
   }
 #endif
   CoarseRowScalar(sampler, 0, coarse);
-  return RisesScalar(sampler, 1, coarse, rises, 0);
+  return RisesScalar(sampler, 1, count, coarse, rises, 0);
 }
 
 namespace {
@@ -402,7 +465,7 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
     cursor->sampled = true;
   }
   if (cursor->next >= cursor->num_rises) return false;
-  const float adiff = static_cast<float>(options.adiff_thresh);
+  constexpr float kNoSample = std::numeric_limits<float>::quiet_NaN();
   std::array<std::pair<int, int>, 64> spans;
   const int num_spans = skip.empty() ? 0 : RowSpans(skip, y, &spans);
   while (cursor->next < cursor->num_rises) {
@@ -416,8 +479,16 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
     }
     const uint8_t* p = row + 3 * x;
     const uint8_t* q = p - 3 * step;
-    const float exact_rise = table.A(p[r], p[1], p[b]) - table.A(q[r], q[1], q[b]);
-    if (exact_rise > adiff) {
+    // The sample two back, for the rise in two steps (SeedsAt); none past an
+    // accepted area either.
+    const bool has_two =
+        options.two_step_rises && i >= 2 && !(num_spans && InSpans(spans, num_spans, x - 2 * step));
+    const float two_before =
+        has_two ? table.A(q[r - 3 * step], q[1 - 3 * step], q[b - 3 * step]) : kNoSample;
+    // L* only where the rise in two steps needs it.
+    const LabF lab = two_before < kTwoStepGreenA ? table.Lab(p[r], p[1], p[b])
+                                                 : LabF{0.f, table.A(p[r], p[1], p[b]), 0.f};
+    if (SeedsAt(options, lab, table.A(q[r], q[1], q[b]), two_before)) {
       *seed = cv::Point(x, y);
       return true;
     }

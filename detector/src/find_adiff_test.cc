@@ -1,12 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/families/color.h"
 #include "stages.h"
 
 #ifdef __linux__
@@ -106,6 +108,40 @@ TEST_P(FindADiffTest, SkipsDetectedAreas) {
 
 INSTANTIATE_TEST_SUITE_P(Steps, FindADiffTest, testing::Values(1, 3, 4, 5, 8));
 
+// A red/green border blurred over two samples: green (a* -12), a blend
+// (a* 6) for one sample, then red (a* 28). Neither step passes ADiffThresh
+// 25; the rise over both, from green, seeds with two_step_rises, at the
+// first red sample, and only there. Steps from grey do not.
+TEST(FindADiffTwoStepTest, SeedsWhereTheRiseFromGreenTakesTwoSamples) {
+  const Rgb8 green = LabToSrgb8({50, -12, 10}), blend = LabToSrgb8({50, 6, 10}),
+             red = LabToSrgb8({50, 28, 10}), grey = LabToSrgb8({50, 0, 0});
+  cv::Mat image(8, 120, CV_8UC3);
+  for (int x = 0; x < image.cols; ++x) {
+    // Green to red at 40-47 and 100-107 from green, grey to red at 72-79.
+    const Rgb8 c = x < 40    ? green
+                   : x < 44  ? blend
+                   : x < 64  ? red
+                   : x < 72  ? grey
+                   : x < 76  ? blend
+                   : x < 92  ? red
+                   : x < 100 ? green
+                   : x < 104 ? blend
+                             : red;
+    for (int y = 0; y < image.rows; ++y) image.at<cv::Vec3b>(y, x) = {c.b, c.g, c.r};
+  }
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  for (bool two_step : {false, true}) {
+    DetectorOptions options;
+    options.two_step_rises = two_step;
+    const std::vector<cv::Point> seeds = Seeds(view, options, {}, 4);
+    if (two_step) {
+      EXPECT_EQ(seeds, (std::vector<cv::Point>{{44, 4}, {104, 4}}));
+    } else {
+      EXPECT_TRUE(seeds.empty()) << seeds.size();
+    }
+  }
+}
+
 // Rows of random colours, many short runs and some long ones, at widths
 // that end each of the vector paths' blocks anywhere.
 cv::Mat RandomRows(int width, cv::RNG* rng) {
@@ -124,10 +160,11 @@ cv::Mat RandomRows(int width, cv::RNG* rng) {
   return image;
 }
 
-// Every path lists every sample whose accurate a* rises by more than
-// ADiffThresh, each once and in order; the AVX-512 path lists exactly the
-// samples whose ColorTable::FastA rises by more than its threshold, so that
-// the vector code is its scalar reference.
+// Every path lists every sample that seeds by the accurate a* (SeedsAt: a
+// rise by more than ADiffThresh, in one step or in two from green), each
+// once and in order; the AVX-512 path lists exactly the samples that seed by
+// ColorTable::FastA with its thresholds, so that the vector code is its
+// scalar reference.
 TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
   const ColorTable& table = ColorTable::Get();
   cv::RNG rng(17);
@@ -142,35 +179,54 @@ TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
         const ImageView view(image, order, table);
         const int ri = order == PixelOrder::kBgr ? 2 : 0, bi = 2 - ri;
         for (double adiff : {8.0, 25.0, 60.0}) {
-          DetectorOptions options;
-          options.step = 4;
-          options.adiff_thresh = adiff;
-          const int count = (width + 3) / 4;
-          for (int y = 0; y < image.rows; ++y) {
-            std::vector<int32_t> coarse(count);
-            std::vector<int> rises(count);
-            rises.resize(ScanRow(view, options, y, path, coarse.data(), rises.data()));
-            const auto* row = image.ptr<uint8_t>(y);
-            std::vector<int> exact, computed;
-            for (int i = 1; i < count; ++i) {
-              const uint8_t* p = row + 12 * i;
-              const uint8_t* q = p - 12;
-              if (table.A(p[ri], p[1], p[bi]) - table.A(q[ri], q[1], q[bi]) > adiff)
-                exact.push_back(i);
-              const int rise = table.FastA(p[ri], p[1], p[bi]) - table.FastA(q[ri], q[1], q[bi]);
-              if (std::clamp(rise, -32768, 32767) > ComputedARiseThreshold(adiff))
-                computed.push_back(i);
-            }
-            true_rises += exact.size();
-            const auto where = testing::Message()
-                               << "path " << static_cast<int>(path) << " width " << width << " row "
-                               << y << " ADiffThresh " << adiff;
-            EXPECT_TRUE(std::is_sorted(rises.begin(), rises.end())) << where;
-            EXPECT_EQ(std::adjacent_find(rises.begin(), rises.end()), rises.end()) << where;
-            EXPECT_TRUE(std::includes(rises.begin(), rises.end(), exact.begin(), exact.end()))
-                << where;
-            if (path == RowScanPath::kComputedAAvx512) {
-              EXPECT_EQ(rises, computed) << where;
+          for (bool two_step_rises : {false, true}) {
+            DetectorOptions options;
+            options.step = 4;
+            options.adiff_thresh = adiff;
+            options.two_step_rises = two_step_rises;
+            const int count = (width + 3) / 4;
+            for (int y = 0; y < image.rows; ++y) {
+              std::vector<int32_t> coarse(count);
+              std::vector<int> rises(count);
+              rises.resize(ScanRow(view, options, y, path, coarse.data(), rises.data()));
+              const auto* row = image.ptr<uint8_t>(y);
+              std::vector<int> exact, computed;
+              auto a_at = [&](int i) {
+                const uint8_t* p = row + 12 * i;
+                return table.A(p[ri], p[1], p[bi]);
+              };
+              auto fast_at = [&](int i) {
+                const uint8_t* p = row + 12 * i;
+                return static_cast<int>(table.FastA(p[ri], p[1], p[bi]));
+              };
+              const int thresh = ComputedARiseThreshold(adiff);
+              const int step_thresh = ComputedARiseThreshold(kTwoStepShare * adiff);
+              for (int i = 1; i < count; ++i) {
+                const float two_before = i >= 2 ? a_at(i - 2) : std::nanf("");
+                const uint8_t* p = row + 12 * i;
+                if (SeedsAt(options, table.Lab(p[ri], p[1], p[bi]), a_at(i - 1), two_before))
+                  exact.push_back(i);
+                auto sat = [](int v) { return std::clamp(v, -32768, 32767); };
+                const int rise = sat(fast_at(i) - fast_at(i - 1));
+                const bool two_step =
+                    options.two_step_rises && i >= 2 && fast_at(i - 2) < ComputedAGreenLimit() &&
+                    fast_at(i) > ComputedATwoStepRedFloor() &&
+                    sat(fast_at(i) - fast_at(i - 2)) > thresh && rise > step_thresh &&
+                    sat(fast_at(i - 1) - fast_at(i - 2)) > step_thresh;
+                if (rise > thresh || two_step) computed.push_back(i);
+              }
+              true_rises += exact.size();
+              const auto where = testing::Message()
+                                 << "path " << static_cast<int>(path) << " width " << width
+                                 << " row " << y << " ADiffThresh " << adiff << " two-step "
+                                 << options.two_step_rises;
+              EXPECT_TRUE(std::is_sorted(rises.begin(), rises.end())) << where;
+              EXPECT_EQ(std::adjacent_find(rises.begin(), rises.end()), rises.end()) << where;
+              EXPECT_TRUE(std::includes(rises.begin(), rises.end(), exact.begin(), exact.end()))
+                  << where;
+              if (path == RowScanPath::kComputedAAvx512) {
+                EXPECT_EQ(rises, computed) << where;
+              }
             }
           }
         }

@@ -22,6 +22,7 @@ const chromatag::Detector* DetectorFor(uint8_t choice) {
     options.step = (choice & 2) ? 1 : 4;
     options.row_step = (choice & 3) == 1 ? 5 : 0;  // Rows apart from columns.
     options.refine_corners = (choice & 4) == 0;
+    options.two_step_rises = (choice & 3) == 3;  // With step 1 and every row.
     options.report_rejected = true;
     if (choice & 4) {
       options.camera = chromatag::CameraIntrinsics{300, 300, 40, 30, {0.1, -0.05, 0, 0}};
