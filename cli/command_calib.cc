@@ -114,8 +114,9 @@ void PrintSummary(const CalibrationResult& result, const std::vector<std::string
   }
   std::printf(
       "Detector thresholds: ADiffThresh %.1f, BorderThresh %.1f, min decision margin "
-      "%.2f, max green a* %.1f\n",
-      d.adiff_thresh, d.border_thresh, d.min_decision_margin, d.max_green_a);
+      "%.2f, max green a* %.1f, two-step rises %s\n",
+      d.adiff_thresh, d.border_thresh, d.min_decision_margin, d.max_green_a,
+      d.two_step_rises ? "on" : "off");
   for (const PairVerdict& v : result.thresholds.verdicts)
     std::printf("  %-24s %-5s %s\n", v.pair.c_str(), VerdictName(v.verdict), v.why.c_str());
   if (result.palette) {

@@ -261,6 +261,9 @@ void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
   y = Row(cr, y, "min decision margin",
           F("%.1f   (default %.0f)", d.min_decision_margin, defaults.min_decision_margin));
   y = Row(cr, y, "max green a*", F("%.1f   (default %.0f)", d.max_green_a, defaults.max_green_a));
+  y = Row(cr, y, "two-step rises",
+          std::string(d.two_step_rises ? "on" : "off") + "   (default " +
+              (defaults.two_step_rises ? "on" : "off") + ")");
   y += 8;
   Text(cr, 470, y, 10, "Verdict per pair", true);
   y += 15;
