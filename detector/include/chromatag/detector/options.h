@@ -93,8 +93,8 @@ struct DetectorOptions {
   // (docs/benchmarks.md): iccv17 16h5 tags from 30 px up to 60 degrees
   // 86.3 -> 90.1 % found, iccv17 faded to 0.8 79.1 -> 89.9 %, for 16 % more
   // candidates in natural scenes (green next to red); paired on 1,500 frames
-  // after AprilTag 3 and ArUco, the tag-free median time +3.7 µs (+7 %), with
-  // a tag +8.9 µs. Off by default; `chromatag calibrate` turns it on for
+  // after AprilTag 3 and ArUco, the tag-free median time +3.7 us (+7 %), with
+  // a tag +8.9 us. Off by default; `chromatag calibrate` turns it on for
   // prints whose red/green a* gap is thin.
   bool two_step_rises = false;
 
