@@ -113,6 +113,11 @@ cv::Mat MotionKernel(double length_px, double angle);
 // entries encode equal steps of [0, 1] (table.size() - 1 steps).
 cv::Mat EncodeThrough(const cv::Mat& linear, const std::vector<uint8_t>& table);
 
+// Printed ink's black is no darker, and the paper no whiter, than these L*
+// (spec section 6 measured L* 14 for the authors' black).
+inline constexpr double kPrintBlackL = 14.0;
+inline constexpr double kPrintWhiteL = 95.0;
+
 // Colours as printed: inks are less saturated than the file (`chroma`, a
 // share of the file's a* and b*), black ink is not black and paper not
 // perfectly white (spec section 6 measured L* 14 for the authors' black).

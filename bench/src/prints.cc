@@ -8,13 +8,12 @@
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/calib/calibrate.h"
 #include "chromatag/families/palette.h"
+#include "dataset_impl.h"
 #include "icc_press.h"
 
 namespace chromatag::bench {
 namespace {
 
-constexpr double kPrintBlackL = 14.0;
-constexpr double kPrintWhiteL = 95.0;
 // The calibration sheet's raster, finer than the photos' 3.9 px/mm.
 constexpr double kSheetPxPerMm = 6.0;
 

@@ -13,11 +13,6 @@ namespace {
 // Triangle wave in [0, 1]: a camera path made of these has uniform marginals.
 double Triangle(double x) { return 2.0 * std::abs(x - std::floor(x) - 0.5); }
 
-// Black ink and paper as printed (spec section 6 measured L* 14 for the
-// authors' black).
-constexpr double kPrintBlackL = 14.0;
-constexpr double kPrintWhiteL = 95.0;
-
 Lab PrintedLab(const Lab& lab, Shade shade, double chroma) {
   if (shade == Shade::kBlack) return {std::max(lab.L, kPrintBlackL), lab.a, lab.b};
   if (shade == Shade::kWhite) return {std::min(lab.L, kPrintWhiteL), lab.a, lab.b};

@@ -122,9 +122,9 @@ double RingMisfit(const TagFamily& family, const cv::Matx33d& image_from_tag,
 // so L* adds to the gap of both colours (iccv17: 8 -> 10 b* units for the
 // reds, 11 -> 20 for the greens; default: 55 -> 57, 51.5 -> 55.5). Washed-out
 // prints keep the lightness gap when their b* gap shrinks. Read with the
-// true corners on the 88 camera-set tags of 30 px or more that the detector
-// lost at 0.6 or less of the light or through the washed-out prints, the
-// payload cells split at each colour's midpoint gave 357 wrong bits in b*
+// true corners on the 88 camera-set tags of 30 px or more (up to 60 degrees)
+// that the detector lost after FindADiff in 3,000 frames, the payload cells
+// split at each colour's midpoint gave 357 wrong bits in b*
 // alone, 238 with L* added at weight 1 (275 at 0.5).
 constexpr float kShadeLightness = 1.0f;
 

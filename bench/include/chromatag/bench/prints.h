@@ -17,7 +17,8 @@
 namespace chromatag::bench {
 
 // A printer: the printed colour (CIELAB relative to the paper white) of a
-// sent 8-bit sRGB colour.
+// sent 8-bit sRGB colour; the same type as the tests' PrintFn (calib_sim.h), so
+// their page renderers take it.
 using Printer = std::function<Lab(const Rgb8&)>;
 
 // The printer of `kind`. Exact prints keep the file's colours, with ink's
