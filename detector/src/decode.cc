@@ -380,10 +380,24 @@ std::vector<float> Sharpened(const std::vector<CellSample>& grid, int d, float k
 // shares, of the worst cell's misfit over the smaller shade gap; infinite if
 // no share gives both colours' shades in their order. `grid`: the payload
 // and the black ring around it, (d + 2)^2 cells row by row.
+struct BlurFit {
+  double worst = std::numeric_limits<double>::infinity();  // Worst cell over the gap.
+  double rms = std::numeric_limits<double>::infinity();    // Root mean square over the gap.
+  // At the blur share of the best rms: the smaller colour's gap between its
+  // two shades' levels over the larger's.
+  double gap_balance = 0;
+};
+
+BlurFit FitBlurModel(const TagFamily& family, Code pattern, const std::vector<CellSample>& grid);
+
 double BlurMisfit(const TagFamily& family, Code pattern, const std::vector<CellSample>& grid) {
+  return FitBlurModel(family, pattern, grid).worst;
+}
+
+BlurFit FitBlurModel(const TagFamily& family, Code pattern, const std::vector<CellSample>& grid) {
   constexpr int kMaxGrid = 10;  // Payloads of up to 8 x 8 cells (36h11 has 6).
   const int d = family.payload_width(), w = d + 2;
-  if (w > kMaxGrid) return std::numeric_limits<double>::infinity();
+  if (w > kMaxGrid) return {};
   // Shade of each grid cell: 0 red-0, 1 red-1, 2 green-0, 3 green-1, 4 black.
   std::array<int, kMaxGrid * kMaxGrid> shade;
   shade.fill(4);
@@ -402,7 +416,7 @@ double BlurMisfit(const TagFamily& family, Code pattern, const std::vector<CellS
     }
   }
   black /= ring;
-  double best = std::numeric_limits<double>::infinity();
+  BlurFit best;
   std::array<cv::Vec4d, kMaxGrid * kMaxGrid> rows;
   std::array<double, kMaxGrid * kMaxGrid> rhs;
   for (float k : kBlurShares) {
@@ -435,9 +449,17 @@ double BlurMisfit(const TagFamily& family, Code pattern, const std::vector<CellS
     // Red-1 lies above red-0, green-1 below green-0 (spec section 3).
     const double gap = std::min(level[1] - level[0], level[2] - level[3]);
     if (!(gap > 0)) continue;
-    double worst = 0;
-    for (int j = 0; j < n; ++j) worst = std::max(worst, std::abs(rows[j].dot(level) - rhs[j]));
-    best = std::min(best, worst / gap);
+    double worst = 0, sse = 0;
+    for (int j = 0; j < n; ++j) {
+      const double r = rows[j].dot(level) - rhs[j];
+      worst = std::max(worst, std::abs(r));
+      sse += r * r;
+    }
+    best.worst = std::min(best.worst, worst / gap);
+    if (std::sqrt(sse / n) / gap < best.rms) {
+      best.rms = std::sqrt(sse / n) / gap;
+      best.gap_balance = gap / std::max(level[1] - level[0], level[2] - level[3]);
+    }
   }
   return best;
 }
@@ -460,9 +482,87 @@ double SwappedPrintMisfit(const TagFamily& family, const std::vector<Code>& riva
   return best;
 }
 
+// A read that the rules above refuse gets a second, soft-decision read
+// (SoftDecode): every code of the family (each kept ID in each orientation)
+// and every swapped print within a few bits of the observed bits is fitted
+// to the cells' shade values with the blur model (FitBlurModel), and the
+// best fit is taken when it is a code, explains the cells (root mean square
+// misfit at most kMaxSoftMisfit of the smaller shade gap) and every rival
+// fits clearly worse (kMinSoftRivalRatio). The hard read splits each colour
+// at one threshold, so a cell that JPEG's 4:2:0 chroma, demosaicing or blur
+// pulls across it is a wrong bit that the margin and doubt rules then
+// refuse; the fit weighs each cell by its distance from what each code
+// predicts, its neighbours' share included. Measured by logging every soft
+// read with the truth on the camera set's first 8,000 frames:
+// - 16h5 (close codes): reads further than kSoftReadBits (the hard
+//   decoder's radius) from the observed bits gave wrong IDs, with rivals
+//   1.4-2.3 times worse; within it, the two wrong reads (12 px tags) had
+//   rivals 1.09-1.11 times worse. Blurred swapped prints (decode_test,
+//   detector_conditions_test) read as an ID whose code lies two bits from
+//   theirs with rivals up to 2.5 times worse: an ID with a swapped print
+//   within kSoftMinSwappedBits (10 of the 28) is never read this way, and
+//   rivals must fit twice as badly.
+// - 36h11 (far codes): a code within the family's safe radius (5 bits; no
+//   other code is that near); none of 174 reads was wrong at misfits up to
+//   0.6.
+// - A grid placed from rings a third of a cell off read a 36h11 tag
+//   with one bit wrong at misfit 0.15, its corners 3.6 px out
+//   (detector_scene_test): the rings must sit within kMaxSoftRingMisfitCells.
+// - A print whose two reds print alike (print_check_test) read every tag
+//   from its greens: each colour's fitted gap must be at least
+//   kMinSoftGapBalance of the other's (iccv17's reds are half its greens).
+constexpr int kSoftReadBits = 2;
+constexpr int kSoftRivalBits = 4;
+constexpr int kSoftMinSwappedBits = 3;
+constexpr double kMaxSoftRingMisfitCells = 0.25;
+constexpr double kMaxSoftMisfit = 0.3;
+constexpr double kMinSoftGapBalance = 0.2;
+constexpr double kMinSoftRivalRatio(bool close_codes) { return close_codes ? 2.0 : 1.5; }
+
+// `grid`: the payload and the black ring around it (BlurMisfit); `ring_misfit`
+// the candidate's (RingMisfit). Fills *match on success.
+bool SoftDecode(const FamilyDecoder& entry, Code observed, const std::vector<CellSample>& grid,
+                double ring_misfit, CodeMatch* match) {
+  if (ring_misfit > kMaxSoftRingMisfitCells) return false;
+  const TagFamily& family = *entry.family;
+  const bool close_codes = family.min_hamming() - entry.decoder->radius() < kFarCodeBits;
+  const int read_bits = close_codes ? kSoftReadBits : family.max_safe_radius();
+  const int rival_bits = close_codes ? kSoftRivalBits : family.max_safe_radius();
+  double best = std::numeric_limits<double>::infinity(), rival = best;
+  CodeMatch best_match;
+  Code best_code = 0;
+  bool best_is_code = false;
+  auto consider = [&](Code pattern, bool is_code, int id, int rotation) {
+    const int bits = HammingDistance(pattern, observed);
+    if (bits > rival_bits) return;
+    const double misfit = FitBlurModel(family, pattern, grid).rms;
+    if (misfit < best) {
+      rival = best;
+      best = misfit;
+      best_is_code = is_code && bits <= read_bits;
+      best_match = {id, rotation, bits};
+      best_code = pattern;
+    } else {
+      rival = std::min(rival, misfit);
+    }
+  };
+  for (int id : family.kept_ids()) {
+    for (int r = 0; r < 4; ++r) consider(family.Rotate(family.CodeOf(id), r), true, id, r);
+  }
+  for (Code swapped : entry.swapped_codes) consider(swapped, false, -1, 0);
+  if (!best_is_code || !(best <= kMaxSoftMisfit) || rival < kMinSoftRivalRatio(close_codes) * best)
+    return false;
+  for (Code swapped : entry.swapped_codes) {
+    if (HammingDistance(swapped, best_code) < kSoftMinSwappedBits) return false;
+  }
+  if (FitBlurModel(family, best_code, grid).gap_balance < kMinSoftGapBalance) return false;
+  *match = best_match;
+  return true;
+}
+
 bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
-              const Candidate& candidate, const cv::Matx33d& image_from_tag, Detection* detection,
-              RejectReason* why) {
+              const Candidate& candidate, const cv::Matx33d& image_from_tag, double ring_misfit,
+              Detection* detection, RejectReason* why) {
   const TagFamily& family = *entry.family;
   const int d = family.payload_width();
   const int cells = family.black_square_cells();
@@ -496,8 +596,11 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   double margin = 0;
   Code observed = 0;
   bool decoded = DecodeShades(options, entry, b, &match, &margin, why, &observed);
+  const double read_margin = margin;
   // The black ring around the payload, read with `n` x `n` samples a cell.
+  bool ring_read = false;
   auto read_ring = [&](int n) {
+    ring_read = true;
     for (int i = 0; i < w; ++i) {
       for (int row : {-1, d})
         grid[(row + 1) * w + i] = ReadCell(image, image_from_tag, cells, row, i - 1, n);
@@ -537,8 +640,15 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
            (match.hamming > 0 &&
             margin < kMinCorrectedRescueMargin * options.min_decision_margin))) {
         *why = RejectReason::kLowMargin;
-        return false;
+        decoded = false;
       }
+    }
+    // Refused otherwise than as a swapped print (which has returned): the
+    // soft read, its margin the hard read's.
+    if (!decoded) {
+      if (!ring_read) read_ring(kMinCellSamples);
+      decoded = SoftDecode(entry, observed, grid, ring_misfit, &match);
+      margin = read_margin;
     }
   }
   if (!decoded) {
@@ -556,6 +666,10 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
         decoded = true;
         break;
       }
+    }
+    if (!decoded) {
+      decoded = SoftDecode(entry, observed, grid, ring_misfit, &match);
+      margin = read_margin;
     }
     if (!decoded) return false;
   }
@@ -613,7 +727,8 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
   for (size_t i = 0; i < n; ++i) {
     // The first family's reason is kept: it fits the rings best.
     RejectReason reason;
-    if (DecodeAs(image, options, *fits[i].second, candidate, image_from_tag, detection, &reason))
+    if (DecodeAs(image, options, *fits[i].second, candidate, image_from_tag, fits[i].first,
+                 detection, &reason))
       return true;
     if (i == 0) *why = reason;
   }
