@@ -444,7 +444,8 @@ class Run {
         if (d.has_pose) {
           item["pose"] = {{"rvec", {d.pose.rvec[0], d.pose.rvec[1], d.pose.rvec[2]}},
                           {"tvec", {d.pose.tvec[0], d.pose.tvec[1], d.pose.tvec[2]}},
-                          {"rms_error_px", d.pose.rms_error_px}};
+                          {"rms_error_px", d.pose.rms_error_px},
+                          {"ambiguity", d.pose.ambiguity}};
         }
         detections.push_back(item);
       }
@@ -467,8 +468,8 @@ class Run {
                       d.hamming, d.decision_margin, d.corners[0].x, d.corners[0].y);
         outcome.out += line;
         if (d.has_pose) {
-          std::snprintf(line, sizeof line, "  t = (%g, %g, %g) m", d.pose.tvec[0], d.pose.tvec[1],
-                        d.pose.tvec[2]);
+          std::snprintf(line, sizeof line, "  t = (%g, %g, %g) m  ambiguity %.2f", d.pose.tvec[0],
+                        d.pose.tvec[1], d.pose.tvec[2], d.pose.ambiguity);
           outcome.out += line;
         }
         outcome.out += "\n";

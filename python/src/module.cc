@@ -408,7 +408,11 @@ PYBIND11_MODULE(_chromatag, m) {
                                cv::Rodrigues(p.rvec, r);
                                return Matrix33(r);
                              })
-      .def_readonly("rms_error_px", &TagPose::rms_error_px)
+      .def_readonly("rms_error_px", &TagPose::rms_error_px,
+                    "root mean square reprojection error over the twelve ring corners, pixels")
+      .def_readonly("ambiguity", &TagPose::ambiguity,
+                    "the kept planar solution's error over the other's: near 0 settled, near 1 "
+                    "ambiguous (the tilt may be mirrored)")
       .def("__repr__", [](const TagPose& p) {
         return "Pose(tvec=[" + std::to_string(p.tvec[0]) + ", " + std::to_string(p.tvec[1]) + ", " +
                std::to_string(p.tvec[2]) + "])";

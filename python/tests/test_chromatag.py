@@ -99,6 +99,33 @@ def test_pose_from_camera_and_tag_size():
     assert (frame != before).any(axis=2).sum() > 200
 
 
+@pytest.mark.parametrize("offset_m", [0.0, 0.01])
+@pytest.mark.parametrize("quarter_turns", [0, 1, 2, 3])
+def test_pose_of_an_exactly_frontal_tag(offset_m, quarter_turns):
+    # A noise-free render facing the camera at 0.5 m: camera_from_tag turns
+    # 180 degrees about x, where a Rodrigues vector is singular.
+    tag = chromatag.render_tag("16h5", 3, 60)  # Black square: pixels 120-479.
+    k = np.array([[600.0, 0, 376], [0, 600, 240], [0, 0, 1]])
+    metres_per_px = 0.06 / 360
+    tag_from_px = np.array([[metres_per_px, 0, -299.5 * metres_per_px],
+                            [0, -metres_per_px, 299.5 * metres_per_px], [0, 0, 1]])
+    rotation = (cv2.Rodrigues(np.array([np.pi, 0, 0]))[0]
+                @ cv2.Rodrigues(np.array([0, 0, quarter_turns * np.pi / 2]))[0])
+    translation = np.array([offset_m, 0, 0.5])
+    h = k @ np.column_stack([rotation[:, 0], rotation[:, 1], translation]) @ tag_from_px
+    frame = cv2.warpPerspective(tag, h, (752, 480), flags=cv2.INTER_AREA,
+                                borderValue=(255, 255, 255))
+    detector = chromatag.Detector(families=["16h5"], camera_matrix=k, dist_coeffs=[0] * 5,
+                                  tag_size=0.06)
+    pose = detector.detect(frame)[0].pose
+    assert np.isfinite(pose.rvec).all() and np.isfinite(pose.tvec).all()
+    assert np.linalg.norm(pose.rvec) <= np.pi + 1e-9
+    error = cv2.Rodrigues(pose.rotation.T @ rotation)[0]
+    assert np.degrees(np.linalg.norm(error)) < 0.5
+    assert np.linalg.norm(pose.tvec - translation) < 0.005 * 0.5
+    assert pose.ambiguity == 0.0  # Both planar solutions refine to this one.
+
+
 def test_rejected_candidates_on_request():
     frame, _ = scene()
     frame[300:360, 300:360] = (40, 40, 220)  # A red square: no tag.

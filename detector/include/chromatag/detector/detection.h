@@ -22,6 +22,12 @@ struct TagPose {
   cv::Vec3d tvec;  // Tag centre in the camera frame, metres.
   // Root mean square reprojection error over the twelve ring corners, pixels.
   double rms_error_px = 0.0;
+  // The planar ambiguity: the kept solution's rms error over the other
+  // planar solution's (both refined on the twelve corners; as AprilTag 3's
+  // err1 / err2). Near 0 the view settles the pose; near 1 the two fit about
+  // equally (a small or nearly frontal tag), and the tilt may be mirrored.
+  // 0 when there was one solution, or both refined into one (frontal views).
+  double ambiguity = 0.0;
 };
 
 struct Detection {

@@ -9,12 +9,16 @@
 
 namespace chromatag {
 
-// camera_from_tag for a decoded detection: OpenCV's solvePnP with
-// SOLVEPNP_IPPE_SQUARE on the four outer corners (which picks the right one
-// of the two planar solutions), then Levenberg-Marquardt over all twelve
-// ring corners (outer, green/black, red/green). `tag_size` is the side of the
-// black square in metres. False (and *error) for invalid intrinsics, a
-// non-positive size or a detection without a family.
+// camera_from_tag for a decoded detection: both planar solutions of the four
+// outer corners (OpenCV's SOLVEPNP_IPPE_SQUARE), each refined by
+// Levenberg-Marquardt over all twelve ring corners (outer, green/black,
+// red/green) in small rotations composed onto the estimate (no singularity at
+// any view, frontal included), and the one with the smaller reprojection
+// error kept (TagPose::ambiguity compares the two). The rotation vector's
+// norm is at most pi. `tag_size` is the side of the black square in metres.
+// False (and *error) for invalid intrinsics, a non-positive size, a
+// detection without a family or with non-finite corners, or no pose with the
+// tag in front of the camera.
 bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera, double tag_size,
                      TagPose* pose, std::string* error = nullptr);
 
