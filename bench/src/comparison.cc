@@ -87,6 +87,17 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
         }
         out.score = ScoreFrame(found, own, other);
         if (d == kChromaTag) record.chromatag_summary = chromatag.last_summary();
+        if (out.score.found) {
+          const FoundTag& tag = found[out.score.found_index];
+          const cv::Matx33d k(own->fx, 0, own->cx, 0, own->fx, own->cy, 0, 0, 1);
+          PoseEstimate pose;
+          if (detectors[d]->Pose(tag, k, 1.0, &pose))
+            PoseError(pose, *own, &out.rotation_error_deg, &out.translation_error_pct);
+          if (d == kChromaTag && detectors[d]->TagDetector::Pose(tag, k, 1.0, &pose)) {
+            PoseError(pose, *own, &record.chromatag_four_corner_rotation_error_deg,
+                      &record.chromatag_four_corner_translation_error_pct);
+          }
+        }
       }
     }
     // ChromaTag again on the chunk, with nothing else in between.

@@ -1,13 +1,18 @@
 #include "chromatag/bench/competitors.h"
 
+#include <cstdlib>
+
 #include <apriltag/apriltag.h>
+#include <apriltag/apriltag_pose.h>
 #include <apriltag/tag16h5.h>
 #include <apriltag/tag36h11.h>
 
 #include <opencv2/aruco.hpp>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/detector/detector.h"
+#include "chromatag/detector/pose.h"
 
 namespace chromatag::bench {
 namespace {
@@ -54,6 +59,50 @@ class AprilTag final : public TagDetector {
 
   const std::string& name() const override { return name_; }
 
+  // libapriltag's estimate_tag_pose (apriltag_pose.h: homography, then
+  // orthogonal iteration from both its solutions), in AprilTag's pixel
+  // convention; its tag frame (x right, y down, z into the tag) turned half
+  // a turn about x into the spec's.
+  bool Pose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+            PoseEstimate* pose) const override {
+    // Debian's libapriltag exports none of the matd functions: a matd_t is
+    // one calloc'd block (its header's struct with the data after it), so
+    // one is made and freed here the same way.
+    apriltag_detection_t detection{};
+    detection.H = static_cast<matd_t*>(std::calloc(1, sizeof(matd_t) + 9 * sizeof(double)));
+    if (!detection.H) return false;
+    detection.H->nrows = detection.H->ncols = 3;
+    std::copy(tag.apriltag_h.begin(), tag.apriltag_h.end(), detection.H->data);
+    for (int c = 0; c < 4; ++c) {
+      const int i = kAprilTagCornerOrder[c];
+      detection.p[i][0] = tag.corners[c].x + kAprilTagPixelCentre;
+      detection.p[i][1] = tag.corners[c].y + kAprilTagPixelCentre;
+    }
+    detection.c[0] = detection.H->data[2] / detection.H->data[8];
+    detection.c[1] = detection.H->data[5] / detection.H->data[8];
+    apriltag_detection_info_t info{&detection,
+                                   tag_size,
+                                   k(0, 0),
+                                   k(1, 1),
+                                   k(0, 2) + kAprilTagPixelCentre,
+                                   k(1, 2) + kAprilTagPixelCentre};
+    apriltag_pose_t result{};
+    estimate_tag_pose(&info, &result);
+    std::free(detection.H);
+    if (!result.R || !result.t) {
+      std::free(result.R);
+      std::free(result.t);
+      return false;
+    }
+    cv::Matx33d r;
+    for (int i = 0; i < 9; ++i) r.val[i] = result.R->data[i];
+    pose->rotation = r * cv::Matx33d(1, 0, 0, 0, -1, 0, 0, 0, -1);
+    pose->translation = cv::Vec3d(result.t->data[0], result.t->data[1], result.t->data[2]);
+    std::free(result.R);
+    std::free(result.t);
+    return true;
+  }
+
   void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) override {
     found->clear();
     cv::cvtColor(bgr, gray_, cv::COLOR_BGR2GRAY);
@@ -71,6 +120,7 @@ class AprilTag final : public TagDetector {
         const int k = kAprilTagCornerOrder[c];
         tag.corners[c] = {d->p[k][0] - kAprilTagPixelCentre, d->p[k][1] - kAprilTagPixelCentre};
       }
+      std::copy(d->H->data, d->H->data + 9, tag.apriltag_h.begin());
       found->push_back(tag);
     }
     apriltag_detections_destroy(detections);
@@ -124,6 +174,19 @@ class Aruco final : public TagDetector {
 };
 
 }  // namespace
+
+bool TagDetector::Pose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+                       PoseEstimate* pose) const {
+  const double h = 0.5 * tag_size;
+  const std::vector<cv::Point3d> object = {{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0}};
+  const std::vector<cv::Point2d> image(tag.corners.begin(), tag.corners.end());
+  cv::Mat rvec, tvec;
+  if (!cv::solvePnP(object, image, k, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE_SQUARE))
+    return false;
+  cv::Rodrigues(rvec, pose->rotation);
+  pose->translation = cv::Vec3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+  return true;
+}
 
 std::unique_ptr<TagDetector> MakeAprilTagDetector(const std::vector<std::string>& families,
                                                   std::string* error) {
@@ -183,6 +246,29 @@ void ChromaTagDetector::Detect(const cv::Mat& bgr, std::vector<FoundTag>* found)
     std::copy(d.red_corners.begin(), d.red_corners.end(), tag.inner_corners.begin() + 4);
     found->push_back(tag);
   }
+}
+
+bool ChromaTagDetector::Pose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+                             PoseEstimate* pose) const {
+  const auto family = TagFamily::Load(tag.family);
+  if (!family || !tag.has_inner_corners) return false;
+  Detection detection;
+  detection.family = family.get();
+  detection.id = tag.id;
+  detection.corners = tag.corners;
+  std::copy(tag.inner_corners.begin(), tag.inner_corners.begin() + 4,
+            detection.green_corners.begin());
+  std::copy(tag.inner_corners.begin() + 4, tag.inner_corners.end(), detection.red_corners.begin());
+  CameraIntrinsics camera;
+  camera.fx = k(0, 0);
+  camera.fy = k(1, 1);
+  camera.cx = k(0, 2);
+  camera.cy = k(1, 2);
+  TagPose estimate;
+  if (!EstimateTagPose(detection, camera, tag_size, &estimate)) return false;
+  cv::Rodrigues(estimate.rvec, pose->rotation);
+  pose->translation = estimate.tvec;
+  return true;
 }
 
 const DetectorSummary& ChromaTagDetector::last_summary() const { return impl_->result.summary; }

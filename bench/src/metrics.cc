@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
 
 namespace chromatag::bench {
@@ -68,11 +70,13 @@ double QuadIoU(const Quad& a, const Quad& b) {
 FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
                       const TagTruth* other, double min_iou) {
   FrameScore score;
-  for (const FoundTag& tag : found) {
+  for (size_t index = 0; index < found.size(); ++index) {
+    const FoundTag& tag = found[index];
     const bool on_truth = truth && QuadIoU(tag.corners, truth->corners) >= min_iou;
     const bool matches = on_truth && tag.id == truth->id && tag.family == truth->family;
     if (matches && !score.found) {
       score.found = true;
+      score.found_index = static_cast<int>(index);
       const Quad& t = truth->corners;
       const cv::Point2d centre = (t[0] + t[1] + t[2] + t[3]) / 4.0;
       cv::Point2d sum;
@@ -108,6 +112,15 @@ FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
     if (other && QuadIoU(tag.corners, other->corners) >= min_iou) ++score.false_on_other_tag;
   }
   return score;
+}
+
+void PoseError(const PoseEstimate& pose, const TagTruth& truth, double* rotation_deg,
+               double* translation_pct) {
+  cv::Vec3d apart;
+  cv::Rodrigues(cv::Matx33d(pose.rotation.t() * truth.rotation), apart);
+  *rotation_deg = cv::norm(apart) * 180.0 / kPi;
+  *translation_pct =
+      100.0 * cv::norm(pose.translation - truth.translation) / cv::norm(truth.translation);
 }
 
 double Percentile(std::vector<double> values, double p) {

@@ -478,7 +478,9 @@ bool WriteCsv(const Context& c) {
   out << ",chromatag_alone_us,calibrated_found,calibrated_false";
   for (int s = 0; s < kNumStages; ++s) out << ",us_" << StageName(static_cast<Stage>(s));
   for (int s = 0; s < kNumStages; ++s) out << ",rejected_" << StageName(static_cast<Stage>(s));
-  out << ",seeds,chromatag_miss_stage,chromatag_miss_reason\n";
+  out << ",seeds,chromatag_miss_stage,chromatag_miss_reason";
+  for (const char* key : keys) out << "," << key << "_rotation_deg," << key << "_translation_pct";
+  out << ",chromatag_4_corners_rotation_deg,chromatag_4_corners_translation_pct\n";
   for (const auto& r : c.records) {
     const FrameTruth& t = r.truth;
     out << t.index << "," << ConditionName(t.condition) << "," << t.has_tags << ","
@@ -514,6 +516,17 @@ bool WriteCsv(const Context& c) {
     } else {
       out << ",";
     }
+    // Empty where no pose was measured.
+    auto number = [&out](double v) {
+      out << ",";
+      if (!std::isnan(v)) out << v;
+    };
+    for (const DetectorRecord& d : r.detectors) {
+      number(d.rotation_error_deg);
+      number(d.translation_error_pct);
+    }
+    number(r.chromatag_four_corner_rotation_error_deg);
+    number(r.chromatag_four_corner_translation_error_pct);
     out << "\n";
   }
   out.close();
@@ -553,6 +566,7 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
       << PrintRecallSection(c) << "\n"
       << ConditionRecallSection(c) << "\n"
       << CornerTable(c) << "\n"
+      << PoseSection(c) << "\n"
       << FalseDetectionTable(c);
   *markdown = out.str();
   std::ofstream file(out_dir + "/report.md");

@@ -333,6 +333,87 @@ void PrintTargets(const Context& c, const std::function<std::string(bool, bool)>
 
 }  // namespace
 
+// Pose errors against the truth of the tags `keep` keeps that the estimator
+// `e` found: 0-3 the detectors (TagDetector::Pose), 3 ChromaTag from four
+// corners (IPPE_SQUARE).
+constexpr int kFourCornerChromaTag = kNumDetectors;
+
+struct PoseErrors {
+  std::vector<double> rotation_deg, translation_pct;
+};
+
+PoseErrors CollectPoseErrors(const Context& c, int e,
+                             const std::function<bool(const TagTruth&)>& keep) {
+  PoseErrors errors;
+  for (const auto& r : c.records) {
+    if (!r.truth.has_tags) continue;
+    const int d = e == kFourCornerChromaTag ? kChromaTag : e;
+    if (!c.info.active[d] || !keep(OwnTruth(r, d))) continue;
+    const double rotation = e == kFourCornerChromaTag ? r.chromatag_four_corner_rotation_error_deg
+                                                      : r.detectors[d].rotation_error_deg;
+    const double translation = e == kFourCornerChromaTag
+                                   ? r.chromatag_four_corner_translation_error_pct
+                                   : r.detectors[d].translation_error_pct;
+    if (std::isnan(rotation) || std::isnan(translation)) continue;
+    errors.rotation_deg.push_back(rotation);
+    errors.translation_pct.push_back(translation);
+  }
+  return errors;
+}
+
+std::string PoseSection(const Context& c) {
+  if (c.info.dataset.kind != DatasetKind::kCamera) return "";
+  std::vector<std::pair<std::string, std::function<bool(const TagTruth&)>>> ranges;
+  for (const Range& tilt : kTiltGroups) {
+    ranges.push_back({"tilt " + tilt.name, [tilt](const TagTruth& t) {
+                        return t.size_px >= 30 && tilt.Contains(t.view_angle_deg);
+                      }});
+  }
+  for (const Range& size : kSizeGroups) {
+    ranges.push_back({"size " + size.name, [size](const TagTruth& t) {
+                        return size.Contains(t.size_px) && t.view_angle_deg <= 60;
+                      }});
+  }
+  ranges.push_back({"≥ 30 px, ≤ 60°", Squarish});
+  const int estimators[] = {kChromaTag, kFourCornerChromaTag, kAprilTag, kAruco};
+  Table rows;
+  for (const auto& [name, keep] : ranges) {
+    std::vector<std::string> row = {name};
+    for (int e : estimators) {
+      const int d = e == kFourCornerChromaTag ? kChromaTag : e;
+      if (!c.info.active[d]) {
+        row.insert(row.end(), {"n/a", "n/a"});
+        continue;
+      }
+      const PoseErrors errors = CollectPoseErrors(c, e, keep);
+      row.push_back(Fixed(Percentile(errors.rotation_deg, 50), 2) + " / " +
+                    Fixed(Percentile(errors.rotation_deg, 90), 2) + " (" +
+                    Grouped(errors.rotation_deg.size()) + ")");
+      row.push_back(Fixed(Percentile(errors.translation_pct, 50), 2) + " / " +
+                    Fixed(Percentile(errors.translation_pct, 90), 2));
+    }
+    rows.push_back(row);
+  }
+  std::vector<std::string> header = {"range"};
+  for (const std::string& name :
+       {c.info.names[kChromaTag] + " (12 corners)", c.info.names[kChromaTag] + " (4 corners)",
+        c.info.names[kAprilTag], c.info.names[kAruco]}) {
+    header.push_back(name + ": rotation °");
+    header.push_back("translation %");
+  }
+  return "### Pose against the truth\n\n"
+         "Each detector's own tag, found, its pose as a user of the detector gets it, against the "
+         "frame's true camera_from_tag (pinhole camera, no distortion; tag size one black square): "
+         "the angle of the rotation between them in degrees, and the distance between the "
+         "translations in % of the tag's distance, as median / 90th percentile (tags). ChromaTag "
+         "(12 corners) is `EstimateTagPose` on the outer and inner ring corners; ChromaTag (4 "
+         "corners) and OpenCV ArUco are OpenCV's `solvePnP` with `SOLVEPNP_IPPE_SQUARE` on the "
+         "four outer corners (what ArUco's `estimatePoseSingleMarkers` does); AprilTag 3 is "
+         "libapriltag's `estimate_tag_pose`. Tilt rows keep tags of 30 px or more, size rows "
+         "tags seen at up to 60°.\n\n" +
+         Markdown(header, rows);
+}
+
 std::string TargetsSection(const Context& c) {
   if (c.info.dataset.kind != DatasetKind::kCamera) return "";
   Table rows;
@@ -369,6 +450,22 @@ std::string TargetsSection(const Context& c) {
                             small[kChromaTag].Recall() >= small[kAprilTag].Recall() * 2.0 / 3.0)});
   }
   PrintTargets(c, verdict, &rows);
+  // Pose: ChromaTag's median errors at most AprilTag 3's in every tilt group.
+  for (const Range& tilt : kTiltGroups) {
+    auto keep = [tilt](const TagTruth& t) {
+      return t.size_px >= 30 && tilt.Contains(t.view_angle_deg);
+    };
+    const PoseErrors ct = CollectPoseErrors(c, kChromaTag, keep);
+    const PoseErrors at = april ? CollectPoseErrors(c, kAprilTag, keep) : PoseErrors{};
+    const double ct_r = Percentile(ct.rotation_deg, 50), at_r = Percentile(at.rotation_deg, 50);
+    const double ct_t = Percentile(ct.translation_pct, 50),
+                 at_t = Percentile(at.translation_pct, 50);
+    rows.push_back({"pose, tilt " + tilt.name + " from 30 px: median rotation ° / translation %",
+                    "≤ AprilTag 3's", Fixed(ct_r, 2) + " / " + Fixed(ct_t, 2),
+                    april ? Fixed(at_r, 2) + " / " + Fixed(at_t, 2) : "n/a",
+                    verdict(april && !ct.rotation_deg.empty() && !at.rotation_deg.empty(),
+                            ct_r <= at_r && ct_t <= at_t)});
+  }
   // Precision, false and wrong detections over all frames.
   std::array<int, kNumDetectors> tp{}, fp{}, free_fp{}, wrong{};
   std::array<std::vector<double>, kNumDetectors> corners, tagged_us, free_us;

@@ -82,6 +82,7 @@ std::string FamilyRecallSection(const Context& c);
 std::string ConditionRecallSection(const Context& c);
 std::string PrintRecallSection(const Context& c);  // Camera set only; empty otherwise.
 std::string TargetsSection(const Context& c);      // Camera set only; empty otherwise.
+std::string PoseSection(const Context& c);         // Camera set only; empty otherwise.
 std::string MissTable(const Context& c);           // Table 4(b), from the miss analysis.
 
 }  // namespace chromatag::bench

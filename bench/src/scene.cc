@@ -128,6 +128,13 @@ TagTruth TagTruthAt(const Camera& camera, double centre_x, int id) {
   const cv::Vec3d normal(camera.rotation(0, 2), camera.rotation(1, 2), camera.rotation(2, 2));
   const double c = std::clamp(normal.dot(centre) / cv::norm(centre), -1.0, 1.0);
   truth.view_angle_deg = std::acos(c) * 180.0 / kPi;
+  // The sheet frame has y down and z into the sheet: the tag frame is it
+  // turned half a turn about x.
+  truth.rotation = camera.rotation * cv::Matx33d(1, 0, 0, 0, -1, 0, 0, 0, -1);
+  truth.translation = centre;
+  truth.fx = camera.fx;
+  truth.cx = camera.cx;
+  truth.cy = camera.cy;
   return truth;
 }
 

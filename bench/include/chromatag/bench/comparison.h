@@ -28,6 +28,11 @@ struct DetectorRecord {
   double time_us = 0.0;  // Wall time of the Detect call, one thread.
   int num_found = 0;     // Detections reported.
   FrameScore score;
+  // When the tag was found: its pose (TagDetector::Pose) against the truth,
+  // the rotation's error in degrees and the translation's in % of the
+  // distance; NaN otherwise.
+  double rotation_error_deg = std::numeric_limits<double>::quiet_NaN();
+  double translation_error_pct = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct FrameRecord {
@@ -40,6 +45,10 @@ struct FrameRecord {
   // detectors[kChromaTag].time_us already is that.
   double chromatag_alone_us = std::numeric_limits<double>::quiet_NaN();
   MissCause chromatag_miss;  // Why ChromaTag missed its tag, if it did.
+  // ChromaTag's pose from its four outer corners alone, as the other
+  // detectors' default (TagDetector::Pose: IPPE_SQUARE), against the truth.
+  double chromatag_four_corner_rotation_error_deg = std::numeric_limits<double>::quiet_NaN();
+  double chromatag_four_corner_translation_error_pct = std::numeric_limits<double>::quiet_NaN();
   // ChromaTag with the config calibrated for the frame's print
   // (CalibratedDetectors), untimed; ran = false when not run.
   DetectorRecord calibrated;

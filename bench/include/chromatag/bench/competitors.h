@@ -29,6 +29,16 @@ struct FoundTag {
   // call). Detectors without them leave has_inner_corners false.
   bool has_inner_corners = false;
   std::array<cv::Point2d, 8> inner_corners{};
+  // AprilTag 3's own homography (apriltag_detection_t::H, row-major), for its
+  // pose; zero for the other detectors.
+  std::array<double, 9> apriltag_h{};
+};
+
+// A tag's pose: camera_from_tag in the spec's tag frame (x right, y up, z
+// towards the viewer).
+struct PoseEstimate {
+  cv::Matx33d rotation = cv::Matx33d::eye();
+  cv::Vec3d translation;
 };
 
 class TagDetector {
@@ -39,6 +49,13 @@ class TagDetector {
   // do with a colour camera frame is inside this call (AprilTag's grey
   // conversion too), so that timing it times the whole job.
   virtual void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) = 0;
+  // The pose of `tag`, one of this detector's detections, as a user of the
+  // detector gets it: `tag_size` the black square's side, the camera `k`
+  // without distortion. Not part of the timed call. The default is OpenCV's
+  // solvePnP with SOLVEPNP_IPPE_SQUARE on the four corners (what ArUco's
+  // estimatePoseSingleMarkers does). False when there is none.
+  virtual bool Pose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+                    PoseEstimate* pose) const;
 };
 
 // Families are named "16h5" and "36h11" (TagFamily::Names()); each maker
@@ -69,6 +86,9 @@ class ChromaTagDetector : public TagDetector {
   ~ChromaTagDetector() override;
   const std::string& name() const override;
   void Detect(const cv::Mat& bgr, std::vector<FoundTag>* found) override;
+  // EstimateTagPose: all twelve ring corners (FoundTag::inner_corners).
+  bool Pose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+            PoseEstimate* pose) const override;
   const DetectorSummary& last_summary() const;
 
   // Runs the detector again on `bgr`, with rejected candidates reported,

@@ -122,6 +122,12 @@ struct TagTruth {
   // from the tag's centre to the camera, degrees.
   double size_px = 0.0;
   double view_angle_deg = 0.0;
+  // camera_from_tag in the spec's tag frame (origin at the tag's centre, x
+  // right, y up, z towards the viewer), lengths in black-square sides; and
+  // the frame's pinhole camera (square pixels, no distortion).
+  cv::Matx33d rotation = cv::Matx33d::eye();
+  cv::Vec3d translation;
+  double fx = 0.0, cx = 0.0, cy = 0.0;
 };
 
 struct FrameTruth {

@@ -22,7 +22,8 @@ using Quad = std::array<cv::Point2d, 4>;
 double QuadIoU(const Quad& a, const Quad& b);
 
 struct FrameScore {
-  bool found = false;          // The tag was detected (a true positive).
+  bool found = false;          // The tag was detected (a true positive)...
+  int found_index = -1;        // ...as this entry of the detections.
   int false_positives = 0;     // Wrong ID, wrong place, or a second report of the tag.
   int false_on_other_tag = 0;  // Of those, how many lie on the frame's other tag.
   int wrong_ids = 0;           // Of those, how many lie on the own tag with a wrong family or ID.
@@ -44,6 +45,12 @@ struct FrameScore {
 // other kind beside it (nullptr if none).
 FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
                       const TagTruth* other, double min_iou = 0.5);
+
+// `pose` of the tag whose truth is `truth` (TagTruth::rotation and
+// translation): the angle of the rotation between them, degrees, and the
+// distance between the translations in % of the true distance.
+void PoseError(const PoseEstimate& pose, const TagTruth& truth, double* rotation_deg,
+               double* translation_pct);
 
 // p-th percentile (p in [0, 100]) with linear interpolation between order
 // statistics; NaN for an empty sample. Takes a copy to sort.
