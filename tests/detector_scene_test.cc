@@ -590,8 +590,8 @@ TEST(DetectorSceneTest, PoseMatchesTheSceneCamera) {
 // a rotation vector no longer than pi. Exactly symmetric frontal tags
 // (noise-free, centred on the principal point or off it, turned by quarter
 // turns) put the rotation at 180 degrees about x, where a Rodrigues vector
-// is singular: within 0.5 degrees and 0.5 % of the distance; tilted, tiny and
-// huge tags within 1 degree and 1 %.
+// is singular: within 0.5 degrees and 0.5 % of the distance; tilted (to 80
+// degrees), tiny and huge tags within 1 degree and 1 %.
 TEST(DetectorSceneTest, PoseIsRightAtEveryView) {
   struct View {
     double size_px, rotation_deg, tilt_deg;
@@ -603,7 +603,8 @@ TEST(DetectorSceneTest, PoseIsRightAtEveryView) {
     views.push_back({150, rotation, 0, {0, 0}, 0.5, 0.005});
     views.push_back({150, rotation, 0, {100, -60}, 0.5, 0.005});
   }
-  for (double tilt : {2., 10., 30., 60., 75.}) views.push_back({200, 35, tilt, {0, 0}, 1, 0.01});
+  for (double tilt : {2., 10., 30., 60., 75., 80.})
+    views.push_back({240, 35, tilt, {0, 0}, 1, 0.01});
   views.push_back({30, 0, 0, {0, 0}, 1, 0.01});
   views.push_back({30, 45, 40, {0, 0}, 1, 0.01});
   views.push_back({400, 0, 0, {0, 0}, 1, 0.01});
