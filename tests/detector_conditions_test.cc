@@ -178,6 +178,24 @@ TEST(DetectorConditionsTest, SmallIccv17TagsThroughJpegAreReadByFittingNearbyCod
   }
 }
 
+// A max_hamming set in the options caps the soft-decision read too: with
+// exact reads asked for, no detection corrects a bit.
+TEST(DetectorConditionsTest, AMaxHammingSetCapsTheSoftRead) {
+  DetectorOptions options;
+  options.families = {"16h5", "36h11"};
+  options.max_hamming = 0;
+  auto exact = Detector::Create(options);
+  ASSERT_TRUE(exact);
+  const Scene scene = Iccv17JpegScene("36h11", 40, 0.6);
+  int corrected_by_default = 0;
+  for (const Detection& d : BothFamiliesDetector()->Detect(scene.bgr).detections)
+    corrected_by_default += d.hamming > 0 ? 1 : 0;
+  EXPECT_GT(corrected_by_default, 0);  // The scene needs corrections...
+  for (const Detection& d : exact->Detect(scene.bgr).detections) {
+    EXPECT_EQ(d.hamming, 0) << "ID " << d.id;  // ...that max_hamming 0 forbids.
+  }
+}
+
 // Swapped shades show each tag's complement within each colour; under blur,
 // noise, casts and JPEG (which compress and scatter the 16h5 red centre's four
 // cells) that must still never decode, in either palette.

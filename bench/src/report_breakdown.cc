@@ -334,8 +334,8 @@ void PrintTargets(const Context& c, const std::function<std::string(bool, bool)>
 }  // namespace
 
 // Pose errors against the truth of the tags `keep` keeps that the estimator
-// `e` found: 0-3 the detectors (TagDetector::Pose), 3 ChromaTag from four
-// corners (IPPE_SQUARE).
+// `e` found: 0-2 the detectors (TagDetector::Pose), 3 ChromaTag from four
+// corners (IPPE_SQUARE). Each estimator over the tags it found.
 constexpr int kFourCornerChromaTag = kNumDetectors;
 
 struct PoseErrors {

@@ -504,7 +504,9 @@ double SwappedPrintMisfit(const TagFamily& family, const std::vector<Code>& riva
 //   rivals must fit twice as badly.
 // - 36h11 (far codes): a code within the family's safe radius (5 bits; no
 //   other code is that near); none of 174 reads was wrong at misfits up to
-//   0.6.
+//   0.6. A max_hamming set in the options caps it.
+// - The decision margin does not gate a soft read (its fit does): it reports
+//   the hard read's.
 // - A grid placed from rings a third of a cell off read a 36h11 tag
 //   with one bit wrong at misfit 0.15, its corners 3.6 px out
 //   (detector_scene_test): the rings must sit within kMaxSoftRingMisfitCells.
@@ -521,12 +523,17 @@ constexpr double kMinSoftRivalRatio(bool close_codes) { return close_codes ? 2.0
 
 // `grid`: the payload and the black ring around it (BlurMisfit); `ring_misfit`
 // the candidate's (RingMisfit). Fills *match on success.
-bool SoftDecode(const FamilyDecoder& entry, Code observed, const std::vector<CellSample>& grid,
-                double ring_misfit, CodeMatch* match) {
+bool SoftDecode(const DetectorOptions& options, const FamilyDecoder& entry, Code observed,
+                const std::vector<CellSample>& grid, double ring_misfit, CodeMatch* match) {
   if (ring_misfit > kMaxSoftRingMisfitCells) return false;
   const TagFamily& family = *entry.family;
-  const bool close_codes = family.min_hamming() - entry.decoder->radius() < kFarCodeBits;
-  const int read_bits = close_codes ? kSoftReadBits : family.max_safe_radius();
+  const int radius = entry.decoder->radius();
+  const bool close_codes = family.min_hamming() - radius < kFarCodeBits;
+  // A max_hamming the user set caps the soft read too; the default lets a
+  // far family's soft read reach its safe radius.
+  const int read_bits = close_codes                ? std::min(kSoftReadBits, radius)
+                        : options.max_hamming >= 0 ? radius
+                                                   : family.max_safe_radius();
   const int rival_bits = close_codes ? kSoftRivalBits : family.max_safe_radius();
   double best = std::numeric_limits<double>::infinity(), rival = best;
   CodeMatch best_match;
@@ -647,7 +654,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
     // soft read, its margin the hard read's.
     if (!decoded) {
       if (!ring_read) read_ring(kMinCellSamples);
-      decoded = SoftDecode(entry, observed, grid, ring_misfit, &match);
+      decoded = SoftDecode(options, entry, observed, grid, ring_misfit, &match);
       margin = read_margin;
     }
   }
@@ -668,7 +675,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
       }
     }
     if (!decoded) {
-      decoded = SoftDecode(entry, observed, grid, ring_misfit, &match);
+      decoded = SoftDecode(options, entry, observed, grid, ring_misfit, &match);
       margin = read_margin;
     }
     if (!decoded) return false;

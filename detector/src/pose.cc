@@ -15,8 +15,8 @@ namespace chromatag {
 namespace {
 
 // Levenberg-Marquardt: at most this many iterations, stopping when a step
-// changes the rotation and the translation by less than kConvergedStep
-// (radians; tag sizes).
+// (the rotation's radians and the translation's metres together) is
+// shorter than kConvergedStep.
 constexpr int kMaxIterations = 30;
 constexpr double kConvergedStep = 1e-10;
 // Two refined solutions closer than this (radians) are one.
@@ -182,7 +182,11 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
   // Lens distortion taken out once: the refinement works in undistorted
   // pixels of the same camera matrix.
   std::vector<cv::Point2d> undistorted;
-  cv::undistortPoints(image, undistorted, k, distortion, cv::noArray(), k);
+  // Iterated to convergence: OpenCV's default five iterations leave up to a
+  // quarter pixel near the edge of a strongly distorted image.
+  cv::undistortPoints(
+      image, undistorted, k, distortion, cv::noArray(), k,
+      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
 
   // Starting points, each refined on the twelve corners: both planar
   // solutions IPPE gives for the outer square (near frontal views the two

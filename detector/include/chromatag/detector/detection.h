@@ -40,7 +40,8 @@ struct Detection {
   // How clearly the shades split: over both colours, the smaller gap between
   // the two b* clusters divided by their pooled spread (at least 1 b* unit).
   // Dimensionless; weak decodes below DetectorOptions::min_decision_margin
-  // are rejected.
+  // are rejected unless their code fits the cells closely (the rescue and
+  // the soft-decision read, DetectorOptions::max_hamming).
   double decision_margin = 0.0;
   // The black/white border, in the decoded tag's orientation: corner 0 is the
   // top-left of the upright tag, then clockwise. Pixel centres are at integer

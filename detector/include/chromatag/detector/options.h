@@ -103,14 +103,19 @@ struct DetectorOptions {
   double conv_thresh = 0.98;
 
   // Largest number of bit errors corrected while decoding; -1 picks the
-  // family's default (2, never above its safe radius).
+  // family's default: 2 (never above its safe radius), and for a read the
+  // hard split refuses, a soft-decision read (the cells fitted to each code
+  // near them) up to the safe radius of a family of far codes (36h11: 5).
+  // A number set here caps both.
   int max_hamming = -1;
 
   // Smallest accepted decision margin: the gap between the two b* clusters of
   // a colour relative to their spread, dimensionless. [0, inf). It applies
   // in full to reads that correct bits in a family of close codes (16h5);
   // an exact 16h5 read needs half of it, and a read whose nearest other code
-  // is 9 or more bits away (36h11) none (decode.cc says why).
+  // is 9 or more bits away (36h11) none (decode.cc says why). A soft-decision
+  // read (max_hamming) is judged by how well its code fits the cells
+  // instead, and reports the margin of the read it replaced.
   double min_decision_margin = 2.0;
 
   // Sub-pixel corners (PolyToQuad's second half): least-squares lines through
