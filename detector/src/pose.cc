@@ -1,156 +1,17 @@
 #include "chromatag/detector/pose.h"
 
-#include <algorithm>
-#include <array>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgproc.hpp>
 
-#include "chromatag/families/family.h"
+#include "pose_fit.h"
 
 namespace chromatag {
-namespace {
-
-// Levenberg-Marquardt: at most this many iterations, stopping when a step
-// (the rotation's radians and the translation's metres together) is
-// shorter than kConvergedStep.
-constexpr int kMaxIterations = 30;
-constexpr double kConvergedStep = 1e-10;
-// Two refined solutions closer than this (radians) are one.
-constexpr double kSameSolutionRadians = 1e-4;
-
-// The corners of a square of side `side` centred on the tag origin, in the
-// spec's tag frame (x right, y up): top-left, then clockwise as seen from the
-// front, matching Detection::corners (and SOLVEPNP_IPPE_SQUARE's order).
-void AddSquare(double side, std::vector<cv::Point3d>* points) {
-  const double h = 0.5 * side;
-  points->push_back({-h, h, 0});
-  points->push_back({h, h, 0});
-  points->push_back({h, -h, 0});
-  points->push_back({-h, -h, 0});
-}
-
-struct PoseFit {
-  cv::Matx33d rotation;  // camera_from_tag.
-  cv::Vec3d translation;
-  double rms_px = std::numeric_limits<double>::infinity();
-};
-
-// `object` seen at `image` (undistorted pixels) by a pinhole camera.
-class Reprojection {
- public:
-  Reprojection(const std::vector<cv::Point3d>& object, const std::vector<cv::Point2d>& image,
-               const cv::Matx33d& k)
-      : object_(object), image_(image), k_(k) {}
-
-  // Sum of squared residuals; infinite when a point lies behind the camera.
-  double Cost(const cv::Matx33d& r, const cv::Vec3d& t) const {
-    double sum = 0;
-    for (size_t i = 0; i < object_.size(); ++i) {
-      const cv::Vec3d p = r * cv::Vec3d(object_[i].x, object_[i].y, object_[i].z) + t;
-      if (!(p[2] > 0)) return std::numeric_limits<double>::infinity();
-      const double du = k_(0, 0) * p[0] / p[2] + k_(0, 2) - image_[i].x;
-      const double dv = k_(1, 1) * p[1] / p[2] + k_(1, 2) - image_[i].y;
-      sum += du * du + dv * dv;
-    }
-    return sum;
-  }
-
-  // The normal equations of the residuals' first-order change under a small
-  // rotation w composed onto r (exp([w]x) r) and a shift of t: parameters
-  // (w, dt). False when a point lies behind the camera.
-  bool Normal(const cv::Matx33d& r, const cv::Vec3d& t, cv::Matx66d* jtj, cv::Vec6d* jte) const {
-    *jtj = cv::Matx66d::zeros();
-    *jte = cv::Vec6d::all(0);
-    for (size_t i = 0; i < object_.size(); ++i) {
-      const cv::Vec3d q = r * cv::Vec3d(object_[i].x, object_[i].y, object_[i].z);
-      const cv::Vec3d p = q + t;
-      if (!(p[2] > 0)) return false;
-      const double fx = k_(0, 0), fy = k_(1, 1), z = p[2];
-      const double e[2] = {fx * p[0] / z + k_(0, 2) - image_[i].x,
-                           fy * p[1] / z + k_(1, 2) - image_[i].y};
-      // d(u, v)/dp.
-      const cv::Vec3d du(fx / z, 0, -fx * p[0] / (z * z)), dv(0, fy / z, -fy * p[1] / (z * z));
-      for (int row = 0; row < 2; ++row) {
-        const cv::Vec3d& g = row == 0 ? du : dv;
-        // dp/dw = -[q]x, so (dp/dw)^T g = q x g; dp/dt = I.
-        const cv::Vec3d gw = q.cross(g);
-        const cv::Vec6d j(gw[0], gw[1], gw[2], g[0], g[1], g[2]);
-        *jtj += j * j.t();
-        *jte += e[row] * j;
-      }
-    }
-    return true;
-  }
-
-  // Refines `fit` (rotation and translation) in place and sets its rms.
-  void Refine(PoseFit* fit) const {
-    double cost = Cost(fit->rotation, fit->translation);
-    double lambda = 1e-3;
-    for (int iteration = 0; iteration < kMaxIterations && std::isfinite(cost); ++iteration) {
-      cv::Matx66d jtj;
-      cv::Vec6d jte;
-      if (!Normal(fit->rotation, fit->translation, &jtj, &jte)) break;
-      bool improved = false;
-      cv::Vec6d step;
-      while (lambda < 1e12) {
-        cv::Matx66d damped = jtj;
-        for (int i = 0; i < 6; ++i) damped(i, i) += lambda * std::max(jtj(i, i), 1e-12);
-        if (!cv::solve(damped, -jte, step, cv::DECOMP_CHOLESKY)) {
-          lambda *= 10;
-          continue;
-        }
-        cv::Matx33d delta;
-        cv::Rodrigues(cv::Vec3d(step[0], step[1], step[2]), delta);
-        const cv::Matx33d r = delta * fit->rotation;
-        const cv::Vec3d t = fit->translation + cv::Vec3d(step[3], step[4], step[5]);
-        const double next = Cost(r, t);
-        if (next < cost) {
-          fit->rotation = r;
-          fit->translation = t;
-          cost = next;
-          lambda = std::max(lambda / 10, 1e-9);
-          improved = true;
-          break;
-        }
-        lambda *= 10;
-      }
-      if (!improved || cv::norm(step) < kConvergedStep) break;
-    }
-    fit->rms_px = std::sqrt(cost / static_cast<double>(object_.size()));
-  }
-
- private:
-  const std::vector<cv::Point3d>& object_;
-  const std::vector<cv::Point2d>& image_;
-  cv::Matx33d k_;
-};
-
-// The nearest rotation matrix (SVD), so that the Rodrigues vector comes
-// from an exactly orthonormal matrix.
-cv::Matx33d Orthonormal(const cv::Matx33d& m) {
-  cv::Mat w, u, vt;
-  cv::SVD::compute(cv::Mat(m), w, u, vt);
-  cv::Matx33d r = cv::Matx33d(cv::Mat(u * vt));
-  if (cv::determinant(r) < 0) {
-    cv::Mat flip = cv::Mat::eye(3, 3, CV_64F);
-    flip.at<double>(2, 2) = -1;
-    r = cv::Matx33d(cv::Mat(u * flip * vt));
-  }
-  return r;
-}
-
-bool Finite(const cv::Vec3d& v) {
-  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
-
-}  // namespace
 
 bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera, double tag_size,
                      TagPose* pose, std::string* error) {
+  using namespace internal;
   if (!camera.IsValid(error)) return false;
   if (!(tag_size > 0.0) || !std::isfinite(tag_size)) {
     if (error) *error = "tag size must be a positive length";
@@ -160,88 +21,15 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
     if (error) *error = "the detection has no family";
     return false;
   }
-  const double cells = detection.family->black_square_cells();
-  const cv::Matx33d k(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
-  const cv::Mat distortion(camera.distortion, /*copyData=*/true);
-
-  // The twelve ring corners: the black square, then the green/black square
-  // (d of the d + 2 cells) and the red/green one (d - 2).
-  std::vector<cv::Point3d> object;
-  AddSquare(tag_size, &object);
-  AddSquare(tag_size * (cells - 2) / cells, &object);
-  AddSquare(tag_size * (cells - 4) / cells, &object);
-  std::vector<cv::Point2d> image(detection.corners.begin(), detection.corners.end());
-  image.insert(image.end(), detection.green_corners.begin(), detection.green_corners.end());
-  image.insert(image.end(), detection.red_corners.begin(), detection.red_corners.end());
-  for (const cv::Point2d& p : image) {
-    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
-      if (error) *error = "the detection's corners are not finite";
-      return false;
-    }
-  }
-  // Lens distortion taken out once: the refinement works in undistorted
-  // pixels of the same camera matrix.
-  std::vector<cv::Point2d> undistorted;
-  // Iterated to convergence: OpenCV's default five iterations leave up to a
-  // quarter pixel near the edge of a strongly distorted image.
-  cv::undistortPoints(
-      image, undistorted, k, distortion, cv::noArray(), k,
-      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
-
-  // Starting points, each refined on the twelve corners: both planar
-  // solutions IPPE gives for the outer square (near frontal views the two
-  // explain four corners almost equally, and the twelve tell them apart)...
-  const std::vector<cv::Point3d> outer(object.begin(), object.begin() + 4);
-  const std::vector<cv::Point2d> outer_image(undistorted.begin(), undistorted.begin() + 4);
-  std::vector<cv::Mat> rvecs, tvecs;
-  try {
-    cv::solvePnPGeneric(outer, outer_image, k, cv::noArray(), rvecs, tvecs, false,
-                        cv::SOLVEPNP_IPPE_SQUARE);
-  } catch (const cv::Exception&) {
-    rvecs.clear();
-  }
-  const Reprojection reprojection(object, undistorted, k);
-  std::vector<PoseFit> fits;
-  for (size_t i = 0; i < rvecs.size(); ++i) {
-    const cv::Vec3d rvec(rvecs[i].ptr<double>()), tvec(tvecs[i].ptr<double>());
-    if (!Finite(rvec) || !Finite(tvec)) continue;
-    PoseFit fit;
-    cv::Rodrigues(rvec, fit.rotation);
-    fit.translation = tvec;
-    reprojection.Refine(&fit);
-    if (std::isfinite(fit.rms_px)) fits.push_back(fit);
-  }
-  // And the pose the outer square's homography gives (the camera matrix
-  // taken out, its first two columns the rotation's): IPPE returns the
-  // identity, a reflection of the truth, for an exactly symmetric frontal
-  // square.
-  {
-    std::vector<cv::Point2f> plane, seen;
-    for (int i = 0; i < 4; ++i) {
-      plane.emplace_back(static_cast<float>(outer[i].x), static_cast<float>(outer[i].y));
-      seen.emplace_back(static_cast<float>(outer_image[i].x), static_cast<float>(outer_image[i].y));
-    }
-    const cv::Matx33d m = k.inv() * cv::Matx33d(cv::getPerspectiveTransform(plane, seen));
-    const cv::Vec3d c0(m(0, 0), m(1, 0), m(2, 0)), c1(m(0, 1), m(1, 1), m(2, 1)),
-        c2(m(0, 2), m(1, 2), m(2, 2));
-    double scale = 2.0 / (cv::norm(c0) + cv::norm(c1));
-    if (c2[2] * scale < 0) scale = -scale;  // The tag in front of the camera.
-    const cv::Vec3d r0 = scale * c0, r1 = scale * c1, r2 = r0.cross(r1);
-    PoseFit fit;
-    fit.rotation =
-        Orthonormal(cv::Matx33d(r0[0], r1[0], r2[0], r0[1], r1[1], r2[1], r0[2], r1[2], r2[2]));
-    fit.translation = scale * c2;
-    if (std::isfinite(scale) && Finite(fit.translation)) {
-      reprojection.Refine(&fit);
-      if (std::isfinite(fit.rms_px)) fits.push_back(fit);
-    }
-  }
+  // The refinement works in undistorted pixels of the same camera matrix.
+  std::vector<cv::Point2d> image;
+  if (!UndistortedRingCorners(detection, camera, &image, error)) return false;
+  const std::vector<cv::Point3d> object = TagRingCorners(*detection.family, tag_size);
+  const std::vector<PoseFit> fits = TagPoseFits(object, image, CameraMatrix(camera));
   if (fits.empty()) {
     if (error) *error = "no pose puts the tag in front of the camera";
     return false;
   }
-  std::sort(fits.begin(), fits.end(),
-            [](const PoseFit& a, const PoseFit& b) { return a.rms_px < b.rms_px; });
   cv::Vec3d rvec;
   cv::Rodrigues(Orthonormal(fits[0].rotation), rvec);
   if (!Finite(rvec) || !Finite(fits[0].translation)) {
@@ -251,17 +39,7 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
   pose->rvec = rvec;
   pose->tvec = fits[0].translation;
   pose->rms_error_px = fits[0].rms_px;
-  // Against the best other solution; solutions refined into one (a frontal
-  // view: the planar solutions are its mirror tilts) leave nothing ambiguous.
-  pose->ambiguity = 0.0;
-  for (size_t i = 1; i < fits.size(); ++i) {
-    cv::Vec3d apart;
-    cv::Rodrigues(Orthonormal(fits[0].rotation.t() * fits[i].rotation), apart);
-    if (cv::norm(apart) > kSameSolutionRadians && fits[i].rms_px > 0) {
-      pose->ambiguity = fits[0].rms_px / fits[i].rms_px;
-      break;
-    }
-  }
+  pose->ambiguity = Ambiguity(fits);
   return true;
 }
 

@@ -1,0 +1,87 @@
+// Pose fitting shared by the tag pose (pose.cc) and the board pose
+// (board.cc): known points seen by a pinhole camera, started from planar
+// solutions and refined by Levenberg-Marquardt in small rotations composed
+// onto the estimate, so that no view is singular.
+#ifndef CHROMATAG_DETECTOR_SRC_POSE_FIT_H_
+#define CHROMATAG_DETECTOR_SRC_POSE_FIT_H_
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "chromatag/detector/detection.h"
+#include "chromatag/detector/options.h"
+
+namespace chromatag::internal {
+
+struct PoseFit {
+  cv::Matx33d rotation = cv::Matx33d::eye();  // camera_from_object.
+  cv::Vec3d translation;
+  double rms_px = std::numeric_limits<double>::infinity();
+};
+
+cv::Matx33d CameraMatrix(const CameraIntrinsics& camera);
+
+// The twelve ring corners of a tag of `family` whose black square has side
+// `tag_size`, in its tag frame (x right, y up, origin at the centre): the
+// black square, the green/black and the red/green squares, each top-left
+// first and clockwise as seen from the front, as Detection's corners.
+std::vector<cv::Point3d> TagRingCorners(const TagFamily& family, double tag_size);
+
+// The detection's twelve ring corners in the same order, lens distortion
+// taken out (pixels of the same camera matrix). False with *error when a
+// corner is not finite.
+bool UndistortedRingCorners(const Detection& detection, const CameraIntrinsics& camera,
+                            std::vector<cv::Point2d>* undistorted, std::string* error);
+
+// `object` seen at `image` (undistorted pixels) by the pinhole camera `k`.
+// Holds references: both must outlive it.
+class Reprojection {
+ public:
+  Reprojection(const std::vector<cv::Point3d>& object, const std::vector<cv::Point2d>& image,
+               const cv::Matx33d& k)
+      : object_(object), image_(image), k_(k) {}
+
+  // Sum of squared residuals; infinite when a point lies behind the camera.
+  double Cost(const cv::Matx33d& r, const cv::Vec3d& t) const;
+  // Root mean square residual, pixels.
+  double Rms(const cv::Matx33d& r, const cv::Vec3d& t) const;
+  // Refines `fit` in place by Levenberg-Marquardt and sets its rms.
+  void Refine(PoseFit* fit) const;
+
+ private:
+  bool Normal(const cv::Matx33d& r, const cv::Vec3d& t, cv::Matx66d* jtj, cv::Vec6d* jte) const;
+
+  const std::vector<cv::Point3d>& object_;
+  const std::vector<cv::Point2d>& image_;
+  cv::Matx33d k_;
+};
+
+// A tag's candidate poses from its twelve corners: both planar solutions of
+// the outer square (OpenCV's SOLVEPNP_IPPE_SQUARE) and the one its
+// homography gives, each refined on all twelve; best (smallest rms) first.
+// Empty when none puts the tag in front of the camera.
+std::vector<PoseFit> TagPoseFits(const std::vector<cv::Point3d>& object,
+                                 const std::vector<cv::Point2d>& image, const cv::Matx33d& k);
+
+// The nearest rotation matrix (SVD).
+cv::Matx33d Orthonormal(const cv::Matx33d& m);
+
+// The angle of the rotation that takes `a` to `b`, radians.
+double AngleBetween(const cv::Matx33d& a, const cv::Matx33d& b);
+
+bool Finite(const cv::Vec3d& v);
+
+// Two refined solutions closer than this (radians) are one.
+inline constexpr double kSameSolutionRadians = 1e-4;
+
+// The ambiguity of the best of `fits` (sorted best first): its rms over that
+// of the best solution that differs from it (as AprilTag 3's err1 / err2);
+// 0 when no other solution differs.
+double Ambiguity(const std::vector<PoseFit>& fits);
+
+}  // namespace chromatag::internal
+
+#endif  // CHROMATAG_DETECTOR_SRC_POSE_FIT_H_
