@@ -19,6 +19,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -26,6 +27,8 @@
 #include <thread>
 
 #include "camera_file.h"
+#include "chromatag/calib/board_file.h"
+#include "chromatag/detector/board.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
@@ -49,6 +52,7 @@ struct DetectOptions {
   std::string camera_file;
   std::string tag_size;
   std::string config;     // Detector config file, e.g. from chromatag calibrate.
+  std::string board_file;  // A board or bundle whose pose to report per frame.
   bool rejected = false;  // Report (JSON) and draw (overlay) rejected candidates.
   std::vector<int> camera_indices;
   bool show = false;
@@ -206,9 +210,11 @@ Json Rejected(const std::vector<RejectedCandidate>& rejected) {
 // workers detect, and the calling thread prints the outcomes in order.
 class Run {
  public:
-  Run(const DetectOptions& options, const Detector& detector, std::vector<Source> sources, int jobs)
+  Run(const DetectOptions& options, const Detector& detector, const std::optional<Board>& board,
+      std::vector<Source> sources, int jobs)
       : options_(options),
         detector_(detector),
+        board_(board),
         sources_(std::move(sources)),
         jobs_(jobs),
         capacity_(static_cast<size_t>(2 * jobs + 2)) {}
@@ -405,12 +411,18 @@ class Run {
     detector_.Detect(frame, PixelOrder::kBgr, result);
     outcome.frame = true;
     outcome.tags = static_cast<int>(result->detections.size());
+    const DetectorOptions& d = detector_.options();
+    std::optional<BoardPose> board_pose;
+    if (board_) {
+      BoardPose pose;
+      if (EstimateBoardPose(result->detections, *board_, *d.camera, &pose)) board_pose = pose;
+    }
     std::string overlay;
     if (!options_.overlay_dir.empty() || options_.show) {
       cv::Mat canvas = frame.clone();
       if (options_.rejected) DrawRejected(result->rejected, &canvas);
-      const DetectorOptions& d = detector_.options();
       DrawDetections(result->detections, d.camera ? &*d.camera : nullptr, d.tag_size, &canvas);
+      if (board_pose) DrawBoardPose(*board_pose, board_->name, *d.camera, BoardAxis(), &canvas);
       if (!options_.overlay_dir.empty()) {
         char suffix[32];
         std::snprintf(suffix, sizeof suffix, "_%06d", task.frame_index);
@@ -455,6 +467,7 @@ class Run {
                    {"height", frame.rows},
                    {"time_us", result->summary.total_time_us},
                    {"detections", detections}};
+      if (board_) line["board"] = board_pose ? BoardJson(*board_pose) : Json(nullptr);
       if (source.live()) line["timestamp"] = task.timestamp;
       if (!overlay.empty()) line["overlay"] = overlay;
       if (options_.rejected) line["rejected"] = Rejected(result->rejected);
@@ -476,12 +489,58 @@ class Run {
       }
       if (result->detections.empty())
         outcome.out += source.name + " frame " + std::to_string(task.frame_index) + ": no tags\n";
+      if (board_) outcome.out += BoardLine(source.name, task.frame_index, board_pose);
     }
     return outcome;
   }
 
+  // Ids of board tags by their indices.
+  Json BoardIds(const std::vector<int>& indices) const {
+    Json ids = Json::array();
+    for (int i : indices) ids.push_back(board_->tags[i].id);
+    return ids;
+  }
+
+  Json BoardJson(const BoardPose& pose) const {
+    return {{"name", board_->name},
+            {"rvec", {pose.rvec[0], pose.rvec[1], pose.rvec[2]}},
+            {"tvec", {pose.tvec[0], pose.tvec[1], pose.tvec[2]}},
+            {"tags_used", BoardIds(pose.tags_used)},
+            {"tags_rejected", BoardIds(pose.tags_rejected)},
+            {"rms_error_px", pose.rms_error_px},
+            {"ambiguity", pose.ambiguity}};
+  }
+
+  std::string BoardLine(const std::string& name, int frame,
+                        const std::optional<BoardPose>& pose) const {
+    char line[512];
+    if (!pose) {
+      std::snprintf(line, sizeof line, "%-30s %6d  board %s: not seen\n", name.c_str(), frame,
+                    board_->name.c_str());
+      return line;
+    }
+    std::snprintf(line, sizeof line,
+                  "%-30s %6d  board %s: t = (%g, %g, %g) m  %zu of %zu tags  rms %.2f px  "
+                  "ambiguity %.2f%s\n",
+                  name.c_str(), frame, board_->name.c_str(), pose->tvec[0], pose->tvec[1],
+                  pose->tvec[2], pose->tags_used.size(), board_->tags.size(), pose->rms_error_px,
+                  pose->ambiguity,
+                  pose->tags_rejected.empty()
+                      ? ""
+                      : ("  left out: " + BoardIds(pose->tags_rejected).dump()).c_str());
+    return line;
+  }
+
+  // The drawn axes: twice the board's largest tag.
+  double BoardAxis() const {
+    double size = 0;
+    for (const BoardTag& tag : board_->tags) size = std::max(size, tag.size);
+    return 2.0 * size;
+  }
+
   const DetectOptions& options_;
   const Detector& detector_;
+  const std::optional<Board>& board_;
   const std::vector<Source> sources_;
   const int jobs_;
   const size_t capacity_;
@@ -516,8 +575,25 @@ int RunDetect(const DetectOptions& options) {
     if (!length) return fail("--tag-size: " + error);
     detector_options.tag_size = length->mm / 1000.0;
   }
-  if (detector_options.camera.has_value() != (detector_options.tag_size > 0))
+  std::optional<Board> board;
+  if (!options.board_file.empty()) {
+    board = ReadBoardFile(options.board_file, &error);
+    if (!board) return fail(error);
+    if (!detector_options.camera) return fail("--board needs --camera FILE (the intrinsics)");
+    // The board's families only, unless --family says otherwise.
+    if (options.family == "all") {
+      detector_options.families.clear();
+      for (const BoardTag& tag : board->tags) {
+        if (std::find(detector_options.families.begin(), detector_options.families.end(),
+                      tag.family) == detector_options.families.end())
+          detector_options.families.push_back(tag.family);
+      }
+    }
+  }
+  if (detector_options.tag_size > 0 && !detector_options.camera)
     return fail("pose needs both --camera FILE and --tag-size LENGTH");
+  if (detector_options.camera && !(detector_options.tag_size > 0) && !board)
+    return fail("pose needs both --camera FILE and --tag-size LENGTH (or --board FILE)");
   if (options.show && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
     return fail("--show needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set)");
   std::vector<Source> sources;
@@ -535,7 +611,7 @@ int RunDetect(const DetectOptions& options) {
                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   g_stop = false;
   std::signal(SIGINT, OnInterrupt);
-  Run run(options, *detector, std::move(sources), jobs);
+  Run run(options, *detector, board, std::move(sources), jobs);
   const int code = run.Execute();
   std::signal(SIGINT, SIG_DFL);
   return code;
@@ -562,6 +638,9 @@ void RegisterDetect(CLI::App& app, Action* action) {
                       "distortion_coefficients), ROS camera_info YAML or Kalibr camchain YAML");
   command->add_option("--tag-size", options->tag_size,
                       "Side of the black square, e.g. 40mm, for pose");
+  command->add_option("--board", options->board_file,
+                      "Report the pose of this board or bundle per frame (with --camera): a "
+                      "sheet's sidecar (.json) or a bundle YAML (FILE[#NAME]); docs/pose.md");
   command->add_option("--config", options->config,
                       "Detector config JSON (thresholds from 'chromatag calibrate')");
   command->add_flag("--rejected", options->rejected,

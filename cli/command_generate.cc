@@ -24,6 +24,16 @@ int RunGenerate(const GenerateOptions& options) {
   if (!layout) return Fail("generate", error);
   std::vector<std::string> written;
   if (!WriteSheet(sheet, options.output, &error, &written)) return Fail("generate", error);
+  if (sheet.board) {
+    std::cout << "Wrote a " << sheet.board->columns << " x " << sheet.board->rows << " board of "
+              << sheet.family->name() << " tags of " << sheet.tag_size_mm << " mm, "
+              << sheet.board->spacing_mm << " mm apart, on one " << sheet.page.name
+              << " page, palette " << sheet.palette.name
+              << (sheet.color_lut ? " through " + sheet.color_lut->path() : "")
+              << "; its sidecar is the board file (detect --board):\n";
+    for (const auto& path : written) std::cout << "  " << path << "\n";
+    return kExitOk;
+  }
   std::cout << "Wrote " << sheet.ids.size() << " " << sheet.family->name() << " tag"
             << (sheet.ids.size() == 1 ? "" : "s") << " of " << sheet.tag_size_mm << " mm on "
             << layout->num_pages << " " << sheet.page.name << " page"
@@ -45,8 +55,9 @@ void RegisterGenerate(CLI::App& app, Action* action) {
       ->check(CLI::IsMember(TagFamily::Names()));
   auto* ids = c->add_option("--ids", o->request.ids, "Tag IDs, e.g. 0-9,12,20-27");
   c->add_flag("--all", o->request.all, "Every kept ID of the family")->excludes(ids);
-  c->add_option("--size", o->request.size, "Tag size: side of the black square (mm, cm, m, in)")
-      ->capture_default_str();
+  c->add_option("--size", o->request.size,
+                "Tag size: side of the black square (mm, cm, m, in); default 40mm, or with "
+                "--board the largest that fits the page");
   c->add_option("--page", o->request.page, "a4, a3, letter, legal, or WxH with a unit (210x297mm)")
       ->capture_default_str();
   c->add_option("--margin", o->request.margin, "Blank border on every side of the page")
@@ -60,6 +71,13 @@ void RegisterGenerate(CLI::App& app, Action* action) {
   c->add_flag("--crop-marks", o->request.crop_marks, "Crop marks at the corners of each tag");
   c->add_flag("--no-label", o->no_label, "No 'family ID size' line under the tags");
   c->add_flag("--one-per-page", o->request.one_per_page, "One tag per page, centred");
+  c->add_option("--board", o->request.board,
+                "Lay the tags out as a board of COLSxROWS (e.g. 6x4) with its origin and axes "
+                "marked; without --ids, the family's first kept IDs. The sidecar is the board "
+                "file for 'detect --board' (docs/pose.md)");
+  c->add_option("--spacing", o->request.spacing,
+                "Between a board's neighbouring black squares (default: a quarter of the tag "
+                "size, at least the quiet zone)");
   auto* palette =
       c->add_option("--palette", o->request.palette, "Built-in palette: default, iccv17")
           ->capture_default_str();

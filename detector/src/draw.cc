@@ -55,6 +55,24 @@ void DrawDetections(const std::vector<Detection>& detections, const CameraIntrin
   }
 }
 
+void DrawBoardPose(const BoardPose& pose, const std::string& name, const CameraIntrinsics& camera,
+                   double axis_length, cv::Mat* canvas) {
+  const int thickness = Thickness(*canvas);
+  const cv::Matx33d k(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  const std::vector<cv::Point3d> points = {
+      {0, 0, 0}, {axis_length, 0, 0}, {0, axis_length, 0}, {0, 0, axis_length}};
+  std::vector<cv::Point2d> image;
+  cv::projectPoints(points, pose.rvec, pose.tvec, k, cv::Mat(camera.distortion), image);
+  const cv::Scalar colors[3] = {{0, 0, 255}, {0, 255, 0}, {255, 0, 0}};
+  for (int i = 0; i < 3; ++i) {
+    cv::line(*canvas, Fixed(image[0]), Fixed(image[i + 1]), colors[i], 2 * thickness + 1,
+             cv::LINE_AA, kShift);
+  }
+  cv::putText(*canvas, name, cv::Point(cvRound(image[0].x) + 6, cvRound(image[0].y) + 14),
+              cv::FONT_HERSHEY_SIMPLEX, 0.5 * thickness, cv::Scalar(255, 255, 255), thickness,
+              cv::LINE_AA);
+}
+
 void DrawRejected(const std::vector<RejectedCandidate>& rejected, cv::Mat* canvas) {
   const int thickness = Thickness(*canvas);
   const cv::Scalar kStageColors[kNumStages] = {{128, 128, 128}, {0, 140, 255}, {0, 230, 230},

@@ -15,12 +15,16 @@ inline constexpr double kScaleStripMm = 14.0;
 inline constexpr double kCropMarkGapMm = 1.0;
 inline constexpr double kCropMarkReachMm = 4.0;
 inline constexpr double kLabelLineFactor = 1.6;
+// A board keeps this band left of and below its tags' quiet zones for the
+// axes marked on the print, mm.
+inline constexpr double kBoardAxesMm = 9.0;
 
 std::string Mm(double mm);  // "40.0"
 double LabelFontMm(const SheetOptions& options);
 double LabelHeightMm(const SheetOptions& options);
 double MarksMm(const SheetOptions& options);
 double OuterMm(const SheetOptions& options);  // Tag with quiet zone and cut ring.
+double QuietZoneMm(const SheetOptions& options);
 
 // The sidecar JSON for a rendered sheet (sidecar.cc).
 std::string SidecarJson(const SheetOptions& options, const SheetLayout& layout,

@@ -1,6 +1,7 @@
 // SheetOptions::IsValid and LayoutSheet: where every tag goes on the page.
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "chromatag/generator/cairo_util.h"
 #include "chromatag/generator/sheet.h"
@@ -29,6 +30,10 @@ double MarksMm(const SheetOptions& options) { return options.crop_marks ? kCropM
 double OuterMm(const SheetOptions& options) {
   return options.tag_size_mm * OuterCells(*options.family, options.tag) /
          options.family->black_square_cells();
+}
+
+double QuietZoneMm(const SheetOptions& options) {
+  return options.tag_size_mm * options.tag.quiet_zone_cells / options.family->black_square_cells();
 }
 
 }  // namespace internal
@@ -71,6 +76,25 @@ bool SheetOptions::IsValid(std::string* error) const {
   if (tag.quiet_zone_cells < 1 || tag.quiet_zone_cells > 20) {
     return fail("the quiet zone must be 1 to 20 cells (the detector needs at least 1)");
   }
+  if (board) {
+    if (board->columns < 1 || board->rows < 1 || board->columns > 100 || board->rows > 100)
+      return fail("a board is 1 to 100 tags wide and high (--board COLSxROWS, e.g. 6x4)");
+    const size_t n = static_cast<size_t>(board->columns) * static_cast<size_t>(board->rows);
+    if (ids.size() != n) {
+      return fail("a " + std::to_string(board->columns) + "x" + std::to_string(board->rows) +
+                  " board holds " + std::to_string(n) + " tags, but " +
+                  std::to_string(ids.size()) + " IDs were given");
+    }
+    if (one_per_page || tag.cut_ring || crop_marks)
+      return fail("a board is one page of tags: no --one-per-page, --cut-ring or --crop-marks");
+    const double quiet = tag_size_mm * tag.quiet_zone_cells / family->black_square_cells();
+    if (!(board->spacing_mm >= quiet - 1e-9 && board->spacing_mm <= kMaxPageSideMm)) {
+      return fail("the spacing between a board's tags must be at least their quiet zone, " +
+                  internal::Mm(quiet) + " mm for " + internal::Mm(tag_size_mm) + " mm " +
+                  family->name() + " tags with " + std::to_string(tag.quiet_zone_cells) +
+                  " cells");
+    }
+  }
   if (format == SheetFormat::kPng) {
     if (!(dpi >= 10.0 && dpi <= 4800.0)) return fail("--dpi must be in [10, 4800]");
     const double longest_px = std::fmax(page.width_mm, page.height_mm) / 25.4 * dpi;
@@ -81,6 +105,63 @@ bool SheetOptions::IsValid(std::string* error) const {
   }
   return true;
 }
+
+namespace {
+
+// LayoutSheet for a board: one grid, centred in the usable area with the
+// axes band on its left and below.
+std::optional<SheetLayout> LayoutBoard(const SheetOptions& options, double usable_w,
+                                       double usable_h, SheetLayout layout, std::string* error) {
+  using internal::kBoardAxesMm;
+  using internal::Mm;
+  const BoardGrid& board = *options.board;
+  const double s = options.tag_size_mm, g = board.spacing_mm;
+  const double quiet = internal::QuietZoneMm(options);
+  const double grid_w = board.columns * s + (board.columns - 1) * g;
+  const double grid_h = board.rows * s + (board.rows - 1) * g;
+  const double need_w = grid_w + 2.0 * quiet + kBoardAxesMm;
+  const double need_h = grid_h + 2.0 * quiet + kBoardAxesMm;
+  if (need_w > usable_w + 1e-9 || need_h > usable_h + 1e-9) {
+    if (error) {
+      *error = "a " + std::to_string(board.columns) + "x" + std::to_string(board.rows) +
+               " board of " + Mm(s) + " mm tags " + Mm(g) + " mm apart needs " + Mm(need_w) +
+               " x " + Mm(need_h) + " mm with its quiet zone and axes; page " +
+               options.page.name + " with " + Mm(options.margin_mm) +
+               " mm margins and the scale bar leaves " + Mm(usable_w) + " x " + Mm(usable_h) +
+               " mm (leave --size out for the largest that fits)";
+    }
+    return std::nullopt;
+  }
+  layout.num_pages = 1;
+  layout.columns = board.columns;
+  layout.rows = board.rows;
+  layout.footprint_width_mm = layout.footprint_height_mm = internal::OuterMm(options);
+  const double x0 = options.margin_mm + (usable_w - need_w) / 2.0 + kBoardAxesMm + quiet;
+  const double y0 = options.margin_mm + (usable_h - need_h) / 2.0 + quiet;
+  const double px_per_mm = options.dpi / 25.4;
+  const double cell_px = s / options.family->black_square_cells() * px_per_mm;
+  const bool snap =
+      options.format == SheetFormat::kPng && std::fabs(cell_px - std::round(cell_px)) < 1e-6;
+  const auto place = [&](double v) {
+    return snap ? std::round(v * px_per_mm) / px_per_mm : v;
+  };
+  for (size_t i = 0; i < options.ids.size(); ++i) {
+    const int column = static_cast<int>(i) % board.columns, row = static_cast<int>(i) / board.columns;
+    const double x = place(x0 + column * (s + g)), y = place(y0 + row * (s + g));
+    PlacedTag placed;
+    placed.id = options.ids[i];
+    placed.page = 0;
+    placed.corners_mm = {{{x, y}, {x + s, y}, {x + s, y + s}, {x, y + s}}};
+    placed.center_mm = {x + s / 2.0, y + s / 2.0};
+    layout.tags.push_back(placed);
+  }
+  // The bottom-left tag's black square, bottom-left corner.
+  const PlacedTag& corner = layout.tags[static_cast<size_t>(board.rows - 1) * board.columns];
+  layout.board_origin_mm = corner.corners_mm[3];
+  return layout;
+}
+
+}  // namespace
 
 std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string* error) {
   if (!options.IsValid(error)) return std::nullopt;
@@ -103,6 +184,7 @@ std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string*
     if (error) *error = "the page leaves no room inside its margins for tags and the scale bar";
     return std::nullopt;
   }
+  if (options.board) return LayoutBoard(options, usable_w, usable_h, std::move(layout), error);
   if (layout.footprint_width_mm > usable_w || layout.footprint_height_mm > usable_h) {
     if (error) {
       *error = "a " + Mm(options.tag_size_mm) + " mm " + options.family->name() + " tag needs " +
@@ -154,7 +236,37 @@ std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string*
     placed.center_mm = {x + s / 2.0, y + s / 2.0};
     layout.tags.push_back(placed);
   }
+  layout.board_origin_mm = {0.0, options.page.height_mm};
   return layout;
+}
+
+std::optional<double> BoardTagSizeToFit(const SheetOptions& options, double spacing_share,
+                                        std::string* error) {
+  using internal::kBoardAxesMm;
+  const auto fail = [&](const std::string& message) -> std::optional<double> {
+    if (error) *error = message;
+    return std::nullopt;
+  };
+  if (!options.family || !options.board || options.board->columns < 1 || options.board->rows < 1)
+    return fail("no board to fit");
+  const double usable_w = options.page.width_mm - 2.0 * options.margin_mm;
+  const double usable_h =
+      options.page.height_mm - 2.0 * options.margin_mm - internal::kScaleStripMm;
+  const double quiet = 2.0 * options.tag.quiet_zone_cells / options.family->black_square_cells();
+  // Extent = n s + (n - 1) spacing + 2 quiet zones + the axes band.
+  const auto fit = [&](int n, double room) {
+    const double spacing = spacing_share > 0 ? 0.0 : options.board->spacing_mm;
+    const double share = spacing_share > 0 ? spacing_share : 0.0;
+    return (room - kBoardAxesMm - (n - 1) * spacing) / (n + (n - 1) * share + quiet);
+  };
+  double size = std::fmin(fit(options.board->columns, usable_w), fit(options.board->rows, usable_h));
+  size = size >= 10.0 ? std::floor(size) : std::floor(size * 10.0 + 1e-9) / 10.0;
+  if (!(size >= 1.0)) {
+    return fail("a " + std::to_string(options.board->columns) + "x" +
+                std::to_string(options.board->rows) + " board does not fit page " +
+                options.page.name + " even with 1 mm tags");
+  }
+  return size;
 }
 
 }  // namespace chromatag

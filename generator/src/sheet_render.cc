@@ -55,10 +55,59 @@ void DrawScaleBar(cairo_t* cr, const SheetOptions& options, const SheetLayout& l
   const std::string mm = Mm(length).substr(0, Mm(length).size() - 2);
   DrawText(cr, x, y - 1.2, 2.4,
            "This bar is " + mm + " mm long; if not, print at 100 % (no fit to page).");
-  DrawText(cr, x, y - 4.4, 2.4,
-           "ChromaTag " + options.family->name() + ", palette " + options.palette.name +
-               ", tag size " + Mm(options.tag_size_mm) + " mm, page " + std::to_string(page + 1) +
-               " of " + std::to_string(layout.num_pages));
+  if (options.board) {
+    const int first = options.ids.front();
+    DrawText(cr, x, y - 4.4, 2.4,
+             "ChromaTag " + options.family->name() + " board " +
+                 std::to_string(options.board->columns) + " x " +
+                 std::to_string(options.board->rows) + " (ID " + std::to_string(first) +
+                 " top left), palette " + options.palette.name + ", tag size " +
+                 Mm(options.tag_size_mm) + " mm, spacing " + Mm(options.board->spacing_mm) +
+                 " mm");
+  } else {
+    DrawText(cr, x, y - 4.4, 2.4,
+             "ChromaTag " + options.family->name() + ", palette " + options.palette.name +
+                 ", tag size " + Mm(options.tag_size_mm) + " mm, page " +
+                 std::to_string(page + 1) + " of " + std::to_string(layout.num_pages));
+  }
+}
+
+// A board's axes, in the band left of and below its quiet zone: x along the
+// bottom and y up the left side, each starting level with the origin (the
+// bottom-left corner of the bottom-left black square) at a tick.
+void DrawBoardAxes(cairo_t* cr, const SheetOptions& options, const SheetLayout& layout) {
+  const double ox = layout.board_origin_mm[0], oy = layout.board_origin_mm[1];
+  const double off = internal::QuietZoneMm(options) + 3.0;
+  const double length = std::fmax(10.0, std::fmin(options.tag_size_mm, 40.0));
+  const double head = 1.8, tick = 1.2;
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_line_width(cr, 0.3);
+  const double bx = ox - off, by = oy + off;  // Where the two arrows' lines would meet.
+  // x: a tick under the origin, the shaft, the head.
+  cairo_move_to(cr, ox, by - tick);
+  cairo_line_to(cr, ox, by + tick);
+  cairo_move_to(cr, ox, by);
+  cairo_line_to(cr, ox + length, by);
+  cairo_stroke(cr);
+  cairo_move_to(cr, ox + length + head, by);
+  cairo_line_to(cr, ox + length, by - head / 2);
+  cairo_line_to(cr, ox + length, by + head / 2);
+  cairo_close_path(cr);
+  cairo_fill(cr);
+  // y: a tick beside the origin, the shaft, the head.
+  cairo_move_to(cr, bx - tick, oy);
+  cairo_line_to(cr, bx + tick, oy);
+  cairo_move_to(cr, bx, oy);
+  cairo_line_to(cr, bx, oy - length);
+  cairo_stroke(cr);
+  cairo_move_to(cr, bx, oy - length - head);
+  cairo_line_to(cr, bx - head / 2, oy - length);
+  cairo_line_to(cr, bx + head / 2, oy - length);
+  cairo_close_path(cr);
+  cairo_fill(cr);
+  DrawText(cr, ox + length + head + 0.8, by + 1.0, 3.0, "x");
+  DrawText(cr, bx - 1.0, oy - length - head - 0.8, 3.0, "y");
+  DrawText(cr, bx - 1.5, by + 4.0, 2.2, "origin at the ticks; z out of the page");
 }
 
 void DrawPage(cairo_t* cr, const SheetOptions& options, const SheetLayout& layout,
@@ -73,7 +122,7 @@ void DrawPage(cairo_t* cr, const SheetOptions& options, const SheetLayout& layou
     const double y = tag.corners_mm[0][1];
     DrawTag(cr, *options.family, tag.id, colors, x, y, options.tag_size_mm, options.tag);
     if (options.crop_marks) DrawCropMarks(cr, x - pad, y - pad, outer);
-    if (options.label) {
+    if (options.label && !options.board) {
       const double font = internal::LabelFontMm(options);
       cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
       DrawText(cr, x - pad, y - pad + outer + internal::MarksMm(options) + font * 1.1, font,
@@ -81,6 +130,7 @@ void DrawPage(cairo_t* cr, const SheetOptions& options, const SheetLayout& layou
                    Mm(options.tag_size_mm) + " mm");
     }
   }
+  if (options.board) DrawBoardAxes(cr, options, layout);
   DrawScaleBar(cr, options, layout, page);
 }
 

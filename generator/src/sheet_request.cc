@@ -1,10 +1,21 @@
 #include "chromatag/generator/sheet_request.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
 #include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/id_list.h"
 
 namespace chromatag {
+namespace {
+
+// A board's spacing when none is given, as a share of the tag size (Kalibr's
+// AprilGrids are commonly printed at 0.3).
+constexpr double kDefaultBoardSpacingShare = 0.25;
+
+}  // namespace
 
 bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, SheetOptions* out,
                     std::string* error) {
@@ -14,24 +25,46 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
   }
   out->family = TagFamily::Load(in.family, error);
   if (!out->family) return false;
-  if (in.all == !in.ids.empty()) {
-    *error = "say which tags: --ids 0-9,12 or --all (not both)";
+  std::optional<BoardGrid> board;
+  if (!in.board.empty()) {
+    BoardGrid grid;
+    char x = 0, extra = 0;
+    if (std::sscanf(in.board.c_str(), "%d%c%d%c", &grid.columns, &x, &grid.rows, &extra) != 3 ||
+        (x != 'x' && x != 'X') || grid.columns < 1 || grid.rows < 1 || grid.columns > 100 ||
+        grid.rows > 100) {
+      *error = "--board must be COLSxROWS with 1 to 100 of each, e.g. 6x4, not '" + in.board + "'";
+      return false;
+    }
+    board = grid;
+  } else if (!in.spacing.empty()) {
+    *error = "--spacing is for boards (--board COLSxROWS); sheets take --gap";
     return false;
   }
-  if (in.all) {
+  const size_t board_tags =
+      board ? static_cast<size_t>(board->columns) * static_cast<size_t>(board->rows) : 0;
+  if (board && !in.all && in.ids.empty()) {
+    const std::vector<int>& kept = out->family->kept_ids();
+    if (kept.size() < board_tags) {
+      *error = "a " + in.board + " board needs " + std::to_string(board_tags) + " tags; " +
+               out->family->name() + " keeps " + std::to_string(kept.size()) +
+               " IDs (36h11 keeps more)";
+      return false;
+    }
+    out->ids.assign(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(board_tags));
+  } else if (in.all == !in.ids.empty()) {
+    *error = "say which tags: --ids 0-9,12 or --all (not both)";
+    return false;
+  } else if (in.all) {
     out->ids = out->family->kept_ids();
   } else {
     auto ids = ParseIdList(in.ids, *out->family, error);
     if (!ids) return false;
     out->ids = *ids;
   }
-  const auto size = ParseLength(in.size, error);
-  if (!size) return false;
   const auto margin = ParseLength(in.margin == "0" ? "0.000001mm" : in.margin, error);
   if (!margin) return false;
   const auto gap = ParseLength(in.gap == "0" ? "0.000001mm" : in.gap, error);
   if (!gap) return false;
-  out->tag_size_mm = size->mm;
   out->margin_mm = margin->mm;
   out->gap_mm = gap->mm;
   const auto page = ParsePageSize(in.page, error);
@@ -46,6 +79,52 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
     if (!out->color_lut) return false;
   }
   out->tag.quiet_zone_cells = in.quiet_zone;
+  // The quiet zone as a share of the tag size: the least spacing a board's
+  // tags may have.
+  const double quiet_share =
+      static_cast<double>(in.quiet_zone) / out->family->black_square_cells();
+  std::optional<double> spacing_mm;
+  if (!in.spacing.empty()) {
+    const auto spacing = ParseLength(in.spacing == "0" ? "0.000001mm" : in.spacing, error);
+    if (!spacing) return false;
+    spacing_mm = spacing->mm;
+  }
+  if (board) {
+    out->board = *board;
+    if (spacing_mm) out->board->spacing_mm = *spacing_mm;
+  }
+  if (!in.size.empty()) {
+    const auto size = ParseLength(in.size, error);
+    if (!size) return false;
+    out->tag_size_mm = size->mm;
+  } else if (board) {
+    // The largest that fits; then the default spacing for that size.
+    const double share = std::max(kDefaultBoardSpacingShare, quiet_share);
+    auto fit = BoardTagSizeToFit(*out, spacing_mm ? 0.0 : share, error);
+    if (!fit) return false;
+    // The page turned, when that fits larger tags (a 6x4 board on A4).
+    SheetOptions turned = *out;
+    std::swap(turned.page.width_mm, turned.page.height_mm);
+    const auto turned_fit = BoardTagSizeToFit(turned, spacing_mm ? 0.0 : share);
+    if (turned_fit && *turned_fit > *fit) {
+      fit = turned_fit;
+      out->page = turned.page;
+      out->page.name += out->page.width_mm > out->page.height_mm ? " landscape" : " portrait";
+    }
+    out->tag_size_mm = *fit;
+  } else {
+    out->tag_size_mm = 40.0;
+  }
+  if (board && !spacing_mm) {
+    // Rounded up to 0.1 mm, and the fitted size lowered when that no longer fits.
+    const double share = std::max(kDefaultBoardSpacingShare, quiet_share);
+    const double step = out->tag_size_mm >= 10.0 ? 1.0 : 0.1;
+    for (int i = 0; i < 3; ++i) {
+      out->board->spacing_mm = std::ceil(share * out->tag_size_mm * 10.0 - 1e-9) / 10.0;
+      if (!in.size.empty() || LayoutSheet(*out) || out->tag_size_mm - step < 1.0) break;
+      out->tag_size_mm -= step;
+    }
+  }
   out->tag.cut_ring = in.cut_ring;
   out->crop_marks = in.crop_marks;
   out->label = in.label;

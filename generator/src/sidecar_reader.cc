@@ -74,6 +74,19 @@ SheetRecord Parse(const json& root, const std::string& folder) {
     for (int i = 0; i < 4; ++i) placed.corners_mm[i] = Point(corners[i]);
     record.tags.push_back(placed);
   }
+  record.board_origin_mm = {0.0, record.page.height_mm};
+  if (root.contains("board")) {
+    const json& board = Member(root, "board");
+    BoardGrid grid;
+    grid.columns = Integer(board, "columns", 1, 100);
+    grid.rows = Integer(board, "rows", 1, 100);
+    grid.spacing_mm = Number(board, "spacing_mm");
+    record.board = grid;
+    record.board_origin_mm = Point(Member(board, "origin_mm"));
+    if (record.num_pages != 1 ||
+        record.tags.size() != static_cast<size_t>(grid.columns) * grid.rows)
+      throw FieldError{"a board is one page of columns x rows tags"};
+  }
   return record;
 }
 

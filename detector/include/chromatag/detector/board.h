@@ -30,6 +30,9 @@ struct BoardTag {
 struct Board {
   std::string name;
   std::vector<BoardTag> tags;
+  // The palette it is printed in, as its file names it (for people; the
+  // detector reads every palette).
+  std::string palette;
 
   // False with *error for no tags, a family name that is not 16h5 or 36h11,
   // a tag twice (the same family and ID), a size that is not a positive

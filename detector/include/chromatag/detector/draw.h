@@ -3,10 +3,12 @@
 #ifndef CHROMATAG_DETECTOR_DRAW_H_
 #define CHROMATAG_DETECTOR_DRAW_H_
 
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/detector/board.h"
 #include "chromatag/detector/detection.h"
 #include "chromatag/detector/options.h"
 
@@ -17,6 +19,11 @@ namespace chromatag {
 // the tag frame's axes (x red, y green, z blue, half a tag long).
 void DrawDetections(const std::vector<Detection>& detections, const CameraIntrinsics* camera,
                     double tag_size, cv::Mat* canvas);
+
+// Draws a board's frame at its pose into `canvas` (8-bit BGR): x red, y
+// green, z blue, `axis_length` metres long, with the board's name.
+void DrawBoardPose(const BoardPose& pose, const std::string& name, const CameraIntrinsics& camera,
+                   double axis_length, cv::Mat* canvas);
 
 // Draws rejected candidates into `canvas` (8-bit BGR), coloured by the stage
 // that rejected them (InitialScan orange, BuildPolygon yellow, PolyToQuad

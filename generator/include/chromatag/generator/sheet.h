@@ -20,6 +20,16 @@
 namespace chromatag {
 
 enum class SheetFormat { kPdf, kSvg, kPng };
+
+// A board, as Kalibr's AprilGrid and ArUco's GridBoard: `columns` x `rows`
+// tags on one page in reading order (the first ID top-left), neighbouring
+// black squares `spacing_mm` apart, the board's origin and axes marked on
+// the print, and the board frame recorded in the sidecar (docs/pose.md).
+struct BoardGrid {
+  int columns = 0;
+  int rows = 0;
+  double spacing_mm = 10.0;  // Between neighbouring black squares; >= the quiet zone.
+};
 const char* SheetFormatName(SheetFormat format);  // "pdf", "svg", "png".
 
 struct SheetOptions {
@@ -40,6 +50,9 @@ struct SheetOptions {
   bool crop_marks = false;
   bool label = true;  // "16h5  ID 3  40 mm" under each tag.
   bool one_per_page = false;
+  // Lay the tags out as a board (ids.size() == columns * rows; no per-tag
+  // labels, cut rings or crop marks).
+  std::optional<BoardGrid> board;
 
   SheetFormat format = SheetFormat::kPdf;
   // PNG resolution, pixels per inch. [10, 4800].
@@ -66,7 +79,18 @@ struct SheetLayout {
   double footprint_height_mm = 0.0;
   double scale_bar_mm = 0.0;  // Length of the scale-check bar.
   std::vector<PlacedTag> tags;
+  // The board frame's origin in page coordinates: the bottom-left corner of
+  // the bottom-left tag's black square for a board, else the page's
+  // bottom-left corner. Its x axis points right, y up the page, z out of it.
+  std::array<double, 2> board_origin_mm{0.0, 0.0};
 };
+
+// The largest tag size (mm, rounded down to 0.1 mm, or to 1 mm from 10 mm)
+// for which `options.board` fits its page with the given spacing, or with
+// a spacing of `spacing_share` of the tag size when spacing_share > 0.
+// Nullopt (and *error) when not even a 1 mm tag fits.
+std::optional<double> BoardTagSizeToFit(const SheetOptions& options, double spacing_share,
+                                        std::string* error = nullptr);
 
 // Places the tags. Refuses (nullopt, *error) options that are not valid or a
 // tag that does not fit the page, saying how much room it needs and has.

@@ -14,7 +14,8 @@ struct SheetRequest {
   std::string family = "16h5";
   std::string ids;   // "0-9,12,20-27" (ParseIdList); empty with all = true.
   bool all = false;  // Every kept ID of the family.
-  std::string size = "40mm";
+  // Empty: 40 mm, or for a board the largest that fits the page.
+  std::string size;
   std::string page = "a4";
   std::string margin = "10mm";  // "0" allowed, as for gap.
   std::string gap = "5mm";
@@ -27,6 +28,12 @@ struct SheetRequest {
   std::string palette_file;
   std::string color_lut;  // A .cube file, or empty.
   std::string format;     // "pdf", "svg", "png", or empty: from the output's extension.
+  // A board: "COLSxROWS" (e.g. "6x4"), or empty for a sheet. Without IDs it
+  // takes the family's first COLS * ROWS kept ones.
+  std::string board;
+  // Between a board's neighbouring black squares; empty: a quarter of the
+  // tag size, or the quiet zone if that is wider.
+  std::string spacing;
   double dpi = 300.0;
 };
 

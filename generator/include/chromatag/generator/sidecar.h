@@ -3,6 +3,7 @@
 #ifndef CHROMATAG_GENERATOR_SIDECAR_H_
 #define CHROMATAG_GENERATOR_SIDECAR_H_
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,6 +30,11 @@ struct SheetRecord {
   };
   std::vector<File> files;  // One PDF, or one SVG or PNG per page.
   std::vector<PlacedTag> tags;
+  // Sheets written as a board: the grid, and the board frame's origin in
+  // page coordinates (mm from the top-left, y down). Other sheets have none;
+  // as boards, their origin is the page's bottom-left corner.
+  std::optional<BoardGrid> board;
+  std::array<double, 2> board_origin_mm{0.0, 0.0};
 };
 
 // Reads and checks a sidecar: schema and version, a known family, kept IDs,
