@@ -19,11 +19,11 @@
 #include <iostream>
 #include <map>
 #include <mutex>
-#include <optional>
 #include <nlohmann/json.hpp>
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
 #include <thread>
 
 #include "camera_file.h"
@@ -51,9 +51,9 @@ struct DetectOptions {
   std::string overlay_dir;
   std::string camera_file;
   std::string tag_size;
-  std::string config;     // Detector config file, e.g. from chromatag calibrate.
+  std::string config;      // Detector config file, e.g. from chromatag calibrate.
   std::string board_file;  // A board or bundle whose pose to report per frame.
-  bool rejected = false;  // Report (JSON) and draw (overlay) rejected candidates.
+  bool rejected = false;   // Report (JSON) and draw (overlay) rejected candidates.
   std::vector<int> camera_indices;
   bool show = false;
   int jobs = 0;  // 0: one per core.

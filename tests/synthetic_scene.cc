@@ -125,6 +125,46 @@ cv::Mat LinearCamera(const cv::Mat& bgr, const SceneOptions& options) {
 
 }  // namespace
 
+void ApplyCamera(const SceneOptions& options, cv::Mat* bgr) {
+  if (options.linear_camera) {
+    *bgr = LinearCamera(*bgr, options);
+  } else if (options.blur_sigma > 0 && options.blur_in_linear_light) {
+    // As a lens does: decode the sRGB curve, blur, encode again.
+    cv::Mat f;
+    bgr->convertTo(f, CV_32FC3, 1.0 / 255);
+    f.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+      for (int c = 0; c < 3; ++c)
+        p[c] = p[c] <= 0.04045f ? p[c] / 12.92f : std::pow((p[c] + 0.055f) / 1.055f, 2.4f);
+    });
+    cv::GaussianBlur(f, f, cv::Size(0, 0), options.blur_sigma);
+    f.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+      for (int c = 0; c < 3; ++c)
+        p[c] = 255.f *
+               (p[c] <= 0.0031308f ? 12.92f * p[c] : 1.055f * std::pow(p[c], 1 / 2.4f) - 0.055f);
+    });
+    f.convertTo(*bgr, CV_8UC3);
+  } else if (options.blur_sigma > 0) {
+    cv::GaussianBlur(*bgr, *bgr, cv::Size(0, 0), options.blur_sigma);
+  }
+  if (!options.linear_camera && (options.gain != cv::Vec3d(1, 1, 1) || options.noise_sigma > 0)) {
+    cv::Mat f;
+    bgr->convertTo(f, CV_32FC3);
+    cv::multiply(f, cv::Scalar(options.gain[2], options.gain[1], options.gain[0]), f);
+    if (options.noise_sigma > 0) {
+      cv::Mat noise(f.size(), CV_32FC3);
+      cv::RNG rng(options.seed);
+      rng.fill(noise, cv::RNG::NORMAL, 0.0, options.noise_sigma);
+      f += noise;
+    }
+    f.convertTo(*bgr, CV_8UC3);  // Rounds and saturates.
+  }
+  if (options.jpeg_quality > 0) {
+    std::vector<uchar> bytes;
+    cv::imencode(".jpg", *bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, options.jpeg_quality});
+    *bgr = cv::imdecode(bytes, cv::IMREAD_COLOR);
+  }
+}
+
 Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options) {
   double smallest = 1e300;
   for (const auto& tag : tags) smallest = std::min(smallest, tag.black_square_px);
@@ -199,43 +239,7 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
     scene.truth.push_back(truth);
   }
   cv::resize(hi, scene.bgr, cv::Size(options.width, options.height), 0, 0, cv::INTER_AREA);
-  if (options.linear_camera) {
-    scene.bgr = LinearCamera(scene.bgr, options);
-  } else if (options.blur_sigma > 0 && options.blur_in_linear_light) {
-    // As a lens does: decode the sRGB curve, blur, encode again.
-    cv::Mat f;
-    scene.bgr.convertTo(f, CV_32FC3, 1.0 / 255);
-    f.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
-      for (int c = 0; c < 3; ++c)
-        p[c] = p[c] <= 0.04045f ? p[c] / 12.92f : std::pow((p[c] + 0.055f) / 1.055f, 2.4f);
-    });
-    cv::GaussianBlur(f, f, cv::Size(0, 0), options.blur_sigma);
-    f.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
-      for (int c = 0; c < 3; ++c)
-        p[c] = 255.f *
-               (p[c] <= 0.0031308f ? 12.92f * p[c] : 1.055f * std::pow(p[c], 1 / 2.4f) - 0.055f);
-    });
-    f.convertTo(scene.bgr, CV_8UC3);
-  } else if (options.blur_sigma > 0) {
-    cv::GaussianBlur(scene.bgr, scene.bgr, cv::Size(0, 0), options.blur_sigma);
-  }
-  if (!options.linear_camera && (options.gain != cv::Vec3d(1, 1, 1) || options.noise_sigma > 0)) {
-    cv::Mat f;
-    scene.bgr.convertTo(f, CV_32FC3);
-    cv::multiply(f, cv::Scalar(options.gain[2], options.gain[1], options.gain[0]), f);
-    if (options.noise_sigma > 0) {
-      cv::Mat noise(f.size(), CV_32FC3);
-      cv::RNG rng(options.seed);
-      rng.fill(noise, cv::RNG::NORMAL, 0.0, options.noise_sigma);
-      f += noise;
-    }
-    f.convertTo(scene.bgr, CV_8UC3);  // Rounds and saturates.
-  }
-  if (options.jpeg_quality > 0) {
-    std::vector<uchar> bytes;
-    cv::imencode(".jpg", scene.bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, options.jpeg_quality});
-    scene.bgr = cv::imdecode(bytes, cv::IMREAD_COLOR);
-  }
+  ApplyCamera(options, &scene.bgr);
   return scene;
 }
 

@@ -82,6 +82,11 @@ struct Scene {
 
 Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options);
 
+// What RenderScene does to the rendered frame (8-bit BGR), in place: the
+// camera of `options` (light, blur, cast, noise, mosaic, tone, JPEG); its
+// size and background are not used.
+void ApplyCamera(const SceneOptions& options, cv::Mat* bgr);
+
 // Largest distance between corresponding corners.
 double MaxCornerError(const std::array<cv::Point2d, 4>& a, const std::array<cv::Point2d, 4>& b);
 

@@ -72,8 +72,9 @@ Board ToBoard(const YAML::Node& bundle, int index) {
     out.family = tag["family"] ? tag["family"].as<std::string>() : family;
     if (out.family.rfind("tag", 0) == 0) out.family = out.family.substr(3);  // tag16h5
     if (out.family.empty()) {
-      throw std::runtime_error(what + " has no family: give `family: 16h5` (or 36h11) for the "
-                                      "bundle or the tag");
+      throw std::runtime_error(what +
+                               " has no family: give `family: 16h5` (or 36h11) for the "
+                               "bundle or the tag");
     }
     out.size = Number(tag, "size", std::nullopt, what);
     out.translation = {Number(tag, "x", std::nullopt, what), Number(tag, "y", std::nullopt, what),

@@ -168,7 +168,8 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
     for (const PoseFit& fit : internal::TagPoseFits(match.local, match.image, k)) {
       bool distinct = true;
       for (const PoseFit& s : seen)
-        distinct &= internal::AngleBetween(s.rotation, fit.rotation) > internal::kSameSolutionRadians;
+        distinct &=
+            internal::AngleBetween(s.rotation, fit.rotation) > internal::kSameSolutionRadians;
       if (!distinct) continue;
       seen.push_back(fit);
       Proposal proposal;
@@ -185,8 +186,8 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
   // The best proposal, then the best one whose rotation differs from where
   // the first settled (the other planar solution): the pose and its rival.
   for (const Proposal& proposal : proposals) {
-    if (!fits.empty() && internal::AngleBetween(fits[0].rotation, proposal.pose.rotation) <
-                             kRivalRadians)
+    if (!fits.empty() &&
+        internal::AngleBetween(fits[0].rotation, proposal.pose.rotation) < kRivalRadians)
       continue;
     PoseFit fit = proposal.pose;
     std::vector<int> used = Refit(matches, k, &fit);

@@ -206,8 +206,7 @@ TEST(BoardTest, RefusesABadBoardAndNoTagOfIt) {
   std::mt19937 rng(1);
   BoardTag stranger = board.tags[0];
   stranger.id = 20;
-  const Detection other =
-      Seen(stranger, 20, Rotation({kPi, 0, 0}), {0, 0, 0.5}, camera, 0, &rng);
+  const Detection other = Seen(stranger, 20, Rotation({kPi, 0, 0}), {0, 0, 0.5}, camera, 0, &rng);
   BoardPose pose;
   EXPECT_FALSE(EstimateBoardPose({other}, board, camera, &pose, &error));
   EXPECT_NE(error.find("none of the board's 4 tags"), std::string::npos) << error;

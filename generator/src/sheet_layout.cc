@@ -82,8 +82,8 @@ bool SheetOptions::IsValid(std::string* error) const {
     const size_t n = static_cast<size_t>(board->columns) * static_cast<size_t>(board->rows);
     if (ids.size() != n) {
       return fail("a " + std::to_string(board->columns) + "x" + std::to_string(board->rows) +
-                  " board holds " + std::to_string(n) + " tags, but " +
-                  std::to_string(ids.size()) + " IDs were given");
+                  " board holds " + std::to_string(n) + " tags, but " + std::to_string(ids.size()) +
+                  " IDs were given");
     }
     if (one_per_page || tag.cut_ring || crop_marks)
       return fail("a board is one page of tags: no --one-per-page, --cut-ring or --crop-marks");
@@ -91,8 +91,7 @@ bool SheetOptions::IsValid(std::string* error) const {
     if (!(board->spacing_mm >= quiet - 1e-9 && board->spacing_mm <= kMaxPageSideMm)) {
       return fail("the spacing between a board's tags must be at least their quiet zone, " +
                   internal::Mm(quiet) + " mm for " + internal::Mm(tag_size_mm) + " mm " +
-                  family->name() + " tags with " + std::to_string(tag.quiet_zone_cells) +
-                  " cells");
+                  family->name() + " tags with " + std::to_string(tag.quiet_zone_cells) + " cells");
     }
   }
   if (format == SheetFormat::kPng) {
@@ -125,9 +124,9 @@ std::optional<SheetLayout> LayoutBoard(const SheetOptions& options, double usabl
     if (error) {
       *error = "a " + std::to_string(board.columns) + "x" + std::to_string(board.rows) +
                " board of " + Mm(s) + " mm tags " + Mm(g) + " mm apart needs " + Mm(need_w) +
-               " x " + Mm(need_h) + " mm with its quiet zone and axes; page " +
-               options.page.name + " with " + Mm(options.margin_mm) +
-               " mm margins and the scale bar leaves " + Mm(usable_w) + " x " + Mm(usable_h) +
+               " x " + Mm(need_h) + " mm with its quiet zone and axes; page " + options.page.name +
+               " with " + Mm(options.margin_mm) + " mm margins and the scale bar leaves " +
+               Mm(usable_w) + " x " + Mm(usable_h) +
                " mm (leave --size out for the largest that fits)";
     }
     return std::nullopt;
@@ -142,11 +141,10 @@ std::optional<SheetLayout> LayoutBoard(const SheetOptions& options, double usabl
   const double cell_px = s / options.family->black_square_cells() * px_per_mm;
   const bool snap =
       options.format == SheetFormat::kPng && std::fabs(cell_px - std::round(cell_px)) < 1e-6;
-  const auto place = [&](double v) {
-    return snap ? std::round(v * px_per_mm) / px_per_mm : v;
-  };
+  const auto place = [&](double v) { return snap ? std::round(v * px_per_mm) / px_per_mm : v; };
   for (size_t i = 0; i < options.ids.size(); ++i) {
-    const int column = static_cast<int>(i) % board.columns, row = static_cast<int>(i) / board.columns;
+    const int column = static_cast<int>(i) % board.columns,
+              row = static_cast<int>(i) / board.columns;
     const double x = place(x0 + column * (s + g)), y = place(y0 + row * (s + g));
     PlacedTag placed;
     placed.id = options.ids[i];
@@ -259,7 +257,8 @@ std::optional<double> BoardTagSizeToFit(const SheetOptions& options, double spac
     const double share = spacing_share > 0 ? spacing_share : 0.0;
     return (room - kBoardAxesMm - (n - 1) * spacing) / (n + (n - 1) * share + quiet);
   };
-  double size = std::fmin(fit(options.board->columns, usable_w), fit(options.board->rows, usable_h));
+  double size =
+      std::fmin(fit(options.board->columns, usable_w), fit(options.board->rows, usable_h));
   size = size >= 10.0 ? std::floor(size) : std::floor(size * 10.0 + 1e-9) / 10.0;
   if (!(size >= 1.0)) {
     return fail("a " + std::to_string(options.board->columns) + "x" +

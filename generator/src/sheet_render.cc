@@ -62,13 +62,12 @@ void DrawScaleBar(cairo_t* cr, const SheetOptions& options, const SheetLayout& l
                  std::to_string(options.board->columns) + " x " +
                  std::to_string(options.board->rows) + " (ID " + std::to_string(first) +
                  " top left), palette " + options.palette.name + ", tag size " +
-                 Mm(options.tag_size_mm) + " mm, spacing " + Mm(options.board->spacing_mm) +
-                 " mm");
+                 Mm(options.tag_size_mm) + " mm, spacing " + Mm(options.board->spacing_mm) + " mm");
   } else {
     DrawText(cr, x, y - 4.4, 2.4,
              "ChromaTag " + options.family->name() + ", palette " + options.palette.name +
-                 ", tag size " + Mm(options.tag_size_mm) + " mm, page " +
-                 std::to_string(page + 1) + " of " + std::to_string(layout.num_pages));
+                 ", tag size " + Mm(options.tag_size_mm) + " mm, page " + std::to_string(page + 1) +
+                 " of " + std::to_string(layout.num_pages));
   }
 }
 

@@ -81,8 +81,7 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
   out->tag.quiet_zone_cells = in.quiet_zone;
   // The quiet zone as a share of the tag size: the least spacing a board's
   // tags may have.
-  const double quiet_share =
-      static_cast<double>(in.quiet_zone) / out->family->black_square_cells();
+  const double quiet_share = static_cast<double>(in.quiet_zone) / out->family->black_square_cells();
   std::optional<double> spacing_mm;
   if (!in.spacing.empty()) {
     const auto spacing = ParseLength(in.spacing == "0" ? "0.000001mm" : in.spacing, error);

@@ -2,6 +2,7 @@
 // back, and the sidecar compared with what is on the page.
 #include "chromatag/generator/sheet.h"
 
+#include "chromatag/generator/sheet_request.h"
 #include "chromatag/generator/sidecar.h"
 
 #include <gtest/gtest.h>
@@ -425,6 +426,103 @@ TEST(SidecarTest, RefusesBrokenSidecarsNamingTheProblem) {
   EXPECT_FALSE(ReadSidecar("/nonexistent.json", &error));
   EXPECT_EQ(error, "cannot read sidecar '/nonexistent.json': no such file");
   std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace chromatag
+
+namespace chromatag {
+namespace {
+
+SheetRequest BoardRequest(const std::string& board) {
+  SheetRequest request;
+  request.board = board;
+  return request;
+}
+
+// A board fills its page: the largest whole-mm tags, the page turned when
+// that fits larger ones, spacing a quarter of the size or the quiet zone,
+// IDs in reading order, the origin at the bottom-left black square's
+// bottom-left corner, recorded in the sidecar.
+TEST(BoardSheetTest, FillsItsPageAndRecordsItsFrame) {
+  SheetOptions options;
+  std::string error;
+  ASSERT_TRUE(ToSheetOptions(BoardRequest("6x4"), "b.pdf", &options, &error)) << error;
+  ASSERT_TRUE(options.board);
+  EXPECT_EQ(options.page.name, "a4 landscape");
+  EXPECT_EQ(options.page.width_mm, 297.0);
+  EXPECT_EQ(options.tag_size_mm, std::floor(options.tag_size_mm));
+  // 16h5's quiet zone (2 of 6 cells) is wider than a quarter.
+  EXPECT_NEAR(options.board->spacing_mm, std::ceil(options.tag_size_mm / 3 * 10) / 10, 1e-9);
+  ASSERT_EQ(options.ids.size(), 24u);
+  EXPECT_EQ(options.ids, std::vector<int>(options.family->kept_ids().begin(),
+                                          options.family->kept_ids().begin() + 24));
+  const auto layout = LayoutSheet(options, &error);
+  ASSERT_TRUE(layout) << error;
+  EXPECT_EQ(layout->num_pages, 1);
+  const double s = options.tag_size_mm, pitch = s + options.board->spacing_mm;
+  for (int i = 0; i < 24; ++i) {
+    const PlacedTag& tag = layout->tags[i];
+    EXPECT_NEAR(tag.corners_mm[0][0], layout->tags[0].corners_mm[0][0] + (i % 6) * pitch, 1e-9);
+    EXPECT_NEAR(tag.corners_mm[0][1], layout->tags[0].corners_mm[0][1] + (i / 6) * pitch, 1e-9);
+  }
+  EXPECT_EQ(layout->board_origin_mm, layout->tags[18].corners_mm[3]);
+  // One more millimetre does not fit.
+  SheetOptions larger = options;
+  larger.tag_size_mm += 1;
+  larger.board->spacing_mm = std::ceil(larger.tag_size_mm / 3 * 10) / 10;
+  EXPECT_FALSE(LayoutSheet(larger, &error));
+  EXPECT_NE(error.find("leave --size out for the largest that fits"), std::string::npos) << error;
+
+  const auto files = RenderSheet(options, "b.pdf", &error);
+  ASSERT_TRUE(files) << error;
+  const auto record = ParseSidecar(files->back().contents, "", &error);
+  ASSERT_TRUE(record) << error;
+  ASSERT_TRUE(record->board);
+  EXPECT_EQ(record->board->columns, 6);
+  EXPECT_EQ(record->board->rows, 4);
+  EXPECT_NEAR(record->board_origin_mm[0], layout->board_origin_mm[0], 1e-3);
+  EXPECT_NEAR(record->board_origin_mm[1], layout->board_origin_mm[1], 1e-3);
+  // A sheet that is not a board: the page's bottom-left corner.
+  SheetOptions sheet = Options16h5All();
+  const auto sheet_files = RenderSheet(sheet, "s.pdf", &error);
+  const auto sheet_record = ParseSidecar(sheet_files->back().contents, "", &error);
+  ASSERT_TRUE(sheet_record) << error;
+  EXPECT_FALSE(sheet_record->board);
+  EXPECT_EQ(sheet_record->board_origin_mm, (std::array<double, 2>{0.0, 297.0}));
+}
+
+TEST(BoardSheetTest, RefusesWhatIsNoBoardAndSaysWhy) {
+  SheetOptions options;
+  std::string error;
+  const auto refused = [&](SheetRequest request, const std::string& what) {
+    const bool ok = ToSheetOptions(request, "b.pdf", &options, &error);
+    EXPECT_FALSE(ok) << request.board;
+    EXPECT_NE(error.find(what), std::string::npos) << error;
+  };
+  refused(BoardRequest("6y4"), "--board must be COLSxROWS");
+  refused(BoardRequest("0x4"), "--board must be COLSxROWS");
+  refused(BoardRequest("7x5"), "16h5 keeps 28 IDs");
+  SheetRequest ids = BoardRequest("2x2");
+  ids.ids = "0-2";
+  refused(ids, "holds 4 tags, but 3 IDs");
+  SheetRequest tight = BoardRequest("2x2");
+  tight.size = "30mm";
+  tight.spacing = "5mm";
+  refused(tight, "at least their quiet zone, 10.0 mm");
+  SheetRequest big = BoardRequest("6x4");
+  big.size = "40mm";
+  ASSERT_TRUE(ToSheetOptions(big, "b.pdf", &options, &error)) << error;
+  EXPECT_FALSE(LayoutSheet(options, &error));
+  EXPECT_NE(error.find("a 6x4 board of 40.0 mm tags 13.4 mm apart needs"), std::string::npos)
+      << error;
+  SheetRequest spacing;
+  spacing.ids = "0";
+  spacing.spacing = "5mm";
+  refused(spacing, "--spacing is for boards");
+  SheetRequest ring = BoardRequest("2x2");
+  ring.cut_ring = true;
+  refused(ring, "no --one-per-page, --cut-ring or --crop-marks");
 }
 
 }  // namespace

@@ -73,11 +73,11 @@ std::string SidecarJson(const SheetOptions& options, const SheetLayout& layout,
   if (options.board) {
     // The board frame (docs/pose.md): origin on the page, x right, y up the
     // page, z out of it.
-    root["board"] = {{"columns", options.board->columns},
-                     {"rows", options.board->rows},
-                     {"spacing_mm", Round3(options.board->spacing_mm)},
-                     {"origin_mm", {Round3(layout.board_origin_mm[0]),
-                                    Round3(layout.board_origin_mm[1])}}};
+    root["board"] = {
+        {"columns", options.board->columns},
+        {"rows", options.board->rows},
+        {"spacing_mm", Round3(options.board->spacing_mm)},
+        {"origin_mm", {Round3(layout.board_origin_mm[0]), Round3(layout.board_origin_mm[1])}}};
   }
   return root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }

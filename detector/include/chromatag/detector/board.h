@@ -22,7 +22,7 @@ namespace chromatag {
 struct BoardTag {
   std::string family;  // "16h5" or "36h11".
   int id = 0;
-  double size = 0.0;  // Side of the black square, metres.
+  double size = 0.0;                          // Side of the black square, metres.
   cv::Matx33d rotation = cv::Matx33d::eye();  // body_from_tag.
   cv::Vec3d translation{0, 0, 0};             // The tag's centre in the board frame, metres.
 };
