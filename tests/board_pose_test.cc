@@ -45,7 +45,8 @@ struct PrintedBoard {
   std::array<double, 2> origin_mm{};
 };
 
-PrintedBoard PrintBoard(int replace = -1, int replace_id = -1, const std::vector<int>& hidden = {}) {
+PrintedBoard PrintBoard(int replace = -1, int replace_id = -1,
+                        const std::vector<int>& hidden = {}) {
   SheetRequest request;
   request.board = "6x4";
   request.size = "80mm";
@@ -126,10 +127,9 @@ cv::Mat Photograph(const PrintedBoard& printed, const View& view, unsigned seed)
   const double scale_x = double(page.cols) / printed.page.cols * printed.px_per_mm;
   const double scale_y = double(page.rows) / printed.page.rows * printed.px_per_mm;
   // Page pixel centres -> board metres (x right, y up from the origin).
-  const cv::Matx33d board_from_page(1 / (scale_x * 1000), 0,
-                                    (0.5 / scale_x - printed.origin_mm[0]) / 1000, 0,
-                                    -1 / (scale_y * 1000),
-                                    (printed.origin_mm[1] - 0.5 / scale_y) / 1000, 0, 0, 1);
+  const cv::Matx33d board_from_page(
+      1 / (scale_x * 1000), 0, (0.5 / scale_x - printed.origin_mm[0]) / 1000, 0,
+      -1 / (scale_y * 1000), (printed.origin_mm[1] - 0.5 / scale_y) / 1000, 0, 0, 1);
   const cv::Matx33d k(kFocal, 0, (kWidth - 1) / 2.0, 0, kFocal, (kHeight - 1) / 2.0, 0, 0, 1);
   const cv::Matx33d& r = view.rotation;
   const cv::Matx33d plane(r(0, 0), r(0, 1), view.translation[0], r(1, 0), r(1, 1),
@@ -164,8 +164,9 @@ double RotationErrorDeg(const cv::Matx33d& r, const cv::Matx33d& truth) {
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
-  return v.empty() ? NAN : v.size() % 2 ? v[v.size() / 2]
-                                        : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  return v.empty()      ? NAN
+         : v.size() % 2 ? v[v.size() / 2]
+                        : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 struct Errors {
@@ -305,8 +306,8 @@ TEST(BoardPoseTest, AMisprintedTagOrThreeQuartersHiddenLeaveThePoseRight) {
   EXPECT_LE(Median(covered_degrees), 0.5);
   EXPECT_LE(Median(covered_shares), 0.005);
   std::printf("misprinted: %.3f deg, %.3f %%; three quarters hidden: %.3f deg, %.3f %%\n",
-              Median(misprinted_degrees), 100 * Median(misprinted_shares),
-              Median(covered_degrees), 100 * Median(covered_shares));
+              Median(misprinted_degrees), 100 * Median(misprinted_shares), Median(covered_degrees),
+              100 * Median(covered_shares));
 }
 
 }  // namespace

@@ -79,8 +79,7 @@ TEST(BoardFileTest, ReadsApriltagRosBundles) {
 TEST(BoardFileTest, RefusesBrokenBundlesSayingWhat) {
   std::string error;
   const auto refused = [&](const std::string& layout, const std::string& what) {
-    const std::string text =
-        "tag_bundles:\n  - name: b\n    family: 16h5\n    layout:\n" + layout;
+    const std::string text = "tag_bundles:\n  - name: b\n    family: 16h5\n    layout:\n" + layout;
     EXPECT_FALSE(ParseBundleYaml(text, "", &error)) << layout;
     EXPECT_NE(error.find(what), std::string::npos) << error;
   };
@@ -90,14 +89,16 @@ TEST(BoardFileTest, RefusesBrokenBundlesSayingWhat) {
   refused("      - {id: 1, size: 0.04, x: 0, y: 0, z: 0, qw: 2}\n", "unit quaternion");
   refused("      - {id: 1, size: 0.04, x: 0, y: 0, z: abc}\n", "z is not a number");
   refused("      - {id: 1.5, size: 0.04, x: 0, y: 0, z: 0}\n", "whole number");
-  refused("      - {id: 1, size: 0.04, x: 0, y: 0, z: 0}\n      - {id: 1, size: 0.04, x: 1, y: 0, "
-          "z: 0}\n",
-          "on the board twice");
+  refused(
+      "      - {id: 1, size: 0.04, x: 0, y: 0, z: 0}\n      - {id: 1, size: 0.04, x: 1, y: 0, "
+      "z: 0}\n",
+      "on the board twice");
   refused("      - {id: 1, family: 25h9, size: 0.04, x: 0, y: 0, z: 0}\n", "16h5 or 36h11");
   refused("      []\n", "has no layout");
-  EXPECT_FALSE(ParseBundleYaml("tag_bundles:\n  - name: b\n    layout:\n      - {id: 1, size: "
-                               "0.04, x: 0, y: 0, z: 0}\n",
-                               "", &error));
+  EXPECT_FALSE(
+      ParseBundleYaml("tag_bundles:\n  - name: b\n    layout:\n      - {id: 1, size: "
+                      "0.04, x: 0, y: 0, z: 0}\n",
+                      "", &error));
   EXPECT_NE(error.find("has no family"), std::string::npos) << error;
   EXPECT_FALSE(ParseBundleYaml("standalone_tags: []\n", "", &error));
   EXPECT_NE(error.find("has no tag_bundles"), std::string::npos) << error;
@@ -129,8 +130,7 @@ TEST(BoardFileTest, ASheetIsABoardOfOnePage) {
   for (size_t i = 0; i < 4; ++i) {
     EXPECT_DOUBLE_EQ(board->tags[i].size, 0.04);
     EXPECT_NEAR(board->tags[i].translation[0], layout->tags[i].center_mm[0] / 1000, 1e-6);
-    EXPECT_NEAR(board->tags[i].translation[1], (297.0 - layout->tags[i].center_mm[1]) / 1000,
-                1e-6);
+    EXPECT_NEAR(board->tags[i].translation[1], (297.0 - layout->tags[i].center_mm[1]) / 1000, 1e-6);
     EXPECT_EQ(board->tags[i].translation[2], 0.0);
   }
   options.one_per_page = true;
