@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "test_util.h"
 
 namespace chromatag {
@@ -181,6 +183,77 @@ TEST(CliDetectTest, RejectedCandidatesInJsonAndOverlays) {
     EXPECT_LT(r["seed"][0].get<int>(), frame["width"].get<int>());
   }
   EXPECT_NE(ReadFile(dir + "/plain/smarties_png.png"), ReadFile(dir + "/with/smarties_png.png"));
+}
+
+// detect --board: a board written by generate --board, seen face-on in its
+// own PNG (150 dpi: at f = 1500 px the page is 0.254 m away), reports the
+// board's pose per frame in the JSON and the table; a frame without it
+// reports it not seen.
+TEST(CliDetectTest, BoardPoseInJsonAndTable) {
+  const std::string dir = ::testing::TempDir() + "/cli_detect_board";
+  std::system(("rm -rf '" + dir + "'").c_str());
+  mkdir(dir.c_str(), 0755);
+  const auto generated =
+      Chromatag({"generate", "--board", "3x2", "--dpi", "150", "-o", dir + "/board.png"});
+  ASSERT_EQ(generated.exit_code, 0) << generated.err;
+  EXPECT_NE(generated.out.find("Wrote a 3 x 2 board of 16h5 tags"), std::string::npos)
+      << generated.out;
+  const auto sidecar = nlohmann::json::parse(ReadFile(dir + "/board.png.json"));
+  const double width_mm = sidecar["page"]["width_mm"], height_mm = sidecar["page"]["height_mm"];
+  const double px_per_mm = 150 / 25.4;
+  const double cx = (width_mm * px_per_mm - 1) / 2, cy = (height_mm * px_per_mm - 1) / 2;
+  std::ofstream(dir + "/camera.yaml") << "camera_matrix: [1500, 0, " << cx << ", 0, 1500, " << cy
+                                      << ", 0, 0, 1]\n";
+  cv::imwrite(dir + "/blank.png", cv::Mat(200, 300, CV_8UC3, cv::Scalar(200, 200, 200)));
+  const auto result = Chromatag({"detect", "--json", "--camera", dir + "/camera.yaml", "--board",
+                                 dir + "/board.png.json", dir + "/board.png",
+                                 dir + "/blank.png"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::istringstream lines(result.out);
+  std::string line;
+  std::getline(lines, line);
+  const auto frame = nlohmann::json::parse(line);
+  const auto& board = frame["board"];
+  EXPECT_EQ(board["name"], "board.png");
+  EXPECT_EQ(board["tags_used"], nlohmann::json({0, 1, 2, 3, 4, 6}));
+  EXPECT_TRUE(board["tags_rejected"].empty());
+  EXPECT_LT(board["rms_error_px"].get<double>(), 0.5);
+  // The origin, the bottom-left black square's bottom-left corner, where the
+  // page puts it in front of the camera.
+  const double ox = sidecar["board"]["origin_mm"][0], oy = sidecar["board"]["origin_mm"][1];
+  const double z = 1500 / (px_per_mm * 1000);
+  EXPECT_NEAR(board["tvec"][0].get<double>(), (ox * px_per_mm - 0.5 - cx) / 1500 * z, 0.001);
+  EXPECT_NEAR(board["tvec"][1].get<double>(), (oy * px_per_mm - 0.5 - cy) / 1500 * z, 0.001);
+  EXPECT_NEAR(board["tvec"][2].get<double>(), z, 0.002);
+  // Face-on: 180 degrees about x (board y up, z towards the camera), +x or -x.
+  EXPECT_NEAR(std::fabs(board["rvec"][0].get<double>()), 3.14159, 0.01);
+  EXPECT_NEAR(board["rvec"][1].get<double>(), 0.0, 0.01);
+  EXPECT_NEAR(board["rvec"][2].get<double>(), 0.0, 0.01);
+  std::getline(lines, line);
+  EXPECT_TRUE(nlohmann::json::parse(line)["board"].is_null()) << line;
+
+  const auto table = Chromatag({"detect", "--camera", dir + "/camera.yaml", "--board",
+                                dir + "/board.png.json", dir + "/board.png", dir + "/blank.png"});
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("board board.png: t = ("), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("6 of 6 tags"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("board board.png: not seen"), std::string::npos) << table.out;
+
+  for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"--board", dir + "/board.png.json"}, "--board needs --camera FILE"},
+           {{"--camera", dir + "/camera.yaml", "--board", dir + "/none.json"},
+            "cannot read sidecar '" + dir + "/none.json'"},
+           {{"--camera", dir + "/camera.yaml", "--board", dir + "/camera.yaml"},
+            "has no tag_bundles"},
+           {{"--camera", dir + "/camera.yaml"}, "or --board FILE"}}) {
+    std::vector<std::string> command = {"detect"};
+    command.insert(command.end(), args.begin(), args.end());
+    command.push_back(dir + "/board.png");
+    const auto refused = Chromatag(command);
+    EXPECT_EQ(refused.exit_code, 2) << message;
+    EXPECT_EQ(CountLines(refused.err), 1) << refused.err;
+    EXPECT_NE(refused.err.find(message), std::string::npos) << refused.err;
+  }
 }
 
 TEST(CliDetectTest, BadUsageIsExitTwo) {
