@@ -202,12 +202,11 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
   const double width_mm = sidecar["page"]["width_mm"], height_mm = sidecar["page"]["height_mm"];
   const double px_per_mm = 150 / 25.4;
   const double cx = (width_mm * px_per_mm - 1) / 2, cy = (height_mm * px_per_mm - 1) / 2;
-  std::ofstream(dir + "/camera.yaml") << "camera_matrix: [1500, 0, " << cx << ", 0, 1500, " << cy
-                                      << ", 0, 0, 1]\n";
+  std::ofstream(dir + "/camera.yaml")
+      << "camera_matrix: [1500, 0, " << cx << ", 0, 1500, " << cy << ", 0, 0, 1]\n";
   cv::imwrite(dir + "/blank.png", cv::Mat(200, 300, CV_8UC3, cv::Scalar(200, 200, 200)));
   const auto result = Chromatag({"detect", "--json", "--camera", dir + "/camera.yaml", "--board",
-                                 dir + "/board.png.json", dir + "/board.png",
-                                 dir + "/blank.png"});
+                                 dir + "/board.png.json", dir + "/board.png", dir + "/blank.png"});
   ASSERT_EQ(result.exit_code, 0) << result.err;
   std::istringstream lines(result.out);
   std::string line;

@@ -8,6 +8,9 @@
 See docs/python.md.
 """
 from ._chromatag import (  # noqa: F401
+    Board,
+    BoardPose,
+    BoardTag,
     Detection,
     Detector,
     Error,

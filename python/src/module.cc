@@ -15,6 +15,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/calib/board_file.h"
+#include "chromatag/detector/board.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
@@ -218,6 +220,64 @@ py::object Detect(const PyDetector& self, const py::array& image, const std::str
   return py::make_tuple(detections, rejected);
 }
 
+// A board pose with the IDs of its tags (the Board may be gone).
+struct PyBoardPose {
+  BoardPose pose;
+  std::vector<int> tags_used, tags_rejected;
+};
+
+Board MakeBoard(const std::string& name, const py::iterable& tags) {
+  Board board;
+  board.name = name;
+  for (const py::handle& item : tags) board.tags.push_back(item.cast<BoardTag>());
+  std::string error;
+  if (!board.IsValid(&error)) throw Error(error);
+  return board;
+}
+
+BoardTag MakeBoardTag(const std::string& family, int id, double size, const py::object& position,
+                      const py::object& rotation) {
+  BoardTag tag;
+  tag.family = family.rfind("tag", 0) == 0 ? family.substr(3) : family;
+  tag.id = id;
+  tag.size = size;
+  const auto t = py::array_t<double, py::array::forcecast>::ensure(position);
+  if (!t || t.size() != 3) throw Error("position must be 3 numbers (x, y, z), metres");
+  tag.translation = {t.data()[0], t.data()[1], t.data()[2]};
+  if (!rotation.is_none()) {
+    const auto r = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(rotation);
+    if (!r || r.ndim() != 2 || r.shape(0) != 3 || r.shape(1) != 3)
+      throw Error("rotation must be 3 x 3 (body_from_tag)");
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) tag.rotation(i, j) = r.at(i, j);
+  }
+  return tag;
+}
+
+py::tuple DetectBoard(const PyDetector& self, const py::array& image, const Board& board,
+                      const std::string& order) {
+  const DetectorOptions& options = self.detector->options();
+  if (!options.camera)
+    throw Error("detect_board needs a Detector built with camera_matrix (and dist_coeffs)");
+  py::object keep;
+  const cv::Mat mat = ColourImage(image, &keep);
+  const PixelOrder pixel_order = OrderFrom(order);
+  DetectionResult result;
+  PyBoardPose pose;
+  bool seen = false;
+  {
+    py::gil_scoped_release release;
+    self.detector->Detect(mat, pixel_order, &result);
+    seen = EstimateBoardPose(result.detections, board, *options.camera, &pose.pose);
+  }
+  py::list detections;
+  for (Detection& d : result.detections) detections.append(PyDetection{std::move(d)});
+  if (!seen) return py::make_tuple(detections, py::none());
+  for (int i : pose.pose.tags_used) pose.tags_used.push_back(board.tags[i].id);
+  for (int i : pose.pose.tags_rejected) pose.tags_rejected.push_back(board.tags[i].id);
+  return py::make_tuple(detections, pose);
+}
+
 py::array DrawOn(py::array image, const std::vector<PyDetection>& detections,
                  const PyDetector* detector) {
   if (!(image.flags() & py::array::c_style) || !image.writeable())
@@ -266,11 +326,14 @@ std::vector<std::string> Generate(const std::string& output, const std::string& 
                                   const std::string& palette, const std::string& palette_file,
                                   const std::string& color_lut, const std::string& format,
                                   double dpi, bool label, bool crop_marks, bool cut_ring,
-                                  bool one_per_page) {
+                                  bool one_per_page, const std::string& board,
+                                  const std::string& spacing) {
   SheetRequest request;
   request.family = family;
+  request.board = board;
+  request.spacing = spacing;
   if (ids.is_none()) {
-    request.all = true;
+    request.all = board.empty();  // A board takes the family's first kept IDs.
   } else if (py::isinstance<py::str>(ids)) {
     request.ids = ids.cast<std::string>();
   } else if (py::isinstance<py::int_>(ids)) {
@@ -464,8 +527,85 @@ PYBIND11_MODULE(_chromatag, m) {
            "Detections in an H x W x 3 uint8 image (BGR as cv2.imread gives, or order='rgb').\n"
            "With return_rejected=True (and report_rejected=True in the options), also the\n"
            "candidates that were rejected, with their stage and reason.")
+      .def("detect_board", &DetectBoard, py::arg("image"), py::arg("board"),
+           py::arg("order") = "bgr",
+           "(detections, pose): the detections in the image and the board's pose from all its\n"
+           "tags among them (a BoardPose), or None when none of its tags is seen. Needs a\n"
+           "Detector built with camera_matrix.")
       .def_property_readonly("families",
                              [](const PyDetector& d) { return d.detector->options().families; });
+
+  py::class_<BoardTag>(m, "BoardTag",
+                       "BoardTag(family, id, size, position, rotation=None)\n\n"
+                       "One tag of a board: the side of its black square (metres), its centre\n"
+                       "in the board frame and its rotation body_from_tag (3 x 3; None: the\n"
+                       "board's axes). The tag frame: x right, y up, z out of the tag.")
+      .def(py::init(&MakeBoardTag), py::arg("family"), py::arg("id"), py::arg("size"),
+           py::arg("position"), py::arg("rotation") = py::none())
+      .def_readonly("family", &BoardTag::family)
+      .def_readonly("id", &BoardTag::id)
+      .def_readonly("size", &BoardTag::size, "side of the black square, metres")
+      .def_property_readonly(
+          "position", [](const BoardTag& t) { return Vector(t.translation.val, 3); },
+          "the tag's centre in the board frame, metres")
+      .def_property_readonly(
+          "rotation", [](const BoardTag& t) { return Matrix33(t.rotation); }, "body_from_tag")
+      .def("__repr__", [](const BoardTag& t) {
+        return "BoardTag(family='" + t.family + "', id=" + std::to_string(t.id) +
+               ", size=" + std::to_string(t.size) + ")";
+      });
+
+  py::class_<Board>(m, "Board",
+                    "Board(name, tags): tags fixed to one body (a printed board, a bundle).\n"
+                    "Board.from_file reads a sheet's sidecar or a bundle YAML (docs/pose.md).")
+      .def(py::init(&MakeBoard), py::arg("name"), py::arg("tags"))
+      .def_static(
+          "from_file",
+          [](const std::string& path) {
+            std::string error;
+            auto board = ReadBoardFile(path, &error);
+            if (!board) throw Error(error);
+            return *board;
+          },
+          py::arg("path"),
+          "A board file: a sheet's sidecar (.json, e.g. from generate --board) or a bundle\n"
+          "YAML (.yaml, apriltag_ros's tag_bundles shape; 'file.yaml#name' picks a bundle).")
+      .def_readonly("name", &Board::name)
+      .def_readonly("palette", &Board::palette)
+      .def_readonly("tags", &Board::tags)
+      .def("__len__", [](const Board& b) { return b.tags.size(); })
+      .def("__repr__", [](const Board& b) {
+        return "Board(name='" + b.name + "', tags=" + std::to_string(b.tags.size()) + ")";
+      });
+
+  py::class_<PyBoardPose>(m, "BoardPose", "A board's pose in the camera frame (metres)")
+      .def_property_readonly(
+          "rvec", [](const PyBoardPose& p) { return Vector(p.pose.rvec.val, 3); },
+          "Rodrigues rotation of camera_from_board")
+      .def_property_readonly(
+          "tvec", [](const PyBoardPose& p) { return Vector(p.pose.tvec.val, 3); },
+          "the board frame's origin in the camera frame")
+      .def_property_readonly("rotation",
+                             [](const PyBoardPose& p) {
+                               cv::Matx33d r;
+                               cv::Rodrigues(p.pose.rvec, r);
+                               return Matrix33(r);
+                             })
+      .def_readonly("tags_used", &PyBoardPose::tags_used, "IDs of the tags the pose fits")
+      .def_readonly("tags_rejected", &PyBoardPose::tags_rejected,
+                    "IDs of board tags seen only where the others say they are not (misread or "
+                    "misplaced)")
+      .def_property_readonly(
+          "rms_error_px", [](const PyBoardPose& p) { return p.pose.rms_error_px; },
+          "root mean square reprojection error over the used tags' ring corners, pixels")
+      .def_property_readonly(
+          "ambiguity", [](const PyBoardPose& p) { return p.pose.ambiguity; },
+          "the pose's error over the best other solution's: near 0 settled, near 1 ambiguous")
+      .def("__repr__", [](const PyBoardPose& p) {
+        return "BoardPose(tvec=[" + std::to_string(p.pose.tvec[0]) + ", " +
+               std::to_string(p.pose.tvec[1]) + ", " + std::to_string(p.pose.tvec[2]) +
+               "], tags_used=" + std::to_string(p.tags_used.size()) + ")";
+      });
 
   m.def("draw_detections", &DrawOn, py::arg("image"), py::arg("detections"),
         py::arg("detector") = nullptr,
@@ -475,14 +615,17 @@ PYBIND11_MODULE(_chromatag, m) {
         py::arg("palette") = "default", py::arg("quiet_zone") = 2, py::arg("order") = "bgr",
         "One tag with its quiet zone as an H x W x 3 uint8 image, cell_px pixels per cell.");
   m.def("generate", &Generate, py::arg("output"), py::kw_only(), py::arg("family") = "16h5",
-        py::arg("ids") = py::none(), py::arg("size") = "40mm", py::arg("page") = "a4",
+        py::arg("ids") = py::none(), py::arg("size") = "", py::arg("page") = "a4",
         py::arg("margin") = "10mm", py::arg("gap") = "5mm", py::arg("quiet_zone") = 2,
         py::arg("palette") = "default", py::arg("palette_file") = "", py::arg("color_lut") = "",
         py::arg("format") = "", py::arg("dpi") = 300.0, py::arg("label") = true,
         py::arg("crop_marks") = false, py::arg("cut_ring") = false, py::arg("one_per_page") = false,
+        py::arg("board") = "", py::arg("spacing") = "",
         "Writes a print-ready sheet (PDF, SVG or PNG, from the extension) and its sidecar\n"
         "(output + '.json'), as 'chromatag generate' does; ids: a list, '0-9,12', or None for\n"
-        "every kept ID. Returns the paths written.");
+        "every kept ID (a board: its first COLS * ROWS). size: default 40mm, or for a board\n"
+        "the largest that fits. board: 'COLSxROWS' lays the tags out as a board whose sidecar\n"
+        "is its board file (Board.from_file). Returns the paths written.");
 
   py::class_<TagVerdict>(m, "TagVerdict")
       .def_property_readonly("id", [](const TagVerdict& v) { return v.expected.id; })

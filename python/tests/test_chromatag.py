@@ -206,3 +206,56 @@ def test_families_and_palettes():
     assert chromatag.render_tag("16h5", 3, 5, order="rgb").shape == (50, 50, 3)
     with pytest.raises(chromatag.Error):
         chromatag.render_tag("16h5", 10000, 5)
+
+
+def test_board_pose_from_a_generated_board(tmp_path):
+    # generate(board=...) writes the board file beside the page; the page is
+    # warped into a tilted view whose pose is known.
+    page = str(tmp_path / "board.png")
+    chromatag.generate(page, board="4x3", size="20mm", page="180x140mm", dpi=200)
+    board = chromatag.Board.from_file(page + ".json")
+    assert len(board) == 12 and board.name == "board.png" and board.palette == "default"
+    sidecar = json.load(open(page + ".json"))
+    origin = sidecar["board"]["origin_mm"]
+    image = cv2.imread(page)
+    px_per_m = 200 / 0.0254
+    # Page pixel centres to board metres: x right, y up from the origin.
+    board_from_px = np.array([[1 / px_per_m, 0, 0.5 / px_per_m - origin[0] / 1000],
+                              [0, -1 / px_per_m, origin[1] / 1000 - 0.5 / px_per_m],
+                              [0, 0, 1]])
+    k = np.array([[900.0, 0, 640], [0, 900, 480], [0, 0, 1]])
+    rotation = cv2.Rodrigues(np.array([2.8, 0.3, -0.2]))[0]
+    translation = np.array([-0.05, 0.03, 0.4])
+    h = k @ np.column_stack([rotation[:, 0], rotation[:, 1], translation]) @ board_from_px
+    frame = cv2.warpPerspective(image, h, (1280, 960), flags=cv2.INTER_AREA,
+                                borderValue=(120, 110, 100))
+    detector = chromatag.Detector(families=["16h5"], camera_matrix=k)
+    detections, pose = detector.detect_board(frame, board)
+    assert len(detections) == 12
+    assert sorted(pose.tags_used) == sorted(t.id for t in board.tags)
+    assert pose.tags_rejected == []
+    error = cv2.Rodrigues(pose.rotation.T @ rotation)[0]
+    assert np.degrees(np.linalg.norm(error)) < 0.2
+    assert np.linalg.norm(pose.tvec - translation) < 0.002 * 0.4
+    # No board tag in view: the detections, and None.
+    blank = np.full((480, 640, 3), 200, np.uint8)
+    assert detector.detect_board(blank, board) == ([], None)
+    # Without intrinsics there is no pose to give.
+    with pytest.raises(chromatag.Error, match="camera_matrix"):
+        chromatag.Detector().detect_board(frame, board)
+
+
+def test_boards_built_by_hand_and_from_a_bundle_file(tmp_path):
+    board = chromatag.Board("pair", [chromatag.BoardTag("16h5", 1, 0.05, [0, 0, 0]),
+                                     chromatag.BoardTag("tag16h5", 2, 0.05, [0.1, 0, 0])])
+    assert [t.family for t in board.tags] == ["16h5", "16h5"]
+    assert np.allclose(board.tags[1].position, [0.1, 0, 0])
+    with pytest.raises(chromatag.Error, match="twice"):
+        chromatag.Board("bad", [chromatag.BoardTag("16h5", 1, 0.05, [0, 0, 0])] * 2)
+    bundle = tmp_path / "tags.yaml"
+    bundle.write_text("tag_bundles:\n  - name: cube\n    family: 36h11\n    layout:\n"
+                      "      - {id: 4, size: 0.06, x: 0, y: 0, z: 0.05, qw: 1, qx: 0, qy: 0, qz: 0}\n")
+    cube = chromatag.Board.from_file(str(bundle))
+    assert cube.name == "cube" and cube.tags[0].id == 4 and cube.tags[0].family == "36h11"
+    with pytest.raises(chromatag.Error, match="has no bundle 'box'"):
+        chromatag.Board.from_file(str(bundle) + "#box")
