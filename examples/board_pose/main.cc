@@ -1,0 +1,97 @@
+// A board's pose in a photo: the board file is a sheet's sidecar (from
+// `chromatag generate --board 6x4 -o board.pdf`, read board.pdf.json) or a
+// bundle YAML in apriltag_ros's tag_bundles shape.
+//
+//   board_pose photo.jpg board.pdf.json [--focal PX] [--out drawn.png]
+//
+// Exits 0 when the board was seen, 1 when it was not or a file could not be
+// read, 2 on bad arguments.
+//
+// The intrinsics here are a guess (a focal length of --focal pixels, the
+// image width by default, and the principal point at the centre); use your
+// camera's own calibration.
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "chromatag/calib/board_file.h"
+#include "chromatag/detector/board.h"
+#include "chromatag/detector/detector.h"
+#include "chromatag/detector/draw.h"
+
+int main(int argc, char** argv) {
+  std::string image_path, board_path, out;
+  double focal = 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--focal" && i + 1 < argc) {
+      focal = std::atof(argv[++i]);
+    } else if (arg == "--out" && i + 1 < argc) {
+      out = argv[++i];
+    } else if (!arg.empty() && arg[0] != '-' && image_path.empty()) {
+      image_path = arg;
+    } else if (!arg.empty() && arg[0] != '-' && board_path.empty()) {
+      board_path = arg;
+    } else {
+      board_path.clear();
+      break;
+    }
+  }
+  if (board_path.empty()) {
+    std::fprintf(stderr, "usage: %s IMAGE BOARD_FILE [--focal PX] [--out PNG]\n", argv[0]);
+    return 2;
+  }
+
+  std::string error;
+  const auto board = chromatag::ReadBoardFile(board_path, &error);
+  if (!board) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  cv::Mat frame = cv::imread(image_path, cv::IMREAD_COLOR);
+  if (frame.empty()) {
+    std::fprintf(stderr, "cannot read image %s\n", image_path.c_str());
+    return 1;
+  }
+
+  chromatag::CameraIntrinsics camera;
+  camera.fx = camera.fy = focal > 0 ? focal : frame.cols;
+  camera.cx = (frame.cols - 1) / 2.0;
+  camera.cy = (frame.rows - 1) / 2.0;
+  chromatag::DetectorOptions options;
+  options.families.clear();
+  for (const chromatag::BoardTag& tag : board->tags) {
+    if (options.families.empty() || options.families.back() != tag.family)
+      options.families.push_back(tag.family);
+  }
+  const auto detector = chromatag::Detector::Create(options, &error);
+  if (!detector) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 2;
+  }
+
+  const chromatag::DetectionResult result = detector->Detect(frame);
+  chromatag::BoardPose pose;
+  if (!chromatag::EstimateBoardPose(result.detections, *board, camera, &pose, &error)) {
+    std::printf("board %s not seen: %s\n", board->name.c_str(), error.c_str());
+    return 1;
+  }
+  std::printf(
+      "board %s: %zu of %zu tags, t = (%.4f, %.4f, %.4f) m, rvec = (%.4f, %.4f, %.4f), "
+      "rms %.2f px\n",
+      board->name.c_str(), pose.tags_used.size(), board->tags.size(), pose.tvec[0], pose.tvec[1],
+      pose.tvec[2], pose.rvec[0], pose.rvec[1], pose.rvec[2], pose.rms_error_px);
+  for (int i : pose.tags_rejected)
+    std::printf("  left out: %s %d\n", board->tags[i].family.c_str(), board->tags[i].id);
+  if (!out.empty()) {
+    chromatag::DrawDetections(result.detections, nullptr, 0, &frame);
+    chromatag::DrawBoardPose(pose, board->name, camera, 2 * board->tags[0].size, &frame);
+    if (!cv::imwrite(out, frame)) {
+      std::fprintf(stderr, "cannot write %s\n", out.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
