@@ -18,6 +18,7 @@ from ._chromatag import (  # noqa: F401
     SheetVerdict,
     TagVerdict,
     __version__,
+    draw_board_pose,
     draw_detections,
     families,
     family,

@@ -293,6 +293,20 @@ py::array DrawOn(py::array image, const std::vector<PyDetection>& detections,
   return image;
 }
 
+py::array DrawBoardOn(py::array image, const PyBoardPose& pose, const PyDetector& detector,
+                      double axis_length, const std::string& name) {
+  if (!(image.flags() & py::array::c_style) || !image.writeable())
+    throw Error("draw_board_pose draws in place: give it a writeable, C-contiguous image");
+  const DetectorOptions& options = detector.detector->options();
+  if (!options.camera) throw Error("draw_board_pose needs the Detector built with camera_matrix");
+  if (!(axis_length > 0)) throw Error("axis_length must be a positive length, metres");
+  py::object keep;
+  cv::Mat mat = ColourImage(image, &keep);
+  if (mat.data != image.data()) throw Error("draw_board_pose needs an H x W x 3 uint8 image");
+  DrawBoardPose(pose.pose, name, *options.camera, axis_length, &mat);
+  return image;
+}
+
 py::array RenderTag(const std::string& family_name, int id, double cell_px,
                     const std::string& palette_name, int quiet_zone, const std::string& order) {
   std::string error;
@@ -611,6 +625,11 @@ PYBIND11_MODULE(_chromatag, m) {
         py::arg("detector") = nullptr,
         "Draws the detections' outlines and IDs (and pose axes, given the detector that found\n"
         "them with a camera and tag size) on the image, in place; returns it.");
+  m.def("draw_board_pose", &DrawBoardOn, py::arg("image"), py::arg("pose"), py::arg("detector"),
+        py::arg("axis_length") = 0.1, py::arg("name") = "",
+        "Draws a board's frame at its pose (x red, y green, z blue, axis_length metres) and\n"
+        "its name on the image, in place, with the intrinsics of the detector that found it;\n"
+        "returns it.");
   m.def("render_tag", &RenderTag, py::arg("family"), py::arg("id"), py::arg("cell_px") = 10.0,
         py::arg("palette") = "default", py::arg("quiet_zone") = 2, py::arg("order") = "bgr",
         "One tag with its quiet zone as an H x W x 3 uint8 image, cell_px pixels per cell.");

@@ -237,6 +237,8 @@ def test_board_pose_from_a_generated_board(tmp_path):
     error = cv2.Rodrigues(pose.rotation.T @ rotation)[0]
     assert np.degrees(np.linalg.norm(error)) < 0.2
     assert np.linalg.norm(pose.tvec - translation) < 0.002 * 0.4
+    drawn = chromatag.draw_board_pose(frame.copy(), pose, detector, axis_length=0.05)
+    assert (drawn != frame).any()
     # No board tag in view: the detections, and None.
     blank = np.full((480, 640, 3), 200, np.uint8)
     assert detector.detect_board(blank, board) == ([], None)
