@@ -261,3 +261,45 @@ def test_boards_built_by_hand_and_from_a_bundle_file(tmp_path):
     assert cube.name == "cube" and cube.tags[0].id == 4 and cube.tags[0].family == "36h11"
     with pytest.raises(chromatag.Error, match="has no bundle 'box'"):
         chromatag.Board.from_file(str(bundle) + "#box")
+
+
+def test_measure_bundle_recovers_the_tags_poses(tmp_path):
+    # scripts/measure_bundle.py on `detect --json` lines made from a known
+    # bundle (tags on three faces of a box, one twice the size) seen from 12
+    # sides with noise: positions within 1 mm, rotations within 0.5 degrees.
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "measure_bundle", os.path.join(os.path.dirname(__file__), "../../scripts/measure_bundle.py"))
+    measure_bundle = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(measure_bundle)
+    rng = np.random.default_rng(5)
+    truth = {0: (np.eye(3), np.zeros(3)),
+             4: (cv2.Rodrigues(np.array([0, np.pi / 2, 0]))[0], np.array([0.08, 0, -0.05])),
+             7: (cv2.Rodrigues(np.array([-np.pi / 2, 0, 0]))[0], np.array([0, 0.07, -0.04]))}
+    sizes = {0: 0.04, 4: 0.04, 7: 0.08}
+    lines = []
+    for view in range(12):
+        camera_r = cv2.Rodrigues(np.array([np.pi, 0, 0]) + rng.normal(0, 0.35, 3))[0]
+        camera_t = np.array([0.02, -0.01, 0.6]) + rng.normal(0, 0.03, 3)
+        detections = []
+        for tag, (r, t) in truth.items():
+            r_c = cv2.Rodrigues(rng.normal(0, 0.002, 3))[0] @ camera_r @ r
+            t_c = camera_r @ t + camera_t + rng.normal(0, 0.0005, 3)
+            # detect ran with --tag-size 40mm: the 80 mm tag seems half as far.
+            t_c = t_c * 0.04 / sizes[tag]
+            detections.append({"family": "16h5", "id": tag,
+                               "pose": {"rvec": cv2.Rodrigues(r_c)[0].ravel().tolist(),
+                                        "tvec": t_c.tolist(), "ambiguity": 0.1}})
+        lines.append(json.dumps({"detections": detections}))
+    poses = tmp_path / "poses.jsonl"
+    poses.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "bundle.yaml"
+    measure_bundle.main([str(poses), "--tag-size", "0.04", "--master", "0", "--size", "7=0.08",
+                         "--name", "box", "-o", str(out)])
+    bundle = chromatag.Board.from_file(str(out))
+    assert bundle.name == "box" and [t.id for t in bundle.tags] == [0, 4, 7]
+    for tag in bundle.tags:
+        r, t = truth[tag.id]
+        assert tag.size == sizes[tag.id]
+        assert np.linalg.norm(tag.position - t) < 0.001
+        assert np.degrees(np.linalg.norm(cv2.Rodrigues(tag.rotation.T @ r)[0])) < 0.5
