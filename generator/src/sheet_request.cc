@@ -157,7 +157,17 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
       return false;
     }
   }
-  return out->IsValid(error);
+  if (!out->IsValid(error)) return false;
+  // A board of a given size that fits only on the page turned gets it turned.
+  if (board && !in.size.empty() && !LayoutSheet(*out)) {
+    SheetOptions turned = *out;
+    std::swap(turned.page.width_mm, turned.page.height_mm);
+    if (LayoutSheet(turned)) {
+      turned.page.name += turned.page.width_mm > turned.page.height_mm ? " landscape" : " portrait";
+      *out = turned;
+    }
+  }
+  return true;
 }
 
 }  // namespace chromatag
