@@ -467,7 +467,8 @@ class Run {
                    {"height", frame.rows},
                    {"time_us", result->summary.total_time_us},
                    {"detections", detections}};
-      if (board_) line["board"] = board_pose ? BoardJson(*board_pose) : Json(nullptr);
+      if (board_)
+        line["board"] = board_pose ? BoardJson(*board_pose, result->detections) : Json(nullptr);
       if (source.live()) line["timestamp"] = task.timestamp;
       if (!overlay.empty()) line["overlay"] = overlay;
       if (options_.rejected) line["rejected"] = Rejected(result->rejected);
@@ -489,46 +490,44 @@ class Run {
       }
       if (result->detections.empty())
         outcome.out += source.name + " frame " + std::to_string(task.frame_index) + ": no tags\n";
-      if (board_) outcome.out += BoardLine(source.name, task.frame_index, board_pose);
+      if (board_)
+        outcome.out += BoardLine(source.name, task.frame_index, board_pose, result->detections);
     }
     return outcome;
   }
 
-  // Ids of board tags by their indices.
-  Json BoardIds(const std::vector<int>& indices) const {
-    Json ids = Json::array();
-    for (int i : indices) ids.push_back(board_->tags[i].id);
-    return ids;
-  }
-
-  Json BoardJson(const BoardPose& pose) const {
+  Json BoardJson(const BoardPose& pose, const std::vector<Detection>& detections) const {
+    Json used = Json::array(), rejected = Json::array();
+    for (int i : pose.tags_used) used.push_back(board_->tags[i].id);
+    for (int i : pose.detections_rejected) rejected.push_back(detections[i].id);
     return {{"name", board_->name},
             {"rvec", {pose.rvec[0], pose.rvec[1], pose.rvec[2]}},
             {"tvec", {pose.tvec[0], pose.tvec[1], pose.tvec[2]}},
-            {"tags_used", BoardIds(pose.tags_used)},
-            {"tags_rejected", BoardIds(pose.tags_rejected)},
+            {"tags_used", used},
+            {"tags_rejected", rejected},
             {"rms_error_px", pose.rms_error_px},
             {"ambiguity", pose.ambiguity}};
   }
 
-  std::string BoardLine(const std::string& name, int frame,
-                        const std::optional<BoardPose>& pose) const {
-    char line[512];
-    if (!pose) {
-      std::snprintf(line, sizeof line, "%-30s %6d  board %s: not seen\n", name.c_str(), frame,
-                    board_->name.c_str());
-      return line;
+  // A table line (names may be long: built as a string, not in a buffer).
+  std::string BoardLine(const std::string& name, int frame, const std::optional<BoardPose>& pose,
+                        const std::vector<Detection>& detections) const {
+    char head[64];
+    std::snprintf(head, sizeof head, " %6d  board ", frame);
+    std::string line = name + std::string(name.size() < 30 ? 30 - name.size() : 0, ' ') + head +
+                       board_->name + ": ";
+    if (!pose) return line + "not seen\n";
+    char body[256];
+    std::snprintf(body, sizeof body,
+                  "t = (%g, %g, %g) m  %zu of %zu tags  rms %.2f px  ambiguity %.2f", pose->tvec[0],
+                  pose->tvec[1], pose->tvec[2], pose->tags_used.size(), board_->tags.size(),
+                  pose->rms_error_px, pose->ambiguity);
+    line += body;
+    if (!pose->detections_rejected.empty()) {
+      line += "  left out: ID";
+      for (int i : pose->detections_rejected) line += " " + std::to_string(detections[i].id);
     }
-    std::snprintf(line, sizeof line,
-                  "%-30s %6d  board %s: t = (%g, %g, %g) m  %zu of %zu tags  rms %.2f px  "
-                  "ambiguity %.2f%s\n",
-                  name.c_str(), frame, board_->name.c_str(), pose->tvec[0], pose->tvec[1],
-                  pose->tvec[2], pose->tags_used.size(), board_->tags.size(), pose->rms_error_px,
-                  pose->ambiguity,
-                  pose->tags_rejected.empty()
-                      ? ""
-                      : ("  left out: " + BoardIds(pose->tags_rejected).dump()).c_str());
-    return line;
+    return line + "\n";
   }
 
   // The drawn axes: twice the board's largest tag.
@@ -580,14 +579,18 @@ int RunDetect(const DetectOptions& options) {
     board = ReadBoardFile(options.board_file, &error);
     if (!board) return fail(error);
     if (!detector_options.camera) return fail("--board needs --camera FILE (the intrinsics)");
-    // The board's families only, unless --family says otherwise.
+    // The board's families only, unless --family says otherwise; a --family
+    // that leaves the board's out would never see it.
+    std::vector<std::string> families;
+    for (const BoardTag& tag : board->tags) {
+      if (std::find(families.begin(), families.end(), tag.family) == families.end())
+        families.push_back(tag.family);
+    }
     if (options.family == "all") {
-      detector_options.families.clear();
-      for (const BoardTag& tag : board->tags) {
-        if (std::find(detector_options.families.begin(), detector_options.families.end(),
-                      tag.family) == detector_options.families.end())
-          detector_options.families.push_back(tag.family);
-      }
+      detector_options.families = families;
+    } else if (std::find(families.begin(), families.end(), options.family) == families.end()) {
+      return fail("--family " + options.family + " leaves out every tag of the board (" +
+                  families[0] + (families.size() > 1 ? " and " + families[1] : "") + ")");
     }
   }
   if (detector_options.tag_size > 0 && !detector_options.camera)

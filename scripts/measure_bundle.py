@@ -47,16 +47,23 @@ def mean_rotation(rotations):
 
 
 def quaternion(r):
-    # w, x, y, z of a rotation matrix, w >= 0.
-    w = np.sqrt(max(0.0, 1 + r[0, 0] + r[1, 1] + r[2, 2])) / 2
-    x = np.sqrt(max(0.0, 1 + r[0, 0] - r[1, 1] - r[2, 2])) / 2
-    y = np.sqrt(max(0.0, 1 - r[0, 0] + r[1, 1] - r[2, 2])) / 2
-    z = np.sqrt(max(0.0, 1 - r[0, 0] - r[1, 1] + r[2, 2])) / 2
-    x = np.copysign(x, r[2, 1] - r[1, 2])
-    y = np.copysign(y, r[0, 2] - r[2, 0])
-    z = np.copysign(z, r[1, 0] - r[0, 1])
-    q = np.array([w, x, y, z])
-    return q / np.linalg.norm(q)
+    # w, x, y, z of a rotation matrix (Shepperd: from the largest of the four
+    # squared components, so that half turns come out right), w >= 0.
+    squares = [1 + r[0, 0] + r[1, 1] + r[2, 2], 1 + r[0, 0] - r[1, 1] - r[2, 2],
+               1 - r[0, 0] + r[1, 1] - r[2, 2], 1 - r[0, 0] - r[1, 1] + r[2, 2]]
+    i = int(np.argmax(squares))
+    big = np.sqrt(squares[i]) / 2
+    s = 0.25 / big
+    if i == 0:
+        q = [big, (r[2, 1] - r[1, 2]) * s, (r[0, 2] - r[2, 0]) * s, (r[1, 0] - r[0, 1]) * s]
+    elif i == 1:
+        q = [(r[2, 1] - r[1, 2]) * s, big, (r[0, 1] + r[1, 0]) * s, (r[0, 2] + r[2, 0]) * s]
+    elif i == 2:
+        q = [(r[0, 2] - r[2, 0]) * s, (r[0, 1] + r[1, 0]) * s, big, (r[1, 2] + r[2, 1]) * s]
+    else:
+        q = [(r[1, 0] - r[0, 1]) * s, (r[0, 2] + r[2, 0]) * s, (r[1, 2] + r[2, 1]) * s, big]
+    q = np.array(q) / np.linalg.norm(q)
+    return q if q[0] >= 0 else -q
 
 
 def measure(lines, master, family, sizes, detected_size, max_ambiguity):

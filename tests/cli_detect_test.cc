@@ -244,7 +244,10 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
             "cannot read sidecar '" + dir + "/none.json'"},
            {{"--camera", dir + "/camera.yaml", "--board", dir + "/camera.yaml"},
             "has no tag_bundles"},
-           {{"--camera", dir + "/camera.yaml"}, "or --board FILE"}}) {
+           {{"--camera", dir + "/camera.yaml"}, "or --board FILE"},
+           {{"--camera", dir + "/camera.yaml", "--board", dir + "/board.png.json", "--family",
+             "36h11"},
+            "--family 36h11 leaves out every tag of the board (16h5)"}}) {
     std::vector<std::string> command = {"detect"};
     command.insert(command.end(), args.begin(), args.end());
     command.push_back(dir + "/board.png");

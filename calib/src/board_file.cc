@@ -77,8 +77,9 @@ Board ToBoard(const YAML::Node& bundle, int index) {
                                "bundle or the tag");
     }
     out.size = Number(tag, "size", std::nullopt, what);
-    out.translation = {Number(tag, "x", std::nullopt, what), Number(tag, "y", std::nullopt, what),
-                       Number(tag, "z", std::nullopt, what)};
+    // As apriltag_ros: a position left out is 0.
+    out.translation = {Number(tag, "x", 0.0, what), Number(tag, "y", 0.0, what),
+                       Number(tag, "z", 0.0, what)};
     double q[4] = {Number(tag, "qw", 1.0, what), Number(tag, "qx", 0.0, what),
                    Number(tag, "qy", 0.0, what), Number(tag, "qz", 0.0, what)};
     const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);

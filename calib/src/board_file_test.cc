@@ -84,7 +84,7 @@ TEST(BoardFileTest, RefusesBrokenBundlesSayingWhat) {
     EXPECT_NE(error.find(what), std::string::npos) << error;
   };
   refused("      - {id: 1, x: 0, y: 0, z: 0}\n", "tag 1 has no size");
-  refused("      - {id: 1, size: 0.04, x: 0, y: 0}\n", "tag 1 has no z");
+  refused("      - {id: 1, x: 0, y: 0, z: 0}\n      - {id: 2, size: 0.04}\n", "tag 1 has no size");
   refused("      - {id: 1, size: -1, x: 0, y: 0, z: 0}\n", "positive length");
   refused("      - {id: 1, size: 0.04, x: 0, y: 0, z: 0, qw: 2}\n", "unit quaternion");
   refused("      - {id: 1, size: 0.04, x: 0, y: 0, z: abc}\n", "z is not a number");

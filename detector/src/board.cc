@@ -29,6 +29,7 @@ constexpr double kRivalRadians = 2.0 * CV_PI / 180.0;
 
 // A detection of a board tag.
 struct Match {
+  int detection = 0;               // Index into the detections.
   int tag = 0;                     // Index into Board::tags.
   std::vector<cv::Point3d> local;  // Its twelve ring corners in the tag frame...
   std::vector<cv::Point3d> board;  // ...and in the board frame.
@@ -81,8 +82,10 @@ std::vector<int> Refit(const std::vector<Match>& matches, const cv::Matx33d& k, 
     internal::Reprojection(object, image, k).Refine(&refined);
     if (!std::isfinite(refined.rms_px)) break;
     *pose = refined;
+    // The pose and its rms belong to `agreeing`; the next round refits only
+    // when the tags that agree with the new pose differ.
     std::vector<int> next = Agreeing(matches, *pose, k);
-    if (next == agreeing || next.empty()) break;
+    if (next == agreeing || next.empty() || round + 1 == kMaxRounds) break;
     agreeing = std::move(next);
   }
   return agreeing;
@@ -108,6 +111,8 @@ bool Board::IsValid(std::string* error) const {
     const auto& names = TagFamily::Names();
     if (std::find(names.begin(), names.end(), tag.family) == names.end())
       return fail(i, "unknown family (16h5 or 36h11)");
+    std::string why;
+    if (!TagFamily::Load(tag.family)->IsValidId(tag.id, &why)) return fail(i, why);
     if (!seen.insert({tag.family, tag.id}).second) return fail(i, "is on the board twice");
     if (!(tag.size > 0.0) || !std::isfinite(tag.size))
       return fail(i, "the size must be a positive length");
@@ -134,12 +139,14 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
   if (!camera.IsValid(error) || !board.IsValid(error)) return false;
   const cv::Matx33d k = internal::CameraMatrix(camera);
   std::vector<Match> matches;
-  for (const Detection& detection : detections) {
+  for (size_t d = 0; d < detections.size(); ++d) {
+    const Detection& detection = detections[d];
     if (detection.family == nullptr) continue;
     const int index = board.Find(detection.family->name(), detection.id);
     if (index < 0) continue;
     const BoardTag& tag = board.tags[index];
     Match match;
+    match.detection = static_cast<int>(d);
     match.tag = index;
     if (!internal::UndistortedRingCorners(detection, camera, &match.image, nullptr)) continue;
     match.local = internal::TagRingCorners(*detection.family, tag.size);
@@ -179,8 +186,10 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
       proposals.push_back(proposal);
     }
   }
-  std::sort(proposals.begin(), proposals.end(),
-            [](const Proposal& a, const Proposal& b) { return a.cost < b.cost; });
+  // Stable: among equally good proposals the first detection's wins, run
+  // after run.
+  std::stable_sort(proposals.begin(), proposals.end(),
+                   [](const Proposal& a, const Proposal& b) { return a.cost < b.cost; });
   std::vector<PoseFit> fits;
   std::vector<std::vector<int>> agreeing;
   // The best proposal, then the best one whose rotation differs from where
@@ -222,12 +231,16 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
         other.rms_px > 0 && agreeing[1 - best].size() == agreeing[best].size())
       pose->ambiguity = std::min(1.0, fit.rms_px / other.rms_px);
   }
-  std::set<int> used, rejected;
-  for (int i : agreeing[best]) used.insert(matches[i].tag);
-  for (const Match& match : matches)
-    if (!used.count(match.tag)) rejected.insert(match.tag);
+  std::set<int> used;
+  std::vector<bool> agrees(matches.size(), false);
+  for (int i : agreeing[best]) {
+    used.insert(matches[i].tag);
+    agrees[i] = true;
+  }
   pose->tags_used.assign(used.begin(), used.end());
-  pose->tags_rejected.assign(rejected.begin(), rejected.end());
+  pose->detections_rejected.clear();
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (!agrees[i]) pose->detections_rejected.push_back(matches[i].detection);
   return true;
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -28,7 +29,7 @@ CameraIntrinsics Camera() {
 Board Grid(int cols, int rows, double size, double pitch) {
   Board board;
   board.name = "grid";
-  const int kept[] = {0, 1, 2, 3, 4, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+  const std::vector<int>& kept = TagFamily::Load("16h5")->kept_ids();
   for (int i = 0; i < cols * rows; ++i) {
     BoardTag tag;
     tag.family = "16h5";
@@ -96,7 +97,7 @@ TEST(BoardTest, ExactCornersGiveThePoseAtEveryView) {
     EXPECT_LE(cv::norm(pose.rvec), kPi + 1e-12);
     EXPECT_LT(pose.rms_error_px, 1e-6);
     EXPECT_EQ(pose.tags_used.size(), board.tags.size());
-    EXPECT_TRUE(pose.tags_rejected.empty());
+    EXPECT_TRUE(pose.detections_rejected.empty());
   }
 }
 
@@ -120,8 +121,11 @@ TEST(BoardTest, AMisplacedTagIsLeftOutAndNamed) {
   ASSERT_TRUE(EstimateBoardPose(detections, board, camera, &pose, &error)) << error;
   EXPECT_LT(DegreesApart(pose.rvec, r), 0.2);
   EXPECT_LT(cv::norm(pose.tvec - t) / cv::norm(t), 0.002);
-  EXPECT_EQ(pose.tags_rejected, std::vector<int>{9});
+  // The detection at tag 5's place, ID of tag 9: left out, tag 9 unused.
+  ASSERT_EQ(pose.detections_rejected, std::vector<int>{5});
+  EXPECT_EQ(detections[5].id, board.tags[9].id);
   EXPECT_EQ(pose.tags_used.size(), board.tags.size() - 2);
+  EXPECT_EQ(std::count(pose.tags_used.begin(), pose.tags_used.end(), 9), 0);
   EXPECT_LT(pose.rms_error_px, 0.5);
 }
 
@@ -200,6 +204,10 @@ TEST(BoardTest, RefusesABadBoardAndNoTagOfIt) {
   Board flat = board;
   flat.tags[0].size = 0;
   EXPECT_FALSE(flat.IsValid(&error));
+  Board rejected_id = board;
+  rejected_id.tags[0].id = 5;  // 16h5 does not keep ID 5.
+  EXPECT_FALSE(rejected_id.IsValid(&error));
+  EXPECT_NE(error.find("16h5 ID 5"), std::string::npos) << error;
   EXPECT_FALSE(Board{}.IsValid(&error));
 
   const CameraIntrinsics camera = Camera();

@@ -61,6 +61,13 @@ void DrawBoardPose(const BoardPose& pose, const std::string& name, const CameraI
   const cv::Matx33d k(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   const std::vector<cv::Point3d> points = {
       {0, 0, 0}, {axis_length, 0, 0}, {0, axis_length, 0}, {0, 0, axis_length}};
+  // Nothing to draw when the axes reach behind the camera (a bundle whose
+  // origin is off to the side): projected, they would come out mirrored.
+  cv::Matx33d r;
+  cv::Rodrigues(pose.rvec, r);
+  for (const cv::Point3d& p : points) {
+    if (!((r * cv::Vec3d(p.x, p.y, p.z) + pose.tvec)[2] > 0)) return;
+  }
   std::vector<cv::Point2d> image;
   cv::projectPoints(points, pose.rvec, pose.tvec, k, cv::Mat(camera.distortion), image);
   const cv::Scalar colors[3] = {{0, 0, 255}, {0, 255, 0}, {255, 0, 0}};

@@ -83,8 +83,11 @@ int main(int argc, char** argv) {
       "rms %.2f px\n",
       board->name.c_str(), pose.tags_used.size(), board->tags.size(), pose.tvec[0], pose.tvec[1],
       pose.tvec[2], pose.rvec[0], pose.rvec[1], pose.rvec[2], pose.rms_error_px);
-  for (int i : pose.tags_rejected)
-    std::printf("  left out: %s %d\n", board->tags[i].family.c_str(), board->tags[i].id);
+  for (int i : pose.detections_rejected) {
+    const chromatag::Detection& d = result.detections[i];
+    std::printf("  left out: %s %d at (%.1f, %.1f)\n", d.family->name().c_str(), d.id,
+                d.corners[0].x, d.corners[0].y);
+  }
   if (!out.empty()) {
     chromatag::DrawDetections(result.detections, nullptr, 0, &frame);
     chromatag::DrawBoardPose(pose, board->name, camera, 2 * board->tags[0].size, &frame);

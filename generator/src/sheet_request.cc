@@ -1,6 +1,7 @@
 #include "chromatag/generator/sheet_request.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 
@@ -28,10 +29,16 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
   std::optional<BoardGrid> board;
   if (!in.board.empty()) {
     BoardGrid grid;
-    char x = 0, extra = 0;
-    if (std::sscanf(in.board.c_str(), "%d%c%d%c", &grid.columns, &x, &grid.rows, &extra) != 3 ||
-        (x != 'x' && x != 'X') || grid.columns < 1 || grid.rows < 1 || grid.columns > 100 ||
-        grid.rows > 100) {
+    const std::string& text = in.board;
+    const auto x = text.find_first_of("xX");
+    const auto whole = [](const std::string& digits, int* value) {
+      const auto end = digits.data() + digits.size();
+      const auto [at, ec] = std::from_chars(digits.data(), end, *value);
+      return !digits.empty() && ec == std::errc() && at == end;
+    };
+    if (x == std::string::npos || !whole(text.substr(0, x), &grid.columns) ||
+        !whole(text.substr(x + 1), &grid.rows) || grid.columns < 1 || grid.rows < 1 ||
+        grid.columns > 100 || grid.rows > 100) {
       *error = "--board must be COLSxROWS with 1 to 100 of each, e.g. 6x4, not '" + in.board + "'";
       return false;
     }
@@ -46,8 +53,8 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
     const std::vector<int>& kept = out->family->kept_ids();
     if (kept.size() < board_tags) {
       *error = "a " + in.board + " board needs " + std::to_string(board_tags) + " tags; " +
-               out->family->name() + " keeps " + std::to_string(kept.size()) +
-               " IDs (36h11 keeps more)";
+               out->family->name() + " keeps " + std::to_string(kept.size()) + " IDs" +
+               (out->family->name() == "16h5" ? " (36h11 keeps more)" : "");
       return false;
     }
     out->ids.assign(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(board_tags));
@@ -84,8 +91,11 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
   const double quiet_share = static_cast<double>(in.quiet_zone) / out->family->black_square_cells();
   std::optional<double> spacing_mm;
   if (!in.spacing.empty()) {
-    const auto spacing = ParseLength(in.spacing == "0" ? "0.000001mm" : in.spacing, error);
-    if (!spacing) return false;
+    const auto spacing = ParseLength(in.spacing, error);
+    if (!spacing) {
+      *error = "--spacing: " + *error;
+      return false;
+    }
     spacing_mm = spacing->mm;
   }
   if (board) {
@@ -97,14 +107,22 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
     if (!size) return false;
     out->tag_size_mm = size->mm;
   } else if (board) {
-    // The largest that fits; then the default spacing for that size.
+    // The largest that fits; then the default spacing for that size. A given
+    // spacing bounds the size too: it must hold a quiet zone.
     const double share = std::max(kDefaultBoardSpacingShare, quiet_share);
-    auto fit = BoardTagSizeToFit(*out, spacing_mm ? 0.0 : share, error);
+    const auto fit_on = [&](const SheetOptions& sheet, std::string* why) {
+      auto fit = BoardTagSizeToFit(sheet, spacing_mm ? 0.0 : share, why);
+      const double largest = spacing_mm ? *spacing_mm / quiet_share : 0.0;
+      if (fit && spacing_mm && *fit > largest)
+        fit = largest >= 10.0 ? std::floor(largest) : std::floor(largest * 10) / 10;
+      return fit;
+    };
+    auto fit = fit_on(*out, error);
     if (!fit) return false;
     // The page turned, when that fits larger tags (a 6x4 board on A4).
     SheetOptions turned = *out;
     std::swap(turned.page.width_mm, turned.page.height_mm);
-    const auto turned_fit = BoardTagSizeToFit(turned, spacing_mm ? 0.0 : share);
+    const auto turned_fit = fit_on(turned, nullptr);
     if (turned_fit && *turned_fit > *fit) {
       fit = turned_fit;
       out->page = turned.page;

@@ -17,6 +17,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 namespace chromatag {
 namespace {
@@ -483,6 +484,21 @@ TEST(BoardSheetTest, FillsItsPageAndRecordsItsFrame) {
   EXPECT_EQ(record->board->rows, 4);
   EXPECT_NEAR(record->board_origin_mm[0], layout->board_origin_mm[0], 1e-3);
   EXPECT_NEAR(record->board_origin_mm[1], layout->board_origin_mm[1], 1e-3);
+  // A board's tags carry no label.
+  EXPECT_FALSE(nlohmann::json::parse(files->back().contents)["label"].get<bool>());
+  // A sidecar whose board disagrees with its tags is refused.
+  for (const auto& [path, value, what] :
+       std::vector<std::tuple<std::string, nlohmann::json, std::string>>{
+           {"/board/origin_mm", {0.0, 0.0}, "origin_mm is not the bottom-left tag's"},
+           {"/board/spacing_mm", -1.0, "spacing_mm must be positive"},
+           {"/board/columns", 4, "columns x rows"},
+           {"/tags/5/corners_mm/0/0", 3.0, "not on its columns x rows grid"}}) {
+    nlohmann::json tampered = nlohmann::json::parse(files->back().contents);
+    tampered[nlohmann::json::json_pointer(path)] = value;
+    if (path == "/board/columns") tampered["board"]["rows"] = 6;
+    EXPECT_FALSE(ParseSidecar(tampered.dump(), "", &error)) << path;
+    EXPECT_NE(error.find(what), std::string::npos) << error;
+  }
   // A sheet that is not a board: the page's bottom-left corner.
   SheetOptions sheet = Options16h5All();
   const auto sheet_files = RenderSheet(sheet, "s.pdf", &error);
@@ -503,6 +519,8 @@ TEST(BoardSheetTest, RefusesWhatIsNoBoardAndSaysWhy) {
   refused(BoardRequest("6y4"), "--board must be COLSxROWS");
   refused(BoardRequest("0x4"), "--board must be COLSxROWS");
   refused(BoardRequest("7x5"), "16h5 keeps 28 IDs");
+  refused(BoardRequest("99999999999x1"), "--board must be COLSxROWS");
+  refused(BoardRequest(" 2x 2"), "--board must be COLSxROWS");
   SheetRequest ids = BoardRequest("2x2");
   ids.ids = "0-2";
   refused(ids, "holds 4 tags, but 3 IDs");
@@ -510,6 +528,15 @@ TEST(BoardSheetTest, RefusesWhatIsNoBoardAndSaysWhy) {
   tight.size = "30mm";
   tight.spacing = "5mm";
   refused(tight, "at least their quiet zone, 10.0 mm");
+  // Without a size, a given spacing bounds it: 5 mm holds the quiet zone of
+  // 15 mm 16h5 tags (2 of 6 cells).
+  SheetRequest spaced = BoardRequest("2x2");
+  spaced.spacing = "5mm";
+  ASSERT_TRUE(ToSheetOptions(spaced, "b.pdf", &options, &error)) << error;
+  EXPECT_EQ(options.tag_size_mm, 15.0);
+  SheetRequest zero = BoardRequest("2x2");
+  zero.spacing = "0mm";
+  refused(zero, "--spacing: ");
   SheetRequest big = BoardRequest("6x4");
   big.size = "40mm";
   ASSERT_TRUE(ToSheetOptions(big, "b.pdf", &options, &error)) << error;

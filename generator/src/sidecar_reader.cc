@@ -1,3 +1,4 @@
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -86,6 +87,24 @@ SheetRecord Parse(const json& root, const std::string& folder) {
     if (record.num_pages != 1 ||
         record.tags.size() != static_cast<size_t>(grid.columns) * grid.rows)
       throw FieldError{"a board is one page of columns x rows tags"};
+    if (!(grid.spacing_mm > 0)) throw FieldError{"a board's spacing_mm must be positive"};
+    // The tags on the grid and the origin at the bottom-left tag's corner,
+    // within the sidecar's 1 um rounding and, for PNG, half a pixel of
+    // snapping to whole pixels.
+    const double tolerance = 0.002 + (record.format == SheetFormat::kPng ? 12.7 / record.dpi : 0);
+    const double pitch = record.tag_size_mm + grid.spacing_mm;
+    const auto& first = record.tags[0].corners_mm[0];
+    for (size_t i = 0; i < record.tags.size(); ++i) {
+      const auto& corner = record.tags[i].corners_mm[0];
+      const double x = first[0] + static_cast<double>(i % grid.columns) * pitch;
+      const double y = first[1] + static_cast<double>(i / grid.columns) * pitch;
+      if (std::fabs(corner[0] - x) > tolerance || std::fabs(corner[1] - y) > tolerance)
+        throw FieldError{"the board's tags are not on its columns x rows grid"};
+    }
+    const auto& origin = record.tags[(grid.rows - 1) * grid.columns].corners_mm[3];
+    if (std::fabs(origin[0] - record.board_origin_mm[0]) > 0.002 ||
+        std::fabs(origin[1] - record.board_origin_mm[1]) > 0.002)
+      throw FieldError{"the board's origin_mm is not the bottom-left tag's bottom-left corner"};
   }
   return record;
 }

@@ -270,11 +270,14 @@ py::tuple DetectBoard(const PyDetector& self, const py::array& image, const Boar
     self.detector->Detect(mat, pixel_order, &result);
     seen = EstimateBoardPose(result.detections, board, *options.camera, &pose.pose);
   }
+  if (seen) {
+    for (int i : pose.pose.tags_used) pose.tags_used.push_back(board.tags[i].id);
+    for (int i : pose.pose.detections_rejected)
+      pose.tags_rejected.push_back(result.detections[i].id);
+  }
   py::list detections;
   for (Detection& d : result.detections) detections.append(PyDetection{std::move(d)});
   if (!seen) return py::make_tuple(detections, py::none());
-  for (int i : pose.pose.tags_used) pose.tags_used.push_back(board.tags[i].id);
-  for (int i : pose.pose.tags_rejected) pose.tags_rejected.push_back(board.tags[i].id);
   return py::make_tuple(detections, pose);
 }
 
@@ -607,8 +610,8 @@ PYBIND11_MODULE(_chromatag, m) {
                              })
       .def_readonly("tags_used", &PyBoardPose::tags_used, "IDs of the tags the pose fits")
       .def_readonly("tags_rejected", &PyBoardPose::tags_rejected,
-                    "IDs of board tags seen only where the others say they are not (misread or "
-                    "misplaced)")
+                    "IDs of the detections left out: seen where the other tags say they are not "
+                    "(a misread ID, a misplaced tag, a second copy)")
       .def_property_readonly(
           "rms_error_px", [](const PyBoardPose& p) { return p.pose.rms_error_px; },
           "root mean square reprojection error over the used tags' ring corners, pixels")

@@ -7,9 +7,10 @@
 //   any other sheet at the page's bottom-left corner. x right, y up the
 //   page, z out of it; metres.
 // - A bundle YAML in the shape apriltag_ros uses for tag_bundles: per tag
-//   id, size (the black square, metres), x, y, z and the unit quaternion
-//   qw, qx, qy, qz of the tag in the bundle frame; plus `family` (per tag or
-//   for the bundle) and an optional `palette`.
+//   id, size (the black square, metres), x, y, z (0 when left out) and the
+//   unit quaternion qw, qx, qy, qz of the tag in the bundle frame (identity
+//   when left out); plus `family` (per tag or for the bundle) and an
+//   optional `palette`.
 #ifndef CHROMATAG_CALIB_BOARD_FILE_H_
 #define CHROMATAG_CALIB_BOARD_FILE_H_
 

@@ -46,10 +46,12 @@ struct BoardPose {
   cv::Vec3d rvec;  // Rodrigues rotation of camera_from_board; norm at most pi.
   cv::Vec3d tvec;  // The board frame's origin in the camera frame, metres.
   // Board tags (indices into Board::tags, ascending) whose corners the pose
-  // was fitted to, and those seen but left out: their corners disagree with
-  // the others' (a misread ID, a tag not where the board file says).
+  // was fitted to.
   std::vector<int> tags_used;
-  std::vector<int> tags_rejected;
+  // Detections of board tags left out (indices into the detections given,
+  // ascending): their corners disagree with the pose the others agree on (a
+  // misread ID, a tag not where the board file says, a second copy of a tag).
+  std::vector<int> detections_rejected;
   // Root mean square reprojection error over the used tags' ring corners
   // (twelve per tag), pixels.
   double rms_error_px = 0.0;

@@ -21,7 +21,8 @@ void DrawDetections(const std::vector<Detection>& detections, const CameraIntrin
                     double tag_size, cv::Mat* canvas);
 
 // Draws a board's frame at its pose into `canvas` (8-bit BGR): x red, y
-// green, z blue, `axis_length` metres long, with the board's name.
+// green, z blue, `axis_length` metres long, with the board's name; nothing
+// when the axes reach behind the camera.
 void DrawBoardPose(const BoardPose& pose, const std::string& name, const CameraIntrinsics& camera,
                    double axis_length, cv::Mat* canvas);
 
