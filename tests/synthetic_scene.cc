@@ -125,6 +125,34 @@ cv::Mat LinearCamera(const cv::Mat& bgr, const SceneOptions& options) {
 
 }  // namespace
 
+namespace {
+
+cv::Mat AverageInLinearLight(const cv::Mat& hi, cv::Size size) {
+  static const std::vector<float> to_linear = [] {
+    std::vector<float> t(256);
+    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.f);
+    return t;
+  }();
+  cv::Mat linear(hi.size(), CV_32FC3);
+  for (int y = 0; y < hi.rows; ++y) {
+    const uint8_t* in = hi.ptr<uint8_t>(y);
+    float* out = linear.ptr<float>(y);
+    for (int i = 0; i < 3 * hi.cols; ++i) out[i] = to_linear[in[i]];
+  }
+  cv::Mat small;
+  cv::resize(linear, small, size, 0, 0, cv::INTER_AREA);
+  cv::Mat bgr(size, CV_8UC3);
+  for (int y = 0; y < size.height; ++y) {
+    const float* in = small.ptr<float>(y);
+    uint8_t* out = bgr.ptr<uint8_t>(y);
+    for (int i = 0; i < 3 * size.width; ++i)
+      out[i] = cv::saturate_cast<uint8_t>(255.f * LinearToSrgb(std::clamp(in[i], 0.f, 1.f)));
+  }
+  return bgr;
+}
+
+}  // namespace
+
 void ApplyCamera(const SceneOptions& options, cv::Mat* bgr) {
   if (options.linear_camera) {
     *bgr = LinearCamera(*bgr, options);
@@ -238,7 +266,9 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
       truth.corners[i] = Apply(scene_from_plane, corners[i][0], corners[i][1]);
     scene.truth.push_back(truth);
   }
-  cv::resize(hi, scene.bgr, cv::Size(options.width, options.height), 0, 0, cv::INTER_AREA);
+  // Each pixel collects the light on its area, as a sensor does: averaged
+  // in linear light, then encoded again.
+  scene.bgr = AverageInLinearLight(hi, cv::Size(options.width, options.height));
   ApplyCamera(options, &scene.bgr);
   return scene;
 }

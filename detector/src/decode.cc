@@ -688,7 +688,13 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   detection->id = match.id;
   detection->hamming = match.hamming;
   detection->decision_margin = margin;
-  for (int i = 0; i < 4; ++i) detection->corners[i] = candidate.quads[kBlackWhite][(i + k) % 4];
+  // The stages read the black square found with edges at the encoded
+  // average (their thresholds were set on it); the reported corners are
+  // moved to where the black ring's width says the edges lie (stages.h,
+  // RefineReportedQuad). If that fails, the stages' corners are reported.
+  Quad reported = candidate.quads[kBlackWhite];
+  RefineReportedQuad(image, cells, &reported);
+  for (int i = 0; i < 4; ++i) detection->corners[i] = reported[(i + k) % 4];
   detection->image_from_tag = UnitSquareToQuad(detection->corners);
   // Inner corners in the same order, where the tag's proportions put them
   // inside the outer ones (one and two cells in). The outer border is the

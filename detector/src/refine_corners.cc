@@ -22,9 +22,10 @@
 namespace chromatag::internal {
 namespace {
 
-constexpr float kProfileStep = 0.5f;  // Pixels between profile samples.
-constexpr int kMaxProfileSteps = 8;   // Samples either side: 4 px.
-constexpr int kMinProfiles = 5;       // Per side, however short.
+constexpr float kProfileStep = 0.5f;        // Pixels between profile samples.
+constexpr int kMaxProfileSteps = 8;         // Samples either side: 4 px.
+constexpr int kMinProfiles = 5;             // Per side, however short.
+constexpr int kReportedOuterProfiles = 10;  // Per side, for the reported corners.
 
 // Total least squares line through `points`, then once more without points
 // farther than three median residuals (at least half a pixel) from it.
@@ -62,6 +63,80 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
   return true;
 }
 
+// The gray channel (R + G + B, 0 to 765) in linear light: the three values'
+// mean decoded with sRGB's curve (exact for neutral pixels, as black and
+// white are), linearly interpolated between whole values (LinearGray and
+// LinearGray8 read the same table with the same arithmetic).
+const float* LinearGrayTable() {
+  static const std::array<float, 768> table = [] {
+    std::array<float, 768> t{};
+    for (int i = 0; i < 768; ++i) {
+      const double e = std::min(1.0, i / 765.0);
+      t[i] = static_cast<float>(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return table.data();
+}
+
+float LinearGray(float gray) {
+  const float* table = LinearGrayTable();
+  const float x = std::min(std::max(gray, 0.f), 765.f);
+  const int i = static_cast<int>(x);
+  return table[i] + (x - static_cast<float>(i)) * (table[i + 1] - table[i]);
+}
+
+// EdgePoint for the gray channel in linear light (Halfway::kLinearLight):
+// the profile and the two levels decoded to linear light, the crossing
+// halfway between the levels there. The levels must still differ by
+// `min_contrast` in encoded values, as for EdgePoint.
+bool LinearEdgePoint(const ImageView& image, int polarity, const ProfileSpec& spec,
+                     float min_contrast, cv::Point2d* edge) {
+  const int steps =
+      static_cast<int>(std::min<double>(kMaxProfileSteps, std::ceil(spec.half / kProfileStep)));
+  const int n = 2 * steps + 1;
+  const float ox = static_cast<float>(spec.outward.x) * kProfileStep,
+              oy = static_cast<float>(spec.outward.y) * kProfileStep;
+  const float first = static_cast<float>(-steps);
+  std::array<float, 2 * kMaxProfileSteps + 1> profile;
+  if (!image.SampleLine(static_cast<float>(spec.middle.x) + first * ox,
+                        static_cast<float>(spec.middle.y) + first * oy, ox, oy, n, kGray,
+                        profile.data()))
+    return false;
+  for (int i = 0; i < n; ++i) profile[i] = LinearGray(profile[i]);
+  int steepest = 1;
+  float steepest_change = -1.f;
+  for (int i = 1; i + 1 < n; ++i) {
+    const float change = polarity * (profile[i + 1] - profile[i - 1]);
+    if (change > steepest_change) {
+      steepest_change = change;
+      steepest = i;
+    }
+  }
+  if (!(steepest_change > 0.f)) return false;
+  const double centre = (steepest - steps) * kProfileStep;
+  const cv::Point2d in = spec.middle + (centre - spec.level_offset) * spec.outward;
+  const cv::Point2d out = spec.middle + (centre + spec.level_offset) * spec.outward;
+  float inside = 0, outside = 0;
+  if (!image.Sample(static_cast<float>(in.x), static_cast<float>(in.y), kGray, &inside) ||
+      !image.Sample(static_cast<float>(out.x), static_cast<float>(out.y), kGray, &outside) ||
+      std::abs(outside - inside) < min_contrast)
+    return false;
+  const float mid = 0.5f * (LinearGray(inside) + LinearGray(outside));
+  double best = 1e300;
+  for (int i = 1; i < n; ++i) {
+    const float previous = profile[i - 1], v = profile[i];
+    if ((previous - mid) * (v - mid) <= 0 && previous != v) {
+      const double at =
+          (i - 1 - steps) * kProfileStep + kProfileStep * (mid - previous) / (v - previous);
+      if (std::abs(at - centre) < std::abs(best - centre)) best = at;
+    }
+  }
+  if (best > 1e299) return false;
+  *edge = spec.middle + best * spec.outward;
+  return true;
+}
+
 }  // namespace
 
 // The edge point on the profile across the side at `middle`, searched within
@@ -72,7 +147,9 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
 // the plateaus when the line is still a pixel or two off (on small cells),
 // so one pass already lands on the edge.
 bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
-               const ProfileSpec& spec, float min_contrast, cv::Point2d* edge) {
+               const ProfileSpec& spec, float min_contrast, cv::Point2d* edge, Halfway halfway) {
+  if (halfway == Halfway::kLinearLight && channel.r == 1 && channel.g == 1 && channel.b == 1)
+    return LinearEdgePoint(image, polarity, spec, min_contrast, edge);
   const cv::Point2d middle = spec.middle, outward = spec.outward;
   const double half = spec.half, level_offset = spec.level_offset;
   // In double until bounded: a degenerate side could make `half` huge.
@@ -139,10 +216,21 @@ __attribute__((target("avx2"))) inline __m256 BelowLength(__m256i length, int i)
 // camera set, side refinement took about a third less time than with
 // EdgePoint profile by profile: the per-profile bookkeeping, the sampling
 // and the two level reads are shared across the lanes.
+// LinearGray on eight values.
+__attribute__((target("avx2"))) inline __m256 LinearGray8(__m256 gray, const float* table) {
+  const __m256 x = _mm256_min_ps(_mm256_max_ps(gray, _mm256_setzero_ps()), _mm256_set1_ps(765.f));
+  const __m256i i = _mm256_cvttps_epi32(x);
+  const __m256 low = _mm256_i32gather_ps(table, i, 4);
+  const __m256 high = _mm256_i32gather_ps(table, _mm256_add_epi32(i, _mm256_set1_epi32(1)), 4);
+  const __m256 t = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
+  return _mm256_add_ps(low, _mm256_mul_ps(t, _mm256_sub_ps(high, low)));
+}
+
 __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
                                                  const ChannelWeights& channel, int polarity,
                                                  const ProfileSpec* spec, int count,
-                                                 float min_contrast, ProfileEdge* out) {
+                                                 float min_contrast, ProfileEdge* out,
+                                                 bool linear) {
   const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
   // Per lane: the profile's first sample, its length and half-length. Lanes
   // not in the vector path read a safe pixel and are ignored.
@@ -170,7 +258,8 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
     // Where ImageView::SampleLine fails, so does EdgePoint.
     if (!image.SegmentInside(x, y, last_x, last_y)) continue;
     if (!image.VectorReadsInside(x, y, last_x, last_y)) {
-      out[l].found = EdgePoint(image, channel, polarity, spec[l], min_contrast, &out[l].edge);
+      out[l].found = EdgePoint(image, channel, polarity, spec[l], min_contrast, &out[l].edge,
+                               linear ? Halfway::kLinearLight : Halfway::kEncoded);
       continue;
     }
     in_vector[l] = true;
@@ -197,6 +286,7 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
     const __m256 px = _mm256_blendv_ps(vx, _mm256_add_ps(vx, _mm256_mul_ps(fk, vox)), inside);
     const __m256 py = _mm256_blendv_ps(vy, _mm256_add_ps(vy, _mm256_mul_ps(fk, voy)), inside);
     profile[k] = BilinearEdgeChannel8(image.data(), step, px, py, gray, red_shift);
+    if (linear) profile[k] = LinearGray8(profile[k], LinearGrayTable());
   }
 
   // The steepest change the right way round; the first of equals.
@@ -239,7 +329,8 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
       image.Sample(ix, iy, channel, &inside);
       image.Sample(ux, uy, channel, &outside);
       if (std::abs(outside - inside) < min_contrast) continue;
-      mid[l] = 0.5f * (inside + outside);
+      mid[l] =
+          linear ? 0.5f * (LinearGray(inside) + LinearGray(outside)) : 0.5f * (inside + outside);
       has_mid[l] = true;
       continue;
     }
@@ -253,7 +344,8 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
                                                 _mm256_load_ps(out_y), gray, red_shift));
   for (int l = 0; l < 8; ++l) {
     if (!read_levels[l] || std::abs(outside[l] - inside[l]) < min_contrast) continue;
-    mid[l] = 0.5f * (inside[l] + outside[l]);
+    mid[l] = linear ? 0.5f * (LinearGray(inside[l]) + LinearGray(outside[l]))
+                    : 0.5f * (inside[l] + outside[l]);
     has_mid[l] = true;
   }
 
@@ -315,43 +407,39 @@ __attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
 #endif
 
 void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polarity,
-                const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out) {
+                const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out,
+                Halfway halfway) {
   int done = 0;
 #ifdef CHROMATAG_HAVE_AVX2_PATHS
   const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
   const bool red_minus_green = channel.r == 1 && channel.g == -1 && channel.b == 0;
+  const bool linear = gray && halfway == Halfway::kLinearLight;
   if (CpuHasAvx2() && (gray || red_minus_green) && image.OffsetsFit32()) {
     for (; done < count; done += 8) {
       EdgePoints8(image, channel, polarity, spec + done, std::min(8, count - done), min_contrast,
-                  out + done);
+                  out + done, linear);
     }
   }
 #endif
   for (; done < count; ++done) {
     out[done].found =
-        EdgePoint(image, channel, polarity, spec[done], min_contrast, &out[done].edge);
+        EdgePoint(image, channel, polarity, spec[done], min_contrast, &out[done].edge, halfway);
   }
 }
 
-bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
-  const ChannelWeights& channel = search.channel;
-  const float min_contrast = search.min_contrast;
+namespace {
+
+// The profiles across the four sides of `quad` for `search`: side i's are
+// spec[first[i] .. first[i + 1]).
+void SideProfiles(const Quad& quad, const SideSearch& search, std::vector<ProfileSpec>* spec,
+                  std::array<int, 5>* first) {
   const double cell = search.cell;
-  const int max_samples = search.max_samples;
-  const double max_half = search.max_half;
   double mean_length = 0;
-  for (int i = 0; i < 4; ++i) mean_length += 0.25 * cv::norm((*quad)[(i + 1) % 4] - (*quad)[i]);
-  std::array<Line, 4> sides;
-  thread_local std::vector<cv::Point2d> points;
-  thread_local std::vector<ProfileSpec> spec;
-  thread_local std::vector<ProfileEdge> edges;
-  // The four sides' profiles are read in one batch (EdgePoints fills its
-  // lanes across sides), then a line is fitted per side.
-  spec.resize(4 * std::max(kMinProfiles, max_samples));
-  edges.resize(spec.size());
-  std::array<int, 5> first{};  // Side i's profiles: [first[i], first[i + 1]).
+  for (int i = 0; i < 4; ++i) mean_length += 0.25 * cv::norm(quad[(i + 1) % 4] - quad[i]);
+  spec->resize(4 * std::max(kMinProfiles, search.max_samples));
+  (*first)[0] = 0;
   for (int i = 0; i < 4; ++i) {
-    const cv::Point2d p = (*quad)[i], q = (*quad)[(i + 1) % 4];
+    const cv::Point2d p = quad[i], q = quad[(i + 1) % 4];
     const double length = cv::norm(q - p);
     const cv::Point2d along = (q - p) / length;
     const cv::Point2d outward(along.y, -along.x);
@@ -364,20 +452,29 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
       const double height = std::abs(v.x * along.y - v.y * along.x);
       return cell * std::clamp(height / mean_length, 0.4, 2.5);
     };
-    const double cell_p = cell_at((*quad)[(i + 3) % 4], p);
-    const double cell_q = cell_at((*quad)[(i + 2) % 4], q);
-    const int samples =
-        std::max(kMinProfiles, static_cast<int>(std::min<double>(length / 2.0, max_samples)));
-    first[i + 1] = first[i] + samples;
+    const double cell_p = cell_at(quad[(i + 3) % 4], p);
+    const double cell_q = cell_at(quad[(i + 2) % 4], q);
+    const int samples = std::max(
+        kMinProfiles, static_cast<int>(std::min<double>(length / 2.0, search.max_samples)));
+    (*first)[i + 1] = (*first)[i] + samples;
     for (int j = 0; j < samples; ++j) {
       // Keep clear of the corners, where the neighbouring side interferes.
       const double t = 0.12 + 0.76 * j / (samples - 1);
       const double local_cell = cell_p + t * (cell_q - cell_p);
-      spec[first[i] + j] = {p + t * (q - p), outward, std::clamp(0.5 * local_cell, 1.0, max_half),
-                            0.5 * local_cell};
+      (*spec)[(*first)[i] + j] = {p + t * (q - p), outward,
+                                  std::clamp(0.5 * local_cell, 1.0, search.max_half),
+                                  0.5 * local_cell};
     }
   }
-  EdgePoints(image, channel, search.polarity, spec.data(), first[4], min_contrast, edges.data());
+}
+
+// A line through each side's edge points (edges[first[i] .. first[i + 1])
+// for side i), the corners where they meet, and RefineQuad's checks against
+// the quad they were searched from.
+bool QuadFromEdges(const std::vector<ProfileEdge>& edges, const std::array<int, 5>& first,
+                   const SideSearch& search, Quad* quad) {
+  thread_local std::vector<cv::Point2d> points;
+  std::array<Line, 4> sides;
   for (int i = 0; i < 4; ++i) {
     points.clear();
     for (int j = first[i]; j < first[i + 1]; ++j) {
@@ -391,13 +488,28 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
   for (int i = 0; i < 4; ++i) {
     // The refinement moves corners by the scans' error, about a pixel; a large
     // move means a side locked onto another edge.
-    if (cv::norm(refined[i] - (*quad)[i]) > std::max(2.0, search.max_move_cells * cell)) {
+    if (cv::norm(refined[i] - (*quad)[i]) > std::max(2.0, search.max_move_cells * search.cell)) {
       return false;
     }
   }
   if (!IsConvexClockwise(refined)) return false;
   *quad = refined;
   return true;
+}
+
+}  // namespace
+
+bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
+  thread_local std::vector<ProfileSpec> spec;
+  thread_local std::vector<ProfileEdge> edges;
+  std::array<int, 5> first{};
+  // The four sides' profiles are read in one batch (EdgePoints fills its
+  // lanes across sides), then a line is fitted per side.
+  SideProfiles(*quad, search, &spec, &first);
+  edges.resize(spec.size());
+  EdgePoints(image, search.channel, search.polarity, spec.data(), first[4], search.min_contrast,
+             edges.data(), search.halfway);
+  return QuadFromEdges(edges, first, search, quad);
 }
 
 namespace {
@@ -434,6 +546,43 @@ bool RefineOuterQuad(const ImageView& image, Candidate* candidate) {
       moved = std::max(moved, cv::norm(candidate->quads[kBlackWhite][i] - before[i]));
     if (moved < kSettledPx) break;
   }
+  return true;
+}
+
+bool RefineReportedQuad(const ImageView& image, int cells, Quad* quad) {
+  const double side = std::sqrt(QuadArea(*quad));
+  const double cell = side / cells;
+  if (!(cell > 1.0)) return false;
+  // The black ring's outer (black/white) and inner (green/black) borders,
+  // each with its edges at the encoded average [0] and in linear light [1].
+  Quad outer[2] = {*quad, *quad};
+  const Quad inner_start = InsetSquare(UnitSquareToQuad(*quad), 1.0 / cells);
+  Quad inner[2] = {inner_start, inner_start};
+  // The outer border at the encoded average is `quad` itself, as
+  // RefineOuterQuad left it.
+  for (int way = 0; way < 2; ++way) {
+    const Halfway halfway = way == 0 ? Halfway::kEncoded : Halfway::kLinearLight;
+    // Fewer profiles than the stages' searches: this runs on every detection,
+    // and the lines average them.
+    SideSearch out{kGray, kRisesOutwards, kMinGrayContrast, cell, kReportedOuterProfiles, 1.5};
+    SideSearch in{kGray, kFallsOutwards, kMinGreenBlackContrast, cell, kMinProfiles, 2.5};
+    out.halfway = in.halfway = halfway;
+    if ((way == 1 && !RefineQuad(image, out, &outer[way])) || !RefineQuad(image, in, &inner[way]))
+      return false;
+  }
+  // Sides (square roots of the areas), linear in the share: the share at
+  // which the inner square's side is (cells - 2) / cells of the outer's.
+  double outer_side[2], inner_side[2];
+  for (int way = 0; way < 2; ++way) {
+    outer_side[way] = std::sqrt(QuadArea(outer[way]));
+    inner_side[way] = std::sqrt(QuadArea(inner[way]));
+  }
+  const double ratio = static_cast<double>(cells - 2) / cells;
+  const double change = (inner_side[1] - inner_side[0]) - ratio * (outer_side[1] - outer_side[0]);
+  double share = 0.0;
+  if (std::abs(change) > 1e-6)
+    share = std::clamp((ratio * outer_side[0] - inner_side[0]) / change, 0.0, 1.0);
+  for (int i = 0; i < 4; ++i) (*quad)[i] = outer[0][i] + share * (outer[1][i] - outer[0][i]);
   return true;
 }
 

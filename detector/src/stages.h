@@ -269,6 +269,17 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
 // fit no family). False if a side has too few edge points to fit, a corner
 // jumps or the quad turns concave; the ring's cell must exceed a pixel.
 bool RefineOuterQuad(const ImageView& image, Candidate* candidate);
+// The reported corners of a decoded tag whose black square has `cells`
+// cells: `quad` (its black/white quad as the stages found it, edges at the
+// encoded average) moved towards where its edges lie in linear light, as
+// far as the black ring says. Where an image was blurred decides where its
+// edges lie between their levels: a lens blurs light (linear light is
+// right), software that resizes or warps an sRGB image blurs its encoded
+// values (the encoded average is right). The black ring is one cell wide:
+// its outer and inner borders, each located both ways, are mixed in the
+// share that gives it that width, and the outer corners in the same share.
+// False (quad untouched) when a border cannot be located.
+bool RefineReportedQuad(const ImageView& image, int cells, Quad* quad);
 bool RefineInnerQuads(const ImageView& image, Candidate* candidate);
 
 // Four sides from the convex hull of `points` (the hull cut to its four
@@ -290,6 +301,16 @@ inline constexpr int kRisesOutwards = 1;
 inline constexpr int kFallsOutwards = -1;
 
 // How RefineQuad looks for one ring's sides.
+// Where an edge is taken to lie between its two levels: halfway in the
+// encoded values, or halfway in linear light (the gray channel decoded with
+// sRGB's curve; other channels keep the encoded average). A lens blurs light,
+// so in a camera's frames an edge is halfway in linear light, which in
+// encoded values lies nearer the dark level: the encoded average finds a
+// black square too small, by about 0.8 px on the camera set. The detector's
+// stages were tuned on the encoded average (ring proportions); the reported
+// corners are placed in linear light (RefineReportedQuad).
+enum class Halfway { kEncoded, kLinearLight };
+
 struct SideSearch {
   ChannelWeights channel;  // kGray for the black ring's borders, kRedMinusGreen for red/green.
   // Whether the channel rises (kRisesOutwards) or falls (kFallsOutwards)
@@ -300,6 +321,9 @@ struct SideSearch {
   int max_samples = 10;   // Profiles per side (at most; about one per 2 px).
   double max_half = 2.5;  // Search either side of the current line, pixels.
   double max_move_cells = 0.75;  // A corner moving farther (and over 2 px) fails the fit.
+  // Where the edge lies between the two levels (EdgePoint): their average,
+  // or halfway in linear light (Halfway).
+  Halfway halfway = Halfway::kEncoded;
 };
 
 // One profile across a side (refine_corners.cc): centred on `middle`,
@@ -321,11 +345,13 @@ struct ProfileEdge {
 // if the profile leaves the frame, has no such change, or the levels differ
 // by less than `min_contrast`.
 bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
-               const ProfileSpec& spec, float min_contrast, cv::Point2d* edge);
+               const ProfileSpec& spec, float min_contrast, cv::Point2d* edge,
+               Halfway halfway = Halfway::kEncoded);
 // EdgePoint for each of `count` profiles, into out[0 .. count); eight at a
 // time where the CPU has AVX2, with the same results.
 void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polarity,
-                const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out);
+                const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out,
+                Halfway halfway = Halfway::kEncoded);
 
 // Moves the sides of `quad` onto the edge of `search.channel` nearest to
 // them: sub-pixel edge points on short profiles across each side, a robust
