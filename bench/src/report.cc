@@ -424,8 +424,10 @@ std::string CornerTable(const Context& c) {
          "and moved by -0.5 px (libapriltag puts pixel centres at +0.5); ArUco's turned by 180° "
          "(OpenCV 4.6 stores the AprilTag dictionaries turned, opencv/opencv-python#1195). The "
          "mean offset would show a remaining convention mismatch; the outward offset is negative "
-         "when the square is found too small, which blur in linear light followed by the camera's "
-         "gamma curve causes for every edge-based detector (as in a real camera). The paper: "
+         "when the square is found too small: after blur in linear light and the camera's gamma "
+         "curve (as in a real camera), an edge's encoded halfway level lies inside the true edge, "
+         "and a detector that takes that level finds the square too small. ChromaTag reports its "
+         "corners where the black ring's width says the edges lie (docs/pose.md). The paper: "
          "94.4 % of ChromaTag's and 89.1 % of AprilTag's corners within 3 px of hand labels. "
          "The last row is ChromaTag's eight inner ring corners (green/black and red/green), "
          "against where the true black square's homography puts them.\n\n" +
