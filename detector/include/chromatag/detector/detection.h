@@ -45,7 +45,10 @@ struct Detection {
   double decision_margin = 0.0;
   // The black/white border, in the decoded tag's orientation: corner 0 is the
   // top-left of the upright tag, then clockwise. Pixel centres are at integer
-  // coordinates (OpenCV's convention).
+  // coordinates (OpenCV's convention). The edges are placed between halfway
+  // in linear light (a lens's blur) and halfway in the encoded values
+  // (software's), in the share that makes the black ring one cell wide
+  // (docs/pose.md, "How it is computed").
   std::array<cv::Point2d, 4> corners;
   // The green/black and red/green borders, in the same order: where the
   // tag's proportions put them, one and two cells inside `corners`
