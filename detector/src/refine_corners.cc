@@ -86,57 +86,6 @@ float LinearGray(float gray) {
   return table[i] + (x - static_cast<float>(i)) * (table[i + 1] - table[i]);
 }
 
-// EdgePoint for the gray channel in linear light (Halfway::kLinearLight):
-// the profile and the two levels decoded to linear light, the crossing
-// halfway between the levels there. The levels must still differ by
-// `min_contrast` in encoded values, as for EdgePoint.
-bool LinearEdgePoint(const ImageView& image, int polarity, const ProfileSpec& spec,
-                     float min_contrast, cv::Point2d* edge) {
-  const int steps =
-      static_cast<int>(std::min<double>(kMaxProfileSteps, std::ceil(spec.half / kProfileStep)));
-  const int n = 2 * steps + 1;
-  const float ox = static_cast<float>(spec.outward.x) * kProfileStep,
-              oy = static_cast<float>(spec.outward.y) * kProfileStep;
-  const float first = static_cast<float>(-steps);
-  std::array<float, 2 * kMaxProfileSteps + 1> profile;
-  if (!image.SampleLine(static_cast<float>(spec.middle.x) + first * ox,
-                        static_cast<float>(spec.middle.y) + first * oy, ox, oy, n, kGray,
-                        profile.data()))
-    return false;
-  for (int i = 0; i < n; ++i) profile[i] = LinearGray(profile[i]);
-  int steepest = 1;
-  float steepest_change = -1.f;
-  for (int i = 1; i + 1 < n; ++i) {
-    const float change = polarity * (profile[i + 1] - profile[i - 1]);
-    if (change > steepest_change) {
-      steepest_change = change;
-      steepest = i;
-    }
-  }
-  if (!(steepest_change > 0.f)) return false;
-  const double centre = (steepest - steps) * kProfileStep;
-  const cv::Point2d in = spec.middle + (centre - spec.level_offset) * spec.outward;
-  const cv::Point2d out = spec.middle + (centre + spec.level_offset) * spec.outward;
-  float inside = 0, outside = 0;
-  if (!image.Sample(static_cast<float>(in.x), static_cast<float>(in.y), kGray, &inside) ||
-      !image.Sample(static_cast<float>(out.x), static_cast<float>(out.y), kGray, &outside) ||
-      std::abs(outside - inside) < min_contrast)
-    return false;
-  const float mid = 0.5f * (LinearGray(inside) + LinearGray(outside));
-  double best = 1e300;
-  for (int i = 1; i < n; ++i) {
-    const float previous = profile[i - 1], v = profile[i];
-    if ((previous - mid) * (v - mid) <= 0 && previous != v) {
-      const double at =
-          (i - 1 - steps) * kProfileStep + kProfileStep * (mid - previous) / (v - previous);
-      if (std::abs(at - centre) < std::abs(best - centre)) best = at;
-    }
-  }
-  if (best > 1e299) return false;
-  *edge = spec.middle + best * spec.outward;
-  return true;
-}
-
 }  // namespace
 
 // The edge point on the profile across the side at `middle`, searched within
@@ -148,8 +97,11 @@ bool LinearEdgePoint(const ImageView& image, int polarity, const ProfileSpec& sp
 // so one pass already lands on the edge.
 bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
                const ProfileSpec& spec, float min_contrast, cv::Point2d* edge, Halfway halfway) {
-  if (halfway == Halfway::kLinearLight && channel.r == 1 && channel.g == 1 && channel.b == 1)
-    return LinearEdgePoint(image, polarity, spec, min_contrast, edge);
+  // In linear light (the gray channel only), the profile and the two levels
+  // are decoded before the halfway crossing is sought; the levels must still
+  // differ by `min_contrast` in encoded values.
+  const bool linear =
+      halfway == Halfway::kLinearLight && channel.r == 1 && channel.g == 1 && channel.b == 1;
   const cv::Point2d middle = spec.middle, outward = spec.outward;
   const double half = spec.half, level_offset = spec.level_offset;
   // In double until bounded: a degenerate side could make `half` huge.
@@ -163,6 +115,9 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
   const float first = static_cast<float>(-steps);
   if (!image.SampleLine(mx + first * ox, my + first * oy, ox, oy, n, channel, profile.data()))
     return false;
+  if (linear) {
+    for (int i = 0; i < n; ++i) profile[i] = LinearGray(profile[i]);
+  }
   // Steepest: the largest change over one pixel (two samples).
   int steepest = 1;
   float steepest_change = -1.f;
@@ -185,7 +140,8 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
     return false;
   }
   if (std::abs(outside - inside) < min_contrast) return false;
-  const float mid = 0.5f * (inside + outside);
+  const float mid =
+      linear ? 0.5f * (LinearGray(inside) + LinearGray(outside)) : 0.5f * (inside + outside);
   double best = 1e300;
   for (int i = 1; i < n; ++i) {
     const float previous = profile[i - 1], v = profile[i];

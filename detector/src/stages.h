@@ -341,7 +341,9 @@ struct ProfileEdge {
   bool found = false;
 };
 // The edge point on one profile: where `channel` passes halfway between the
-// two levels, nearest the steepest change the `polarity` way round. False
+// two levels (in linear light for the gray channel with Halfway::kLinearLight:
+// profile and levels decoded first), nearest the steepest change the
+// `polarity` way round. False
 // if the profile leaves the frame, has no such change, or the levels differ
 // by less than `min_contrast`.
 bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
