@@ -300,7 +300,6 @@ inline constexpr float kMinRedGreenContrast = 20.f;
 inline constexpr int kRisesOutwards = 1;
 inline constexpr int kFallsOutwards = -1;
 
-// How RefineQuad looks for one ring's sides.
 // Where an edge is taken to lie between its two levels: halfway in the
 // encoded values, or halfway in linear light (the gray channel decoded with
 // sRGB's curve; other channels keep the encoded average). A lens blurs light,
@@ -308,9 +307,11 @@ inline constexpr int kFallsOutwards = -1;
 // encoded values lies nearer the dark level: the encoded average finds a
 // black square too small, by about 0.8 px on the camera set. The detector's
 // stages were tuned on the encoded average (ring proportions); the reported
-// corners are placed in linear light (RefineReportedQuad).
+// corners lie between the two, where the black ring's width puts them
+// (RefineReportedQuad).
 enum class Halfway { kEncoded, kLinearLight };
 
+// How RefineQuad looks for one ring's sides.
 struct SideSearch {
   ChannelWeights channel;  // kGray for the black ring's borders, kRedMinusGreen for red/green.
   // Whether the channel rises (kRisesOutwards) or falls (kFallsOutwards)
