@@ -93,6 +93,15 @@ std::vector<int> Refit(const std::vector<Match>& matches, const cv::Matx33d& k, 
 
 }  // namespace
 
+std::vector<cv::Point3d> BoardTagCorners(const BoardTag& tag, const TagFamily& family) {
+  std::vector<cv::Point3d> corners = internal::TagRingCorners(family, tag.size);
+  for (cv::Point3d& p : corners) {
+    const cv::Vec3d q = tag.rotation * cv::Vec3d(p.x, p.y, p.z) + tag.translation;
+    p = {q[0], q[1], q[2]};
+  }
+  return corners;
+}
+
 bool Board::IsValid(std::string* error) const {
   auto fail = [&](size_t i, const std::string& what) {
     if (error) {

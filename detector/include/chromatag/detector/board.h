@@ -42,6 +42,11 @@ struct Board {
   int Find(const std::string& family, int id) const;
 };
 
+// The twelve ring corners of `tag` (of `family`) in the board frame, in
+// Detection's order: the black square's four (top-left of the upright tag
+// first, clockwise), then the green/black square's and the red/green one's.
+std::vector<cv::Point3d> BoardTagCorners(const BoardTag& tag, const TagFamily& family);
+
 struct BoardPose {
   cv::Vec3d rvec;  // Rodrigues rotation of camera_from_board; norm at most pi.
   cv::Vec3d tvec;  // The board frame's origin in the camera frame, metres.

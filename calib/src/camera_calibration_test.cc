@@ -1,0 +1,125 @@
+#include "chromatag/calib/camera_calibration.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include <opencv2/calib3d.hpp>
+
+namespace chromatag {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A 6 x 4 board of 40 mm 16h5 tags, 50 mm apart, origin at its centre.
+Board Grid() {
+  Board board;
+  const std::vector<int>& kept = TagFamily::Load("16h5")->kept_ids();
+  for (int i = 0; i < 24; ++i) {
+    BoardTag tag;
+    tag.family = "16h5";
+    tag.id = kept[i];
+    tag.size = 0.04;
+    tag.translation = {((i % 6) - 2.5) * 0.05, (1.5 - (i / 6)) * 0.05, 0};
+    board.tags.push_back(tag);
+  }
+  return board;
+}
+
+// The board seen by a 752 x 480 camera with fx 600, strong barrel distortion
+// (k1 -0.25), its corners moved by Gaussian noise of 0.1 px; tags not wholly
+// in the image are not seen. `id_of` may print a tag with another ID.
+CalibrationView View(const Board& board, const cv::Vec3d& rvec, const cv::Vec3d& tvec,
+                     std::mt19937* rng, std::map<int, int> id_of = {}) {
+  static const auto family = TagFamily::Load("16h5");
+  const cv::Matx33d k(600, 0, 370, 0, 603, 245, 0, 0, 1);
+  const std::vector<double> d = {-0.25, 0.08, 0.001, -0.0005, 0};
+  std::normal_distribution<double> noise(0, 0.1);
+  CalibrationView view;
+  for (size_t i = 0; i < board.tags.size(); ++i) {
+    const std::vector<cv::Point3d> corners = BoardTagCorners(board.tags[i], *family);
+    std::vector<cv::Point2d> image;
+    cv::projectPoints(corners, rvec, tvec, k, d, image);
+    bool inside = true;
+    for (const cv::Point2d& p : image) inside &= p.x > 2 && p.y > 2 && p.x < 750 && p.y < 478;
+    if (!inside) continue;
+    Detection det;
+    det.family = family.get();
+    det.id = id_of.count(static_cast<int>(i)) ? id_of[static_cast<int>(i)] : board.tags[i].id;
+    for (int c = 0; c < 12; ++c) {
+      const cv::Point2d p = image[c] + cv::Point2d(noise(*rng), noise(*rng));
+      (c < 4 ? det.corners : c < 8 ? det.green_corners : det.red_corners)[c % 4] = p;
+    }
+    view.detections.push_back(det);
+  }
+  return view;
+}
+
+// Twenty views tilted up to 45 degrees about varied axes, 0.3 to 0.6 m away:
+// fx and fy within 0.1 %, the principal point within 1 px, k1 within 0.005,
+// rms at most 0.2 px. A view with one tag printed with another board tag's
+// ID uses the others, naming it; a view of another board is not used.
+TEST(CameraCalibrationTest, RecoversTheCameraFromViewsOfABoard) {
+  const Board board = Grid();
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> angle(0, 2 * kPi), tilt(10, 45), depth(0.3, 0.6),
+      shift(-0.05, 0.05);
+  std::vector<CalibrationView> views;
+  for (int v = 0; v < 20; ++v) {
+    const double a = angle(rng), t = tilt(rng) * kPi / 180;
+    cv::Matx33d lean, face;
+    cv::Rodrigues(cv::Vec3d(std::cos(a), std::sin(a), 0) * t, lean);
+    cv::Rodrigues(cv::Vec3d(kPi, 0, 0), face);
+    cv::Vec3d rvec;
+    cv::Rodrigues(lean * face, rvec);
+    views.push_back(
+        View(board, rvec, {shift(rng), shift(rng), depth(rng)}, &rng,
+             v == 7 ? std::map<int, int>{{9, board.tags[14].id}} : std::map<int, int>{}));
+    views.back().name = "view " + std::to_string(v);
+  }
+  Board other = board;
+  for (BoardTag& tag : other.tags) tag.translation *= 1.3;
+  CalibrationView wrong = View(other, cv::Vec3d(kPi, 0, 0), {0, 0, 0.5}, &rng);
+  for (Detection& d : wrong.detections) d.id = TagFamily::Load("16h5")->kept_ids()[27];
+  wrong.name = "another board";
+  views.push_back(wrong);
+  std::string error;
+  const auto calibration = CalibrateCamera(board, views, {752, 480}, {}, &error);
+  ASSERT_TRUE(calibration) << error;
+  const CameraIntrinsics& c = calibration->camera;
+  EXPECT_NEAR(c.fx, 600, 0.6);
+  EXPECT_NEAR(c.fy, 603, 0.6);
+  EXPECT_NEAR(c.cx, 370, 1.0);
+  EXPECT_NEAR(c.cy, 245, 1.0);
+  ASSERT_EQ(c.distortion.size(), 5u);
+  EXPECT_NEAR(c.distortion[0], -0.25, 0.005);
+  EXPECT_LE(calibration->rms_px, 0.2);
+  ASSERT_EQ(calibration->std_dev.size(), 9u);
+  EXPECT_LT(calibration->std_dev[0], 0.6);
+  ASSERT_EQ(calibration->views.size(), 21u);
+  EXPECT_TRUE(calibration->views[7].used);
+  EXPECT_EQ(calibration->views[7].tags_left_out, std::vector<int>{board.tags[14].id});
+  EXPECT_FALSE(calibration->views[20].used);
+  EXPECT_NE(calibration->views[20].why_not.find("board tag"), std::string::npos)
+      << calibration->views[20].why_not;
+}
+
+TEST(CameraCalibrationTest, RefusesWhatCannotCalibrate) {
+  Board board = Grid();
+  std::mt19937 rng(1);
+  std::vector<CalibrationView> two = {View(board, cv::Vec3d(kPi, 0, 0), {0, 0, 0.5}, &rng),
+                                      View(board, cv::Vec3d(2.8, 0.3, 0), {0, 0, 0.5}, &rng)};
+  std::string error;
+  EXPECT_FALSE(CalibrateCamera(board, two, {752, 480}, {}, &error));
+  EXPECT_NE(error.find("fewer than three views"), std::string::npos) << error;
+  EXPECT_FALSE(CalibrateCamera(board, two, {0, 0}, {}, &error));
+  EXPECT_NE(error.find("image size"), std::string::npos) << error;
+  board.tags[3].translation[2] = 0.01;
+  EXPECT_FALSE(CalibrateCamera(board, two, {752, 480}, {}, &error));
+  EXPECT_NE(error.find("planar board"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace chromatag
