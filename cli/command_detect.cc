@@ -26,8 +26,8 @@
 #include <optional>
 #include <thread>
 
-#include "camera_file.h"
 #include "chromatag/calib/board_file.h"
+#include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"

@@ -6,7 +6,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "camera_file.h"
+#include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/sidecar.h"

@@ -7,24 +7,31 @@
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/board.h"
+#include "chromatag/detector/camera.h"
 
 namespace chromatag {
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 // One view's corners: per board tag seen, its twelve corners on the board
 // (z = 0) and in the image.
 struct ViewPoints {
   std::vector<int> detection;  // Index into the view's detections, per tag.
-  std::vector<std::vector<cv::Point3f>> board;
-  std::vector<std::vector<cv::Point2f>> image;
+  std::vector<std::vector<cv::Point3d>> board;
+  std::vector<std::vector<cv::Point2d>> image;
+
+  void Erase(size_t tag) {
+    detection.erase(detection.begin() + static_cast<std::ptrdiff_t>(tag));
+    board.erase(board.begin() + static_cast<std::ptrdiff_t>(tag));
+    image.erase(image.begin() + static_cast<std::ptrdiff_t>(tag));
+  }
 };
 
-std::vector<cv::Point2f> RingCorners(const Detection& d) {
-  std::vector<cv::Point2f> points;
-  for (const auto* ring : {&d.corners, &d.green_corners, &d.red_corners}) {
-    for (const cv::Point2d& p : *ring)
-      points.emplace_back(static_cast<float>(p.x), static_cast<float>(p.y));
-  }
+std::vector<cv::Point2d> RingCorners(const Detection& d) {
+  std::vector<cv::Point2d> points(d.corners.begin(), d.corners.end());
+  points.insert(points.end(), d.green_corners.begin(), d.green_corners.end());
+  points.insert(points.end(), d.red_corners.begin(), d.red_corners.end());
   return points;
 }
 
@@ -35,19 +42,236 @@ std::vector<T> Flatten(const std::vector<std::vector<T>>& parts) {
   return all;
 }
 
-double Rms(const std::vector<cv::Point3f>& board, const std::vector<cv::Point2f>& image,
-           const cv::Mat& rvec, const cv::Mat& tvec, const cv::Mat& k, const cv::Mat& d) {
-  std::vector<cv::Point2f> projected;
-  cv::projectPoints(board, rvec, tvec, k, d, projected);
-  double sum = 0;
-  for (size_t i = 0; i < image.size(); ++i) {
-    const cv::Point2f e = projected[i] - image[i];
-    sum += e.x * e.x + e.y * e.y;
+template <typename From, typename To>
+std::vector<To> Convert(const std::vector<From>& points) {
+  std::vector<To> out;
+  out.reserve(points.size());
+  for (const From& p : points) out.push_back(To(p));
+  return out;
+}
+
+std::string Format(const char* format, double a, double b = 0.0, double c = 0.0) {
+  char text[256];
+  std::snprintf(text, sizeof text, format, a, b, c);
+  return text;
+}
+
+// The result of one fit over the views in `used`.
+struct Fit {
+  CameraIntrinsics camera;
+  std::vector<cv::Vec3d> rvecs, tvecs;  // Per entry of `used`.
+  double rms_px = 0.0;
+  std::vector<double> std_dev;
+};
+
+// One standard deviation of the intrinsics (f, c, then the distortion) of a
+// fisheye fit, from the Jacobian of every corner's projection: sigma^2
+// (J^T J)^-1 over intrinsics and every view's pose, sigma^2 the residuals'
+// variance. OpenCV returns this only for its pinhole calibration.
+std::vector<double> FisheyeStdDev(const std::vector<std::vector<cv::Point3d>>& object,
+                                  const std::vector<std::vector<cv::Point2d>>& image,
+                                  const Fit& fit) {
+  constexpr int kIntrinsics = 8;  // fx, fy, cx, cy, k1-k4.
+  const int views = static_cast<int>(object.size());
+  const int parameters = kIntrinsics + 6 * views;
+  cv::Mat jtj = cv::Mat::zeros(parameters, parameters, CV_64F);
+  double squares = 0;
+  int rows = 0;
+  const cv::Mat k(CameraMatrix(fit.camera));
+  const cv::Mat d(fit.camera.distortion, true);
+  for (int v = 0; v < views; ++v) {
+    std::vector<cv::Point2d> projected;
+    cv::Mat jacobian;  // 2N x 15: f(2), c(2), k(4), om(3), T(3), alpha.
+    cv::fisheye::projectPoints(object[v], projected, fit.rvecs[v], fit.tvecs[v], k, d, 0.0,
+                               jacobian);
+    cv::Mat j = cv::Mat::zeros(jacobian.rows, parameters, CV_64F);
+    jacobian.colRange(0, kIntrinsics).copyTo(j.colRange(0, kIntrinsics));
+    jacobian.colRange(8, 14).copyTo(j.colRange(kIntrinsics + 6 * v, kIntrinsics + 6 * v + 6));
+    jtj += j.t() * j;
+    for (size_t i = 0; i < projected.size(); ++i) {
+      const cv::Point2d e = projected[i] - image[v][i];
+      squares += e.x * e.x + e.y * e.y;
+    }
+    rows += jacobian.rows;
   }
-  return image.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(image.size()));
+  const double variance = squares / std::max(1, rows - parameters);
+  const cv::Mat covariance = jtj.inv(cv::DECOMP_SVD) * variance;
+  std::vector<double> out;
+  for (int i = 0; i < kIntrinsics; ++i)
+    out.push_back(std::sqrt(std::max(0.0, covariance.at<double>(i, i))));
+  return out;
+}
+
+bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& used,
+            cv::Size image_size, const CameraCalibrationOptions& options, Fit* fit,
+            std::string* error) {
+  std::vector<std::vector<cv::Point3d>> object;
+  std::vector<std::vector<cv::Point2d>> image;
+  for (size_t v : used) {
+    object.push_back(Flatten(points[v].board));
+    image.push_back(Flatten(points[v].image));
+  }
+  cv::Mat k, d;
+  std::vector<cv::Mat> rvecs, tvecs;
+  fit->camera = CameraIntrinsics();
+  fit->camera.model = options.model;
+  fit->std_dev.clear();
+  try {
+    if (options.model == LensModel::kFisheye) {
+      const int flags = cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW;
+      fit->rms_px = cv::fisheye::calibrate(
+          object, image, image_size, k, d, rvecs, tvecs, flags,
+          cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
+    } else {
+      // OpenCV's calibrateCamera takes single-precision points.
+      std::vector<std::vector<cv::Point3f>> object_f;
+      std::vector<std::vector<cv::Point2f>> image_f;
+      for (size_t i = 0; i < object.size(); ++i) {
+        object_f.push_back(Convert<cv::Point3d, cv::Point3f>(object[i]));
+        image_f.push_back(Convert<cv::Point2d, cv::Point2f>(image[i]));
+      }
+      cv::Mat std_dev, extrinsic_dev, per_view;
+      fit->rms_px =
+          cv::calibrateCamera(object_f, image_f, image_size, k, d, rvecs, tvecs, std_dev,
+                              extrinsic_dev, per_view, options.fit_k3 ? 0 : cv::CALIB_FIX_K3);
+      for (int i = 0; i < 9 && i < std_dev.rows; ++i) fit->std_dev.push_back(std_dev.at<double>(i));
+    }
+  } catch (const cv::Exception& e) {
+    *error = "the fit failed (" + e.err + ")";
+    return false;
+  }
+  fit->camera.fx = k.at<double>(0, 0);
+  fit->camera.fy = k.at<double>(1, 1);
+  fit->camera.cx = k.at<double>(0, 2);
+  fit->camera.cy = k.at<double>(1, 2);
+  d.convertTo(d, CV_64F);
+  fit->camera.distortion.assign(d.ptr<double>(), d.ptr<double>() + std::min<size_t>(d.total(), 5));
+  fit->rvecs.clear();
+  fit->tvecs.clear();
+  for (size_t i = 0; i < rvecs.size(); ++i) {
+    rvecs[i].convertTo(rvecs[i], CV_64F);
+    tvecs[i].convertTo(tvecs[i], CV_64F);
+    fit->rvecs.emplace_back(rvecs[i].ptr<double>());
+    fit->tvecs.emplace_back(tvecs[i].ptr<double>());
+  }
+  if (options.model == LensModel::kFisheye) fit->std_dev = FisheyeStdDev(object, image, *fit);
+  for (double x : {fit->camera.fx, fit->camera.fy, fit->camera.cx, fit->camera.cy, fit->rms_px}) {
+    if (!std::isfinite(x)) {
+      *error = "the fit did not converge";
+      return false;
+    }
+  }
+  return true;
+}
+
+// Per tag of a view, its corners' residuals (projected minus detected).
+std::vector<std::vector<cv::Point2d>> Residuals(const ViewPoints& view, const Fit& fit, size_t u) {
+  std::vector<std::vector<cv::Point2d>> out;
+  for (size_t t = 0; t < view.board.size(); ++t) {
+    const std::vector<cv::Point2d> projected =
+        ProjectPoints(fit.camera, view.board[t], fit.rvecs[u], fit.tvecs[u]);
+    std::vector<cv::Point2d>& r = out.emplace_back();
+    for (size_t i = 0; i < projected.size(); ++i) r.push_back(projected[i] - view.image[t][i]);
+  }
+  return out;
+}
+
+double Rms(const std::vector<std::vector<cv::Point2d>>& residuals) {
+  double sum = 0;
+  size_t n = 0;
+  for (const auto& tag : residuals) {
+    for (const cv::Point2d& e : tag) sum += e.dot(e);
+    n += tag.size();
+  }
+  return n ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+}
+
+// What the used views leave weakly constrained, as Kalibr and calib.io warn.
+std::vector<std::string> Warnings(const CameraCalibration& c) {
+  std::vector<std::string> out;
+  int used = 0, tilted = 0;
+  double largest_tilt = 0;
+  constexpr int kGrid = 4;
+  bool cell[kGrid][kGrid] = {};
+  double reach = 0;  // Furthest corner from the image centre, as a share of the half diagonal.
+  const cv::Point2d centre(0.5 * c.image_size.width, 0.5 * c.image_size.height);
+  const double half_diagonal = cv::norm(centre);
+  for (const CalibrationViewResult& v : c.views) {
+    if (!v.used) continue;
+    ++used;
+    tilted += v.tilt_deg >= 20.0 ? 1 : 0;
+    largest_tilt = std::max(largest_tilt, v.tilt_deg);
+    for (const cv::Point2d& p : v.corners) {
+      const int gx = std::clamp(static_cast<int>(p.x * kGrid / c.image_size.width), 0, kGrid - 1);
+      const int gy = std::clamp(static_cast<int>(p.y * kGrid / c.image_size.height), 0, kGrid - 1);
+      cell[gy][gx] = true;
+      reach = std::max(reach, cv::norm(p - centre) / half_diagonal);
+    }
+  }
+  if (used < 10) {
+    out.push_back(std::to_string(used) +
+                  " views used: 15 to 30 views, the board tilted and in every part of the "
+                  "image, give a dependable calibration");
+  }
+  if (tilted < 3) {
+    out.push_back(Format(
+        "the focal length and principal point are weakly constrained: %.0f view(s) tilted 20 "
+        "degrees or more (the largest tilt is %.0f degrees); add views with the board tilted "
+        "20-45 degrees about different axes",
+        tilted, largest_tilt));
+  }
+  int covered = 0;
+  for (const auto& row : cell)
+    for (bool b : row) covered += b ? 1 : 0;
+  if (covered < kGrid * kGrid - 2 || reach < 0.8) {
+    out.push_back(Format(
+        "the distortion is weakly constrained: corners fall in %.0f of the image's 16 cells (4 "
+        "x 4) and reach %.0f %% of the way from its centre to its corners; add views with the "
+        "board near the edges and corners of the image",
+        covered, 100.0 * reach));
+  }
+  if (c.std_dev.size() >= 4) {
+    const char* names[4] = {"fx", "fy", "cx", "cy"};
+    const double values[4] = {c.camera.fx, c.camera.fy, c.camera.cx, c.camera.cy};
+    for (int i = 0; i < 2; ++i) {
+      if (c.std_dev[i] > 0.005 * values[i])
+        out.push_back(
+            std::string(names[i]) +
+            Format(" is uncertain: %.1f +- %.1f px (more than 0.5 %%)", values[i], c.std_dev[i]));
+    }
+    for (int i = 2; i < 4; ++i) {
+      const double side = i == 2 ? c.image_size.width : c.image_size.height;
+      if (c.std_dev[i] > 0.01 * side)
+        out.push_back(std::string(names[i]) +
+                      Format(" is uncertain: %.1f +- %.1f px (more than 1 %% of the image)",
+                             values[i], c.std_dev[i]));
+    }
+  }
+  return out;
 }
 
 }  // namespace
+
+bool CameraCalibrationOptions::IsValid(std::string* error) const {
+  const auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (model == LensModel::kFisheye && fit_k3)
+    return fail("k3 belongs to the pinhole model; the fisheye model always fits k1-k4");
+  if (min_tags_per_view < 1) return fail("min_tags_per_view must be at least 1");
+  if (!(max_view_rms_px > 0) || !(max_corner_error_px > 0) || !(corner_error_factor >= 1))
+    return fail("max_view_rms_px and max_corner_error_px must be > 0 and corner_error_factor >= 1");
+  return true;
+}
+
+std::vector<std::string> CalibrationParameterNames(const CameraIntrinsics& camera) {
+  std::vector<std::string> names = {"fx", "fy", "cx", "cy"};
+  const std::vector<std::string> pinhole = {"k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6"};
+  for (size_t i = 0; i < camera.distortion.size(); ++i)
+    names.push_back(camera.model == LensModel::kFisheye ? "k" + std::to_string(i + 1) : pinhole[i]);
+  return names;
+}
 
 std::optional<CameraCalibration> CalibrateCamera(const Board& board,
                                                  const std::vector<CalibrationView>& views,
@@ -58,7 +282,7 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
     if (error) *error = message;
     return std::nullopt;
   };
-  if (!board.IsValid(error)) return std::nullopt;
+  if (!options.IsValid(error) || !board.IsValid(error)) return std::nullopt;
   if (image_size.width <= 0 || image_size.height <= 0) return fail("the image size is empty");
   for (const BoardTag& tag : board.tags) {
     if (std::abs(tag.translation[2]) > 1e-9 || std::abs(tag.rotation(2, 2) - 1.0) > 1e-9)
@@ -75,36 +299,16 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
       if (d.family == nullptr) continue;
       const int index = board.Find(d.family->name(), d.id);
       if (index < 0) continue;
-      std::vector<cv::Point3f> on_board;
-      for (const cv::Point3d& p : BoardTagCorners(board.tags[index], *d.family))
-        on_board.emplace_back(static_cast<float>(p.x), static_cast<float>(p.y), 0.f);
       points[v].detection.push_back(static_cast<int>(i));
-      points[v].board.push_back(std::move(on_board));
+      points[v].board.push_back(BoardTagCorners(board.tags[index], *d.family));
       points[v].image.push_back(RingCorners(d));
     }
   }
-  const int flags = options.fit_k3 ? 0 : cv::CALIB_FIX_K3;
-  cv::Mat k, d;
-  std::vector<cv::Mat> rvecs, tvecs;
-  // Fits the views in `used` (their tags' corners); false with fewer than three.
-  const auto fit = [&](const std::vector<size_t>& used, cv::Mat* std_dev) {
-    if (used.size() < 3) return false;
-    std::vector<std::vector<cv::Point3f>> object;
-    std::vector<std::vector<cv::Point2f>> image;
-    for (size_t v : used) {
-      object.push_back(Flatten(points[v].board));
-      image.push_back(Flatten(points[v].image));
-    }
-    k = cv::Mat();
-    d = cv::Mat();
-    cv::Mat extrinsic_dev, per_view;
-    result.rms_px = std_dev
-                        ? cv::calibrateCamera(object, image, image_size, k, d, rvecs, tvecs,
-                                              *std_dev, extrinsic_dev, per_view, flags)
-                        : cv::calibrateCamera(object, image, image_size, k, d, rvecs, tvecs, flags);
-    return true;
+  const auto leave_out = [&](size_t v, size_t t, const std::string& why) {
+    result.views[v].tags_left_out.push_back(views[v].detections[points[v].detection[t]].id);
+    result.views[v].why_left_out.push_back(why);
+    points[v].Erase(t);
   };
-  std::vector<size_t> used;
   const auto usable = [&](size_t v) {
     if (static_cast<int>(points[v].board.size()) >= options.min_tags_per_view) return true;
     result.views[v].why_not = std::to_string(points[v].board.size()) +
@@ -112,72 +316,86 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
                               std::to_string(options.min_tags_per_view) + ")";
     return false;
   };
+  std::vector<size_t> used;
   for (size_t v = 0; v < views.size(); ++v)
     if (usable(v)) used.push_back(v);
-  if (!fit(used, nullptr)) return fail("fewer than three views show enough of the board");
+  const char* too_few = "fewer than three views show enough of the board";
+  if (used.size() < 3) return fail(too_few);
+  Fit fit;
+  std::string why;
+  if (!RunFit(points, used, image_size, options, &fit, &why)) return fail(why);
   // Tags whose corners disagree with the others in their view under the
   // first fit's camera (EstimateBoardPose's robust pose: a misread ID pulls
-  // the fitted view, not this) leave the view; views that still fit badly
-  // leave the calibration.
-  CameraIntrinsics first;
-  first.fx = k.at<double>(0, 0);
-  first.fy = k.at<double>(1, 1);
-  first.cx = k.at<double>(0, 2);
-  first.cy = k.at<double>(1, 2);
-  first.distortion.assign(d.ptr<double>(), d.ptr<double>() + d.total());
+  // the fitted view, not this) leave the view.
   std::vector<size_t> kept;
   for (size_t v : used) {
-    ViewPoints& view = points[v];
     BoardPose pose;
-    if (EstimateBoardPose(views[v].detections, board, first, &pose)) {
-      for (size_t t = view.board.size(); t-- > 0;) {
-        const int detection = view.detection[t];
-        if (std::find(pose.detections_rejected.begin(), pose.detections_rejected.end(),
-                      detection) == pose.detections_rejected.end())
-          continue;
-        result.views[v].tags_left_out.push_back(views[v].detections[detection].id);
-        view.board.erase(view.board.begin() + t);
-        view.image.erase(view.image.begin() + t);
-        view.detection.erase(view.detection.begin() + t);
+    if (EstimateBoardPose(views[v].detections, board, fit.camera, &pose)) {
+      for (size_t t = points[v].board.size(); t-- > 0;) {
+        const auto& rejected = pose.detections_rejected;
+        if (std::find(rejected.begin(), rejected.end(), points[v].detection[t]) != rejected.end())
+          leave_out(v, t, "disagrees with the other tags' board pose");
       }
     }
     if (usable(v)) kept.push_back(v);
   }
-  if (!fit(kept, nullptr)) return fail("fewer than three views agree with one camera");
-  used.clear();
-  for (size_t u = 0; u < kept.size(); ++u) {
-    const size_t v = kept[u];
-    const double rms =
-        Rms(Flatten(points[v].board), Flatten(points[v].image), rvecs[u], tvecs[u], k, d);
-    if (rms > options.max_rms_px) {
-      char why[96];
-      std::snprintf(why, sizeof why, "reprojects at %.2f px rms (limit %.2f)", rms,
-                    options.max_rms_px);
-      result.views[v].why_not = why;
-    } else {
-      used.push_back(v);
+  used = kept;
+  // Then, until nothing changes: views that fit badly leave the
+  // calibration and tags with a corner far from the fit leave their view.
+  for (int round = 0; round < 5; ++round) {
+    if (used.size() < 3) return fail(too_few);
+    if (!RunFit(points, used, image_size, options, &fit, &why)) return fail(why);
+    const double corner_limit =
+        std::max(options.max_corner_error_px, options.corner_error_factor * fit.rms_px);
+    bool changed = false;
+    kept.clear();
+    for (size_t u = 0; u < used.size(); ++u) {
+      const size_t v = used[u];
+      const auto residuals = Residuals(points[v], fit, u);
+      const double rms = Rms(residuals);
+      if (rms > options.max_view_rms_px) {
+        result.views[v].why_not =
+            Format("reprojects at %.2f px rms (limit %.2f)", rms, options.max_view_rms_px);
+        changed = true;
+        continue;
+      }
+      for (size_t t = residuals.size(); t-- > 0;) {
+        double worst = 0;
+        for (const cv::Point2d& e : residuals[t]) worst = std::max(worst, cv::norm(e));
+        if (worst > corner_limit) {
+          leave_out(v, t,
+                    Format("a corner %.2f px from the fit (limit %.2f)", worst, corner_limit));
+          changed = true;
+        }
+      }
+      if (usable(v)) kept.push_back(v);
     }
+    used = kept;
+    if (!changed) break;
   }
-  cv::Mat std_dev;
-  if (!fit(used, &std_dev)) return fail("fewer than three views agree with one camera");
+  if (used.size() < 3) return fail(too_few);
+  if (!RunFit(points, used, image_size, options, &fit, &why)) return fail(why);
   for (size_t u = 0; u < used.size(); ++u) {
-    CalibrationViewResult& out = result.views[used[u]];
+    const size_t v = used[u];
+    CalibrationViewResult& out = result.views[v];
     out.used = true;
-    out.tags = static_cast<int>(points[used[u]].board.size());
-    out.rms_px = Rms(Flatten(points[used[u]].board), Flatten(points[used[u]].image), rvecs[u],
-                     tvecs[u], k, d);
-    out.rvec = cv::Vec3d(rvecs[u].ptr<double>());
-    out.tvec = cv::Vec3d(tvecs[u].ptr<double>());
+    out.tags = static_cast<int>(points[v].board.size());
+    const auto residuals = Residuals(points[v], fit, u);
+    out.rms_px = Rms(residuals);
+    out.corners = Flatten(points[v].image);
+    out.residuals = Flatten(residuals);
+    out.rvec = fit.rvecs[u];
+    out.tvec = fit.tvecs[u];
+    cv::Matx33d r;
+    cv::Rodrigues(out.rvec, r);
+    out.tilt_deg = std::acos(std::min(1.0, std::abs(r(2, 2)))) * 180.0 / kPi;
+    result.corners_used += static_cast<int>(out.corners.size());
   }
-  result.camera.fx = k.at<double>(0, 0);
-  result.camera.fy = k.at<double>(1, 1);
-  result.camera.cx = k.at<double>(0, 2);
-  result.camera.cy = k.at<double>(1, 2);
-  result.camera.distortion.assign(d.ptr<double>(), d.ptr<double>() + 5);
-  for (int i = 0; i < 9 && i < std_dev.rows; ++i) {
-    // OpenCV's order: fx, fy, cx, cy, k1, k2, p1, p2, k3, ...
-    result.std_dev.push_back(std_dev.at<double>(i));
-  }
+  result.camera = fit.camera;
+  result.rms_px = fit.rms_px;
+  result.std_dev = fit.std_dev;
+  result.std_dev.resize(4 + result.camera.distortion.size(), 0.0);
+  result.warnings = Warnings(result);
   return result;
 }
 

@@ -8,6 +8,8 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "chromatag/detector/camera.h"
+
 namespace chromatag {
 namespace {
 
@@ -31,17 +33,25 @@ Board Grid() {
 // The board seen by a 752 x 480 camera with fx 600, strong barrel distortion
 // (k1 -0.25), its corners moved by Gaussian noise of 0.1 px; tags not wholly
 // in the image are not seen. `id_of` may print a tag with another ID.
+CameraIntrinsics Pinhole() {
+  CameraIntrinsics camera;
+  camera.fx = 600;
+  camera.fy = 603;
+  camera.cx = 370;
+  camera.cy = 245;
+  camera.distortion = {-0.25, 0.08, 0.001, -0.0005, 0};
+  return camera;
+}
+
 CalibrationView View(const Board& board, const cv::Vec3d& rvec, const cv::Vec3d& tvec,
-                     std::mt19937* rng, std::map<int, int> id_of = {}) {
+                     std::mt19937* rng, std::map<int, int> id_of = {},
+                     const CameraIntrinsics& camera = Pinhole()) {
   static const auto family = TagFamily::Load("16h5");
-  const cv::Matx33d k(600, 0, 370, 0, 603, 245, 0, 0, 1);
-  const std::vector<double> d = {-0.25, 0.08, 0.001, -0.0005, 0};
   std::normal_distribution<double> noise(0, 0.1);
   CalibrationView view;
   for (size_t i = 0; i < board.tags.size(); ++i) {
     const std::vector<cv::Point3d> corners = BoardTagCorners(board.tags[i], *family);
-    std::vector<cv::Point2d> image;
-    cv::projectPoints(corners, rvec, tvec, k, d, image);
+    const std::vector<cv::Point2d> image = ProjectPoints(camera, corners, rvec, tvec);
     bool inside = true;
     for (const cv::Point2d& p : image) inside &= p.x > 2 && p.y > 2 && p.x < 750 && p.y < 478;
     if (!inside) continue;
@@ -61,6 +71,17 @@ CalibrationView View(const Board& board, const cv::Vec3d& rvec, const cv::Vec3d&
 // fx and fy within 0.1 %, the principal point within 1 px, k1 within 0.005,
 // rms at most 0.2 px. A view with one tag printed with another board tag's
 // ID uses the others, naming it; a view of another board is not used.
+// The board facing the camera, tilted by `tilt_deg` about an axis at
+// `axis` radians in the image plane.
+cv::Vec3d Tilted(double axis, double tilt_deg) {
+  cv::Matx33d lean, face;
+  cv::Rodrigues(cv::Vec3d(std::cos(axis), std::sin(axis), 0) * (tilt_deg * kPi / 180), lean);
+  cv::Rodrigues(cv::Vec3d(kPi, 0, 0), face);
+  cv::Vec3d rvec;
+  cv::Rodrigues(lean * face, rvec);
+  return rvec;
+}
+
 TEST(CameraCalibrationTest, RecoversTheCameraFromViewsOfABoard) {
   const Board board = Grid();
   std::mt19937 rng(4);
@@ -68,12 +89,7 @@ TEST(CameraCalibrationTest, RecoversTheCameraFromViewsOfABoard) {
       shift(-0.05, 0.05);
   std::vector<CalibrationView> views;
   for (int v = 0; v < 20; ++v) {
-    const double a = angle(rng), t = tilt(rng) * kPi / 180;
-    cv::Matx33d lean, face;
-    cv::Rodrigues(cv::Vec3d(std::cos(a), std::sin(a), 0) * t, lean);
-    cv::Rodrigues(cv::Vec3d(kPi, 0, 0), face);
-    cv::Vec3d rvec;
-    cv::Rodrigues(lean * face, rvec);
+    const cv::Vec3d rvec = Tilted(angle(rng), tilt(rng));
     views.push_back(
         View(board, rvec, {shift(rng), shift(rng), depth(rng)}, &rng,
              v == 7 ? std::map<int, int>{{9, board.tags[14].id}} : std::map<int, int>{}));
@@ -104,6 +120,77 @@ TEST(CameraCalibrationTest, RecoversTheCameraFromViewsOfABoard) {
   EXPECT_FALSE(calibration->views[20].used);
   EXPECT_NE(calibration->views[20].why_not.find("board tag"), std::string::npos)
       << calibration->views[20].why_not;
+  EXPECT_TRUE(calibration->warnings.empty()) << calibration->warnings[0];
+  // Every used corner has its residual, and they make up the rms.
+  double sum = 0;
+  int n = 0;
+  for (const CalibrationViewResult& v : calibration->views) {
+    ASSERT_EQ(v.corners.size(), v.residuals.size());
+    for (const cv::Point2d& e : v.residuals) sum += e.dot(e);
+    n += static_cast<int>(v.residuals.size());
+  }
+  EXPECT_EQ(n, calibration->corners_used);
+  EXPECT_NEAR(std::sqrt(sum / n), calibration->rms_px, 1e-3);
+}
+
+// cv::fisheye's equidistant model, fx 300 on a wide lens: the same limits.
+TEST(CameraCalibrationTest, RecoversAFisheyeCamera) {
+  const Board board = Grid();
+  CameraIntrinsics lens;
+  lens.fx = 300;
+  lens.fy = 301;
+  lens.cx = 380;
+  lens.cy = 236;
+  lens.model = LensModel::kFisheye;
+  lens.distortion = {-0.02, 0.01, -0.004, 0.001};
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> angle(0, 2 * kPi), tilt(10, 45), depth(0.15, 0.3),
+      shift(-0.1, 0.1);
+  std::vector<CalibrationView> views;
+  for (int v = 0; v < 20; ++v) {
+    views.push_back(View(board, Tilted(angle(rng), tilt(rng)), {shift(rng), shift(rng), depth(rng)},
+                         &rng, {}, lens));
+    views.back().name = "view " + std::to_string(v);
+  }
+  CameraCalibrationOptions options;
+  options.model = LensModel::kFisheye;
+  std::string error;
+  const auto calibration = CalibrateCamera(board, views, {752, 480}, options, &error);
+  ASSERT_TRUE(calibration) << error;
+  const CameraIntrinsics& c = calibration->camera;
+  EXPECT_EQ(c.model, LensModel::kFisheye);
+  EXPECT_NEAR(c.fx, 300, 0.3);
+  EXPECT_NEAR(c.fy, 301, 0.3);
+  EXPECT_NEAR(c.cx, 380, 1.0);
+  EXPECT_NEAR(c.cy, 236, 1.0);
+  ASSERT_EQ(c.distortion.size(), 4u);
+  EXPECT_NEAR(c.distortion[0], -0.02, 0.005);
+  EXPECT_LE(calibration->rms_px, 0.2);
+  ASSERT_EQ(calibration->std_dev.size(), 8u);
+  EXPECT_GT(calibration->std_dev[0], 0.0);
+  EXPECT_LT(calibration->std_dev[0], 0.3);
+}
+
+// Views that all face the camera from its middle: the calibration says what
+// they leave unconstrained.
+TEST(CameraCalibrationTest, WarnsWhenViewsConstrainLittle) {
+  const Board board = Grid();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(0, 2 * kPi), tilt(0, 8);
+  std::vector<CalibrationView> views;
+  for (int v = 0; v < 6; ++v) {
+    views.push_back(View(board, Tilted(angle(rng), tilt(rng)), {0, 0, 0.7}, &rng));
+    views.back().name = "view " + std::to_string(v);
+  }
+  std::string error;
+  const auto calibration = CalibrateCamera(board, views, {752, 480}, {}, &error);
+  ASSERT_TRUE(calibration) << error;
+  std::string all;
+  for (const std::string& w : calibration->warnings) all += w + "\n";
+  EXPECT_NE(all.find("6 views used"), std::string::npos) << all;
+  EXPECT_NE(all.find("focal length and principal point are weakly constrained"), std::string::npos)
+      << all;
+  EXPECT_NE(all.find("distortion is weakly constrained"), std::string::npos) << all;
 }
 
 TEST(CameraCalibrationTest, RefusesWhatCannotCalibrate) {
@@ -119,6 +206,12 @@ TEST(CameraCalibrationTest, RefusesWhatCannotCalibrate) {
   board.tags[3].translation[2] = 0.01;
   EXPECT_FALSE(CalibrateCamera(board, two, {752, 480}, {}, &error));
   EXPECT_NE(error.find("planar board"), std::string::npos) << error;
+  board = Grid();
+  CameraCalibrationOptions options;
+  options.model = LensModel::kFisheye;
+  options.fit_k3 = true;
+  EXPECT_FALSE(CalibrateCamera(board, two, {752, 480}, options, &error));
+  EXPECT_NE(error.find("k3 belongs to the pinhole model"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "chromatag/detector/camera.h"
+
 #include "pose_fit.h"
 
 namespace chromatag {
@@ -146,7 +148,7 @@ int Board::Find(const std::string& family, int id) const {
 bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& board,
                        const CameraIntrinsics& camera, BoardPose* pose, std::string* error) {
   if (!camera.IsValid(error) || !board.IsValid(error)) return false;
-  const cv::Matx33d k = internal::CameraMatrix(camera);
+  const cv::Matx33d k = CameraMatrix(camera);
   std::vector<Match> matches;
   for (size_t d = 0; d < detections.size(); ++d) {
     const Detection& detection = detections[d];

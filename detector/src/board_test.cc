@@ -8,6 +8,7 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "chromatag/detector/camera.h"
 #include "chromatag/detector/pose.h"
 
 namespace chromatag {
@@ -63,7 +64,8 @@ Detection Seen(const BoardTag& tag, int id, const cv::Matx33d& r, const cv::Vec3
     const cv::Vec3d square[4] = {{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0}};
     for (int i = 0; i < 4; ++i) {
       const cv::Vec3d p = r * (tag.rotation * square[i] + tag.translation) + t;
-      cv::Point2d q(camera.fx * p[0] / p[2] + camera.cx, camera.fy * p[1] / p[2] + camera.cy);
+      cv::Point2d q =
+          ProjectPoints(camera, {cv::Point3d(p[0], p[1], p[2])}, cv::Vec3d(), cv::Vec3d())[0];
       if (noise > 0) q += cv::Point2d(gauss(*rng), gauss(*rng));
       (ring == 0 ? d.corners : ring == 1 ? d.green_corners : d.red_corners)[i] = q;
     }
@@ -77,27 +79,32 @@ double DegreesApart(const cv::Vec3d& rvec, const cv::Matx33d& truth) {
   return cv::norm(apart) * 180 / kPi;
 }
 
+// Through a pinhole camera and a fisheye lens alike.
 TEST(BoardTest, ExactCornersGiveThePoseAtEveryView) {
   const Board board = Grid(4, 3, 0.04, 0.05);
-  const CameraIntrinsics camera = Camera();
-  // Face-on (the board frame at 180 degrees about x from the camera's, where
-  // a Rodrigues vector is singular), turned a quarter, and tilted to 70.
-  for (const cv::Vec3d& rvec : {cv::Vec3d(kPi, 0, 0), cv::Vec3d(kPi, 0, 0.5 * kPi),
-                                cv::Vec3d(2.6, 0.4, 0.3), cv::Vec3d(kPi * 0.61, 0, 0)}) {
-    const cv::Matx33d r = Rotation(rvec);
-    const cv::Vec3d t(0.03, -0.02, 0.6);
-    std::vector<Detection> detections;
-    for (const BoardTag& tag : board.tags)
-      detections.push_back(Seen(tag, tag.id, r, t, camera, 0, nullptr));
-    BoardPose pose;
-    std::string error;
-    ASSERT_TRUE(EstimateBoardPose(detections, board, camera, &pose, &error)) << error;
-    EXPECT_LT(DegreesApart(pose.rvec, r), 1e-6);
-    EXPECT_LT(cv::norm(pose.tvec - t), 1e-8);
-    EXPECT_LE(cv::norm(pose.rvec), kPi + 1e-12);
-    EXPECT_LT(pose.rms_error_px, 1e-6);
-    EXPECT_EQ(pose.tags_used.size(), board.tags.size());
-    EXPECT_TRUE(pose.detections_rejected.empty());
+  CameraIntrinsics fisheye = Camera();
+  fisheye.model = LensModel::kFisheye;
+  fisheye.distortion = {0.05, -0.02, 0.01, -0.002};
+  for (const CameraIntrinsics& camera : {Camera(), fisheye}) {
+    // Face-on (the board frame at 180 degrees about x from the camera's, where
+    // a Rodrigues vector is singular), turned a quarter, and tilted to 70.
+    for (const cv::Vec3d& rvec : {cv::Vec3d(kPi, 0, 0), cv::Vec3d(kPi, 0, 0.5 * kPi),
+                                  cv::Vec3d(2.6, 0.4, 0.3), cv::Vec3d(kPi * 0.61, 0, 0)}) {
+      const cv::Matx33d r = Rotation(rvec);
+      const cv::Vec3d t(0.03, -0.02, 0.6);
+      std::vector<Detection> detections;
+      for (const BoardTag& tag : board.tags)
+        detections.push_back(Seen(tag, tag.id, r, t, camera, 0, nullptr));
+      BoardPose pose;
+      std::string error;
+      ASSERT_TRUE(EstimateBoardPose(detections, board, camera, &pose, &error)) << error;
+      EXPECT_LT(DegreesApart(pose.rvec, r), 1e-6);
+      EXPECT_LT(cv::norm(pose.tvec - t), 1e-8);
+      EXPECT_LE(cv::norm(pose.rvec), kPi + 1e-12);
+      EXPECT_LT(pose.rms_error_px, 1e-6);
+      EXPECT_EQ(pose.tags_used.size(), board.tags.size());
+      EXPECT_TRUE(pose.detections_rejected.empty());
+    }
   }
 }
 

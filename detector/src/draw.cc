@@ -3,7 +3,9 @@
 #include <string>
 
 #include <opencv2/calib3d.hpp>
+
 #include <opencv2/imgproc.hpp>
+#include "chromatag/detector/camera.h"
 
 namespace chromatag {
 
@@ -40,12 +42,10 @@ void DrawDetections(const std::vector<Detection>& detections, const CameraIntrin
                 cv::FONT_HERSHEY_SIMPLEX, 0.4 * thickness, cv::Scalar(255, 0, 255), thickness,
                 cv::LINE_AA);
     if (camera && detection.has_pose && tag_size > 0) {
-      const cv::Matx33d k(camera->fx, 0, camera->cx, 0, camera->fy, camera->cy, 0, 0, 1);
       const double axis = 0.5 * tag_size;
       const std::vector<cv::Point3d> points = {{0, 0, 0}, {axis, 0, 0}, {0, axis, 0}, {0, 0, axis}};
-      std::vector<cv::Point2d> image;
-      cv::projectPoints(points, detection.pose.rvec, detection.pose.tvec, k,
-                        cv::Mat(camera->distortion), image);
+      const std::vector<cv::Point2d> image =
+          ProjectPoints(*camera, points, detection.pose.rvec, detection.pose.tvec);
       const cv::Scalar colors[3] = {{0, 0, 255}, {0, 255, 0}, {255, 0, 0}};
       for (int i = 0; i < 3; ++i) {
         cv::line(*canvas, fixed(image[0]), fixed(image[i + 1]), colors[i], thickness + 1,
@@ -58,7 +58,6 @@ void DrawDetections(const std::vector<Detection>& detections, const CameraIntrin
 void DrawBoardPose(const BoardPose& pose, const std::string& name, const CameraIntrinsics& camera,
                    double axis_length, cv::Mat* canvas) {
   const int thickness = Thickness(*canvas);
-  const cv::Matx33d k(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   const std::vector<cv::Point3d> points = {
       {0, 0, 0}, {axis_length, 0, 0}, {0, axis_length, 0}, {0, 0, axis_length}};
   // Nothing to draw when the axes reach behind the camera (a bundle whose
@@ -68,8 +67,7 @@ void DrawBoardPose(const BoardPose& pose, const std::string& name, const CameraI
   for (const cv::Point3d& p : points) {
     if (!((r * cv::Vec3d(p.x, p.y, p.z) + pose.tvec)[2] > 0)) return;
   }
-  std::vector<cv::Point2d> image;
-  cv::projectPoints(points, pose.rvec, pose.tvec, k, cv::Mat(camera.distortion), image);
+  const std::vector<cv::Point2d> image = ProjectPoints(camera, points, pose.rvec, pose.tvec);
   const cv::Scalar colors[3] = {{0, 0, 255}, {0, 255, 0}, {255, 0, 0}};
   for (int i = 0; i < 3; ++i) {
     cv::line(*canvas, Fixed(image[0]), Fixed(image[i + 1]), colors[i], 2 * thickness + 1,

@@ -6,6 +6,10 @@
 
 namespace chromatag {
 
+const char* LensModelName(LensModel model) {
+  return model == LensModel::kFisheye ? "fisheye" : "pinhole";
+}
+
 bool CameraIntrinsics::IsValid(std::string* error) const {
   auto fail = [&](const std::string& message) {
     if (error) *error = message;
@@ -15,6 +19,9 @@ bool CameraIntrinsics::IsValid(std::string* error) const {
     return fail("camera: fx and fy must be finite and > 0 (pixels)");
   if (!std::isfinite(cx) || !std::isfinite(cy)) return fail("camera: cx and cy must be finite");
   const size_t n = distortion.size();
+  if (model == LensModel::kFisheye && n != 4)
+    return fail("camera: the fisheye model needs 4 distortion coefficients, got " +
+                std::to_string(n));
   if (!(n == 0 || n == 4 || n == 5 || n == 8))
     return fail("camera: distortion needs 0, 4, 5 or 8 coefficients, got " + std::to_string(n));
   for (double k : distortion) {

@@ -5,6 +5,8 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "chromatag/detector/camera.h"
+
 #include "pose_fit.h"
 
 namespace chromatag {

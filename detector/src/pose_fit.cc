@@ -1,5 +1,7 @@
 #include "pose_fit.h"
 
+#include "chromatag/detector/camera.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -28,10 +30,6 @@ void AddSquare(double side, std::vector<cv::Point3d>* points) {
 
 }  // namespace
 
-cv::Matx33d CameraMatrix(const CameraIntrinsics& camera) {
-  return cv::Matx33d(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
-}
-
 std::vector<cv::Point3d> TagRingCorners(const TagFamily& family, double tag_size) {
   // The black square, then the green/black square (d of the d + 2 cells) and
   // the red/green one (d - 2).
@@ -54,12 +52,7 @@ bool UndistortedRingCorners(const Detection& detection, const CameraIntrinsics& 
       return false;
     }
   }
-  const cv::Matx33d k = CameraMatrix(camera);
-  // Iterated to convergence: OpenCV's default five iterations leave up to a
-  // quarter pixel near the edge of a strongly distorted image.
-  cv::undistortPoints(
-      image, *undistorted, k, cv::Mat(camera.distortion, /*copyData=*/true), cv::noArray(), k,
-      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+  *undistorted = UndistortPoints(camera, image);
   return true;
 }
 

@@ -22,8 +22,6 @@ struct PoseFit {
   double rms_px = std::numeric_limits<double>::infinity();
 };
 
-cv::Matx33d CameraMatrix(const CameraIntrinsics& camera);
-
 // The twelve ring corners of a tag of `family` whose black square has side
 // `tag_size`, in its tag frame (x right, y up, origin at the centre): the
 // black square, the green/black and the red/green squares, each top-left

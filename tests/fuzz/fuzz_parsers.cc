@@ -9,8 +9,8 @@
 #include <fstream>
 #include <string>
 
-#include "camera_file.h"
 #include "chromatag/calib/calib_sidecar.h"
+#include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/color_lut.h"
@@ -34,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (text.empty()) return 0;
   static const char* kExtensions[] = {".yaml", ".json", ".xml"};
   chromatag::CameraIntrinsics camera;
-  chromatag::cli::ParseCameraFile(text.substr(1), kExtensions[data[0] % 3], &camera, &error);
+  chromatag::ParseCameraFile(text.substr(1), kExtensions[data[0] % 3], &camera, &error);
 #elif CHROMATAG_FUZZ_TARGET == 6
   // OpenColorIO reads LUTs from files only.
   static const std::string path = "/tmp/chromatag-fuzz-" + std::to_string(getpid()) + ".cube";

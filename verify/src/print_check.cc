@@ -11,6 +11,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/detector/camera.h"
 #include "chromatag/families/color.h"
 #include "chromatag/families/input_file.h"
 
@@ -595,37 +596,30 @@ class FitSpace {
       : scan_(image.dpi_x > 0 && image.dpi_y > 0),
         mm_per_px_x_(scan_ ? kMmPerInch / image.dpi_x : 1.0),
         mm_per_px_y_(scan_ ? kMmPerInch / image.dpi_y : 1.0) {
-    if (!scan_ && camera && !camera->distortion.empty()) {
-      k_ = cv::Matx33d(camera->fx, 0, camera->cx, 0, camera->fy, camera->cy, 0, 0, 1);
-      distortion_ = camera->distortion;
-    }
+    if (!scan_ && camera && !camera->distortion.empty()) camera_ = camera;
   }
   bool scan() const { return scan_; }
 
   cv::Point2d FromImage(const cv::Point2d& px) const {
     if (scan_) return {px.x * mm_per_px_x_, px.y * mm_per_px_y_};
-    if (distortion_.empty()) return px;
-    std::vector<cv::Point2d> in{px}, out;
-    cv::undistortPoints(in, out, cv::Mat(k_), distortion_, cv::noArray(), cv::Mat(k_));
-    return out[0];
+    if (!camera_) return px;
+    return UndistortPoints(*camera_, {px})[0];
   }
   std::vector<cv::Point2d> ToImage(const std::vector<cv::Point2d>& points) const {
     std::vector<cv::Point2d> out;
-    if (scan_ || distortion_.empty()) {
+    if (scan_ || !camera_) {
       for (const cv::Point2d& p : points)
         out.push_back(scan_ ? cv::Point2d(p.x / mm_per_px_x_, p.y / mm_per_px_y_) : p);
       return out;
     }
     // Undistorted pixels to normalised rays, then through the lens.
     std::vector<cv::Point3d> rays;
-    const cv::Matx33d k_inv = k_.inv();
+    const cv::Matx33d k_inv = CameraMatrix(*camera_).inv();
     for (const cv::Point2d& p : points) {
       const cv::Vec3d ray = k_inv * cv::Vec3d(p.x, p.y, 1.0);
       rays.emplace_back(ray[0] / ray[2], ray[1] / ray[2], 1.0);
     }
-    if (rays.empty()) return out;
-    cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(k_), distortion_, out);
-    return out;
+    return ProjectPoints(*camera_, rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0));
   }
   cv::Point2d ToImage(const cv::Point2d& p) const { return ToImage(std::vector{p})[0]; }
   // From fit space to undistorted pixels (for image_from_page).
@@ -637,8 +631,7 @@ class FitSpace {
  private:
   bool scan_;
   double mm_per_px_x_, mm_per_px_y_;
-  cv::Matx33d k_;
-  std::vector<double> distortion_;
+  std::optional<CameraIntrinsics> camera_;  // A photo through a lens with distortion.
 };
 
 // The image resampled onto the page, `s` pixels a millimetre.

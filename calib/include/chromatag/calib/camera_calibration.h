@@ -1,12 +1,10 @@
 // Camera intrinsics from views of a ChromaTag board (a sheet written by
-// `chromatag generate --board`, or any planar board file): the twelve ring
-// corners of every board tag in every view, fitted by OpenCV's
-// calibrateCamera (pinhole with k1, k2, p1, p2 and optionally k3). Views
-// and tags whose corners disagree with the fit are left out and named.
-//
-// Not finished: the `calibrate-camera` command, automatic view selection
-// from videos, the fisheye model, the ROS / Kalibr outputs and the report
-// are still to come; this is the fit they will use.
+// `chromatag generate --board`, a colour calibration sheet, or any planar
+// board file): the twelve ring corners of every board tag in every view,
+// fitted by OpenCV's calibrateCamera (pinhole with k1, k2, p1, p2 and
+// optionally k3) or cv::fisheye::calibrate (the equidistant model). Tags and
+// views whose corners disagree with the fit are left out and named, and the
+// result says which parameters the views leave weakly constrained.
 #ifndef CHROMATAG_CALIB_CAMERA_CALIBRATION_H_
 #define CHROMATAG_CALIB_CAMERA_CALIBRATION_H_
 
@@ -28,39 +26,62 @@ struct CalibrationView {
 };
 
 struct CameraCalibrationOptions {
-  bool fit_k3 = false;  // k3 as well as k1, k2, p1, p2.
+  LensModel model = LensModel::kPinhole;
+  bool fit_k3 = false;  // Pinhole: k3 as well as k1, k2, p1, p2.
   // A view is used with at least this many board tags in it.
   int min_tags_per_view = 2;
   // A tag that disagrees with the others in its view under the first fit's
   // camera (EstimateBoardPose leaves it out: a misread ID, a tag not where
-  // the board says) is left out of that view; a view whose corners then
-  // reproject worse than this (px, rms) is left out.
-  double max_rms_px = 2.0;
+  // the board says) is left out of that view. After each fit, a view whose
+  // corners reproject worse than max_view_rms_px (rms) is left out, and so
+  // is a tag with a corner further than max_corner_error_px, or
+  // corner_error_factor times the fit's rms if that is more, from where the
+  // fit puts it.
+  double max_view_rms_px = 2.0;
+  double max_corner_error_px = 1.0;
+  double corner_error_factor = 5.0;
+
+  bool IsValid(std::string* error) const;
 };
 
 struct CalibrationViewResult {
   std::string name;
   bool used = false;
-  std::string why_not;             // When not used.
-  int tags = 0;                    // Board tags used in the view.
-  std::vector<int> tags_left_out;  // IDs of detections left out of the view.
+  std::string why_not;                    // When not used.
+  int tags = 0;                           // Board tags used in the view.
+  std::vector<int> tags_left_out;         // IDs of detections left out of the view.
+  std::vector<std::string> why_left_out;  // Per entry of tags_left_out.
   double rms_px = 0.0;
-  cv::Vec3d rvec, tvec;  // camera_from_board for the view.
+  cv::Vec3d rvec, tvec;   // camera_from_board for the view.
+  double tilt_deg = 0.0;  // Between the board's normal and the optical axis.
+  // Used views: every used corner as detected and its residual (fitted
+  // projection minus detected), pixels.
+  std::vector<cv::Point2d> corners;
+  std::vector<cv::Point2d> residuals;
 };
 
 struct CameraCalibration {
-  CameraIntrinsics camera;  // fx, fy, cx, cy; distortion k1, k2, p1, p2, k3.
+  CameraIntrinsics camera;  // fx, fy, cx, cy, the model and its distortion.
   cv::Size image_size;
   double rms_px = 0.0;  // Over every corner used.
-  // One standard deviation of fx, fy, cx, cy, k1, k2, p1, p2, k3 (OpenCV's
-  // estimate from the fit's Jacobian).
+  int corners_used = 0;
+  // One standard deviation of fx, fy, cx, cy and then each distortion
+  // coefficient, from the fit's Jacobian and residuals.
   std::vector<double> std_dev;
   std::vector<CalibrationViewResult> views;
+  // What the used views constrain weakly (no tilted views, corners only in
+  // the middle of the image, few views, a large standard deviation), each a
+  // sentence saying what to add.
+  std::vector<std::string> warnings;
 };
 
+// The names of CameraCalibration::std_dev's entries: "fx", "fy", "cx", "cy",
+// "k1", ... for the camera's model.
+std::vector<std::string> CalibrationParameterNames(const CameraIntrinsics& camera);
+
 // False (and *error) for a board that is not planar (every tag's z 0 and
-// its axes the board's), an empty image size, or fewer than three usable
-// views.
+// its axes the board's), an empty image size, invalid options, or fewer
+// than three usable views, and when the fit itself fails.
 std::optional<CameraCalibration> CalibrateCamera(const Board& board,
                                                  const std::vector<CalibrationView>& views,
                                                  cv::Size image_size,

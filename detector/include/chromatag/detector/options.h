@@ -11,17 +11,25 @@ namespace chromatag {
 
 class TagFamily;
 
-// Pinhole intrinsics in pixels and OpenCV's distortion coefficients (k1, k2,
-// p1, p2[, k3[, k4, k5, k6]]; empty for none).
+// Intrinsics in pixels and lens distortion in OpenCV's two models:
+// kPinhole, the radial-tangential model (k1, k2, p1, p2[, k3[, k4, k5, k6]];
+// empty for none), and kFisheye, the equidistant model of cv::fisheye
+// (exactly k1, k2, k3, k4; Kalibr's "equidistant").
+enum class LensModel { kPinhole, kFisheye };
+
 struct CameraIntrinsics {
   double fx = 0.0;
   double fy = 0.0;
   double cx = 0.0;
   double cy = 0.0;
   std::vector<double> distortion;
+  LensModel model = LensModel::kPinhole;
 
   bool IsValid(std::string* error) const;
 };
+
+// "pinhole" or "fisheye".
+const char* LensModelName(LensModel model);
 
 // The smallest a* the detector accepts as a tag's red, in CIELAB a* units:
 // the palettes' reds have 40 or more, and a colour cast, dim light or a

@@ -1,11 +1,11 @@
-#include "camera_file.h"
-
-#include "chromatag/families/input_file.h"
-#include "commands.h"
+#include "chromatag/calib/camera_file.h"
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,8 +14,15 @@
 #include <sstream>
 #include <vector>
 
-namespace chromatag::cli {
+#include "chromatag/families/input_file.h"
+
+namespace chromatag {
 namespace {
+
+std::string Lower(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
 
 // Camera files are a few hundred bytes; anything far larger is something else.
 constexpr std::uintmax_t kMaxCameraFileBytes = 1 << 20;
@@ -72,9 +79,12 @@ bool FromYaml(const std::string& text, CameraIntrinsics* camera, std::string* er
       if (root["distortion_coefficients"]) d = YamlNumbers(root["distortion_coefficients"]);
       if (root["distortion_model"]) {
         const std::string model = root["distortion_model"].as<std::string>();
-        if (model != "plumb_bob" && model != "rational_polynomial") {
+        if (model == "fisheye" || model == "equidistant") {
+          camera->model = LensModel::kFisheye;
+        } else if (model != "plumb_bob" && model != "rational_polynomial" && model != "pinhole") {
           *error = "distortion_model '" + model +
-                   "' is not supported (plumb_bob or rational_polynomial, as OpenCV's)";
+                   "' is not supported (plumb_bob, rational_polynomial, or equidistant for "
+                   "OpenCV's fisheye model)";
           return false;
         }
       }
@@ -88,13 +98,19 @@ bool FromYaml(const std::string& text, CameraIntrinsics* camera, std::string* er
         *error = "intrinsics must be [fu, fv, pu, pv]";
         return false;
       }
+      if (cam["camera_model"] && cam["camera_model"].as<std::string>() != "pinhole") {
+        *error = "camera_model '" + cam["camera_model"].as<std::string>() +
+                 "' is not supported (pinhole, with radtan or equidistant distortion)";
+        return false;
+      }
       const std::string model =
           cam["distortion_model"] ? cam["distortion_model"].as<std::string>() : "none";
       std::vector<double> d;
-      if (model == "radtan") {
+      if (model == "radtan" || model == "equidistant") {
         d = YamlNumbers(cam["distortion_coeffs"]);
+        if (model == "equidistant") camera->model = LensModel::kFisheye;
       } else if (model != "none") {
-        *error = "distortion_model '" + model + "' is not supported (radtan or none)";
+        *error = "distortion_model '" + model + "' is not supported (radtan, equidistant or none)";
         return false;
       }
       return FromMatrix({i[0], 0, i[2], 0, i[1], i[3], 0, 0, 1}, d, camera, error);
@@ -128,6 +144,16 @@ bool FromJson(const std::string& text, CameraIntrinsics* camera, std::string* er
     };
     std::vector<double> d;
     if (root.contains("distortion_coefficients")) d = numbers(root["distortion_coefficients"]);
+    if (root.contains("distortion_model")) {
+      const std::string model = root["distortion_model"].get<std::string>();
+      if (model == "fisheye" || model == "equidistant") {
+        camera->model = LensModel::kFisheye;
+      } else if (model != "plumb_bob" && model != "rational_polynomial" && model != "pinhole") {
+        *error = "distortion_model '" + model +
+                 "' is not supported (plumb_bob, rational_polynomial or fisheye)";
+        return false;
+      }
+    }
     return FromMatrix(numbers(root["camera_matrix"]), d, camera, error);
   } catch (const nlohmann::json::parse_error&) {
     *error = "is not valid JSON";
@@ -166,7 +192,7 @@ std::optional<std::vector<double>> Numbers(const std::string& text) {
 }
 
 // OpenCV's XML layout, read here for the two matrices it needs:
-// cv::FileStorage crashed on a truncated file (issue 12).
+// cv::FileStorage crashed on a truncated file.
 bool FromXml(const std::string& text, CameraIntrinsics* camera, std::string* error) {
   const auto storage = Element(text, "opencv_storage");
   if (!storage) {
@@ -223,4 +249,107 @@ bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::stri
   return true;
 }
 
-}  // namespace chromatag::cli
+const char* CameraFileFormatName(CameraFileFormat format) {
+  switch (format) {
+    case CameraFileFormat::kOpenCv:
+      return "opencv";
+    case CameraFileFormat::kRos:
+      return "ros";
+    case CameraFileFormat::kKalibr:
+      return "kalibr";
+  }
+  return "?";
+}
+
+namespace {
+
+// A number as YAML and JSON read it back: 17 significant digits, no locale.
+std::string Number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", x);
+  return text;
+}
+
+std::string List(const std::vector<double>& values) {
+  std::string out = "[";
+  for (size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + Number(values[i]);
+  return out + "]";
+}
+
+// {rows, cols, data} as ROS writes its matrices.
+std::string RosMatrix(const char* name, int rows, int cols, const std::vector<double>& data) {
+  return std::string(name) + ":\n  rows: " + std::to_string(rows) +
+         "\n  cols: " + std::to_string(cols) + "\n  data: " + List(data) + "\n";
+}
+
+}  // namespace
+
+std::string CameraFileText(const CameraIntrinsics& camera, const CameraFileInfo& info,
+                           CameraFileFormat format, std::string* error) {
+  const auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return std::string();
+  };
+  if (!camera.IsValid(error)) return {};
+  const bool fisheye = camera.model == LensModel::kFisheye;
+  std::vector<double> d = camera.distortion;
+  const std::vector<double> k = {camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1};
+  std::string out;
+  switch (format) {
+    case CameraFileFormat::kOpenCv: {
+      // OpenCV's own writer, so that cv::FileStorage reads it back as it
+      // reads the output of OpenCV's calibration samples.
+      cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+      fs << "image_width" << info.image_size.width;
+      fs << "image_height" << info.image_size.height;
+      fs << "camera_name" << info.camera_name;
+      fs << "distortion_model" << (fisheye ? "fisheye" : "plumb_bob");
+      fs << "camera_matrix" << cv::Mat(cv::Matx33d(k.data()));
+      if (d.empty()) d.assign(fisheye ? 4 : 5, 0.0);
+      fs << "distortion_coefficients" << cv::Mat(d, true).reshape(1, 1);
+      if (info.rms_px >= 0) fs << "avg_reprojection_error" << info.rms_px;
+      out = fs.releaseAndGetString();
+      break;
+    }
+    case CameraFileFormat::kRos: {
+      // ROS plumb_bob is k1, k2, p1, p2, k3; eight coefficients are
+      // rational_polynomial; equidistant is cv::fisheye's k1-k4.
+      const char* model = fisheye         ? "equidistant"
+                          : d.size() == 8 ? "rational_polynomial"
+                                          : "plumb_bob";
+      if (!fisheye && d.size() < 5) d.resize(5, 0.0);
+      out = "image_width: " + std::to_string(info.image_size.width) +
+            "\nimage_height: " + std::to_string(info.image_size.height) +
+            "\ncamera_name: " + info.camera_name + "\n" + RosMatrix("camera_matrix", 3, 3, k) +
+            "distortion_model: " + model + "\n" +
+            RosMatrix("distortion_coefficients", 1, static_cast<int>(d.size()), d) +
+            RosMatrix("rectification_matrix", 3, 3, {1, 0, 0, 0, 1, 0, 0, 0, 1}) +
+            RosMatrix("projection_matrix", 3, 4,
+                      {camera.fx, 0, camera.cx, 0, 0, camera.fy, camera.cy, 0, 0, 0, 1, 0});
+      break;
+    }
+    case CameraFileFormat::kKalibr: {
+      // Kalibr's radtan has k1, k2, r1, r2 only.
+      if (!fisheye && d.size() > 4) {
+        for (size_t i = 4; i < d.size(); ++i) {
+          if (d[i] != 0.0)
+            return fail(
+                "Kalibr's radtan model has no k3 to k6: calibrate without --k3 for a Kalibr "
+                "camchain");
+        }
+        d.resize(4);
+      }
+      if (d.empty()) d.assign(4, 0.0);
+      out = "cam0:\n  camera_model: pinhole\n  intrinsics: " +
+            List({camera.fx, camera.fy, camera.cx, camera.cy}) +
+            "\n  distortion_model: " + (fisheye ? "equidistant" : "radtan") +
+            "\n  distortion_coeffs: " + List(d) + "\n  resolution: [" +
+            std::to_string(info.image_size.width) + ", " + std::to_string(info.image_size.height) +
+            "]\n  rostopic: /" + info.camera_name + "/image_raw\n";
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace chromatag

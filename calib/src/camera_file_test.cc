@@ -1,0 +1,100 @@
+#include "chromatag/calib/camera_file.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+namespace chromatag {
+namespace {
+
+CameraIntrinsics Camera(LensModel model) {
+  CameraIntrinsics camera;
+  camera.fx = 601.25;
+  camera.fy = 603.5;
+  camera.cx = 371.125;
+  camera.cy = 244.75;
+  camera.model = model;
+  camera.distortion = model == LensModel::kFisheye
+                          ? std::vector<double>{-0.02, 0.01, -0.004, 0.001}
+                          : std::vector<double>{-0.25, 0.08, 0.001, -0.0005, 0.0};
+  return camera;
+}
+
+// Every format, written and read back by the reader `detect --camera` uses:
+// the same camera, model and coefficients.
+TEST(CameraFileTest, WritesWhatItReadsBack) {
+  CameraFileInfo info;
+  info.image_size = {752, 480};
+  info.rms_px = 0.07;
+  for (LensModel model : {LensModel::kPinhole, LensModel::kFisheye}) {
+    for (CameraFileFormat format :
+         {CameraFileFormat::kOpenCv, CameraFileFormat::kRos, CameraFileFormat::kKalibr}) {
+      SCOPED_TRACE(std::string(CameraFileFormatName(format)) + " " + LensModelName(model));
+      const CameraIntrinsics camera = Camera(model);
+      std::string error;
+      const std::string text = CameraFileText(camera, info, format, &error);
+      ASSERT_FALSE(text.empty()) << error;
+      CameraIntrinsics back;
+      ASSERT_TRUE(ParseCameraFile(text, ".yaml", &back, &error)) << error << "\n" << text;
+      EXPECT_EQ(back.fx, camera.fx);
+      EXPECT_EQ(back.fy, camera.fy);
+      EXPECT_EQ(back.cx, camera.cx);
+      EXPECT_EQ(back.cy, camera.cy);
+      EXPECT_EQ(back.model, model);
+      // Kalibr's radtan drops k3, which is 0 here.
+      ASSERT_GE(back.distortion.size(), 4u);
+      for (size_t i = 0; i < camera.distortion.size(); ++i) {
+        EXPECT_EQ(i < back.distortion.size() ? back.distortion[i] : 0.0, camera.distortion[i]);
+      }
+      EXPECT_NE(text.find("752"), std::string::npos) << text;
+    }
+  }
+}
+
+// The OpenCV file is what OpenCV's calibration samples write: FileStorage
+// reads its matrices.
+TEST(CameraFileTest, OpenCvReadsItsLayout) {
+  CameraFileInfo info;
+  info.image_size = {752, 480};
+  std::string error;
+  const std::string text =
+      CameraFileText(Camera(LensModel::kPinhole), info, CameraFileFormat::kOpenCv, &error);
+  cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  cv::Mat k, d;
+  fs["camera_matrix"] >> k;
+  fs["distortion_coefficients"] >> d;
+  ASSERT_EQ(k.rows, 3);
+  EXPECT_EQ(k.at<double>(0, 0), 601.25);
+  EXPECT_EQ(k.at<double>(1, 2), 244.75);
+  ASSERT_EQ(d.total(), 5u);
+  EXPECT_EQ(d.at<double>(0), -0.25);
+  EXPECT_EQ(static_cast<int>(fs["image_width"]), 752);
+}
+
+// Kalibr's radtan has no k3: a camera that needs it is refused, not cut.
+TEST(CameraFileTest, KalibrRefusesK3) {
+  CameraIntrinsics camera = Camera(LensModel::kPinhole);
+  camera.distortion[4] = 0.01;
+  std::string error;
+  EXPECT_TRUE(CameraFileText(camera, {}, CameraFileFormat::kKalibr, &error).empty());
+  EXPECT_NE(error.find("no k3"), std::string::npos) << error;
+  camera.distortion[4] = 0.0;
+  EXPECT_FALSE(CameraFileText(camera, {}, CameraFileFormat::kKalibr, &error).empty());
+}
+
+TEST(CameraFileTest, RefusesAnUnknownLensModel) {
+  CameraIntrinsics camera;
+  std::string error;
+  EXPECT_FALSE(ParseCameraFile(
+      "cam0:\n  camera_model: omni\n  intrinsics: [1, 1, 1, 1]\n  distortion_model: none\n",
+      ".yaml", &camera, &error));
+  EXPECT_NE(error.find("camera_model 'omni'"), std::string::npos) << error;
+  EXPECT_FALSE(
+      ParseCameraFile("camera_matrix: [1, 0, 1, 0, 1, 1, 0, 0, 1]\ndistortion_model: fisheye\n"
+                      "distortion_coefficients: [0.1, 0.2, 0.3, 0.4, 0.5]\n",
+                      ".yaml", &camera, &error));
+  EXPECT_NE(error.find("fisheye model needs 4"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace chromatag

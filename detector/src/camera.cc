@@ -1,0 +1,41 @@
+#include "chromatag/detector/camera.h"
+
+#include <opencv2/calib3d.hpp>
+
+namespace chromatag {
+
+cv::Matx33d CameraMatrix(const CameraIntrinsics& camera) {
+  return cv::Matx33d(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+}
+
+std::vector<cv::Point2d> ProjectPoints(const CameraIntrinsics& camera,
+                                       const std::vector<cv::Point3d>& points,
+                                       const cv::Vec3d& rvec, const cv::Vec3d& tvec) {
+  std::vector<cv::Point2d> image;
+  if (points.empty()) return image;
+  const cv::Mat k(CameraMatrix(camera));
+  const cv::Mat d(camera.distortion, /*copyData=*/true);
+  if (camera.model == LensModel::kFisheye) {
+    cv::fisheye::projectPoints(points, image, rvec, tvec, k, d);
+  } else {
+    cv::projectPoints(points, rvec, tvec, k, d, image);
+  }
+  return image;
+}
+
+std::vector<cv::Point2d> UndistortPoints(const CameraIntrinsics& camera,
+                                         const std::vector<cv::Point2d>& pixels) {
+  if (pixels.empty() || camera.distortion.empty()) return pixels;
+  const cv::Mat k(CameraMatrix(camera));
+  const cv::Mat d(camera.distortion, /*copyData=*/true);
+  const cv::TermCriteria until(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12);
+  std::vector<cv::Point2d> out;
+  if (camera.model == LensModel::kFisheye) {
+    cv::fisheye::undistortPoints(pixels, out, k, d, cv::noArray(), k, until);
+  } else {
+    cv::undistortPoints(pixels, out, k, d, cv::noArray(), k, until);
+  }
+  return out;
+}
+
+}  // namespace chromatag
