@@ -10,6 +10,7 @@
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/calib/calibrate.h"
+#include "chromatag/calib/camera_file.h"
 #include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/cairo_util.h"
@@ -158,11 +159,37 @@ int RunCalibrate(const CalibrateArgs& args) {
   if (ec) {
     return Fail(kName, "cannot create the output folder '" + args.output + "': " + ec.message());
   }
-  const auto files = CalibrationFiles(*result, args.output);
+  auto files = CalibrationFiles(*result, args.output);
+  // The camera from the same photos, when they were taken at varied tilts.
+  std::string camera_why;
+  const auto camera = CalibrateCameraFromPhotos(*layout, photos, &camera_why);
+  if (camera) {
+    CameraFileInfo info;
+    info.image_size = camera->image_size;
+    info.rms_px = camera->rms_px;
+    std::string text = CameraFileText(camera->camera, info, CameraFileFormat::kOpenCv, &error);
+    if (text.empty()) return Fail(kName, error, kExitFailure);
+    files.push_back({(std::filesystem::path(args.output) / kCameraFile).string(), text});
+  }
   if (!WriteFilesAtomically(files, &error)) return Fail(kName, error);
   std::vector<std::string> written;
   for (const auto& file : files) written.push_back(file.path);
   PrintSummary(*result, written);
+  if (camera) {
+    int used = 0;
+    for (const CalibrationViewResult& v : camera->views) used += v.used ? 1 : 0;
+    std::printf(
+        "Camera from %d of %zu photos: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f, rms %.3f px\n",
+        used, camera->views.size(), camera->camera.fx, camera->camera.fy, camera->camera.cx,
+        camera->camera.cy, camera->camera.distortion[0], camera->rms_px);
+    for (const CalibrationViewResult& v : camera->views) {
+      if (!v.used) std::printf("  %s left out: %s\n", v.name.c_str(), v.why_not.c_str());
+    }
+    std::fflush(stdout);
+    for (const std::string& w : camera->warnings) std::cerr << "warning: camera: " << w << "\n";
+  } else {
+    std::printf("Camera intrinsics not written: %s\n", camera_why.c_str());
+  }
   return kExitOk;
 }
 

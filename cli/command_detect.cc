@@ -38,6 +38,7 @@
 #include "chromatag/generator/units.h"
 #include "commands.h"
 #include "progress.h"
+#include "sources.h"
 
 namespace chromatag::cli {
 namespace {
@@ -70,37 +71,6 @@ void OnInterrupt(int) {
   std::signal(SIGINT, SIG_DFL);
 }
 
-bool IsVideo(const fs::path& path) {
-  const std::string ext = Lower(path.extension().string());
-  for (const char* v : {".avi", ".mp4", ".mkv", ".mov", ".webm", ".mpg", ".mpeg", ".m4v"})
-    if (ext == v) return true;
-  return false;
-}
-
-bool IsImage(const fs::path& path) {
-  const std::string ext = Lower(path.extension().string());
-  for (const char* v : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".ppm", ".pgm", ".webp"})
-    if (ext == v) return true;
-  return false;
-}
-
-enum class SourceKind { kImage, kVideo, kCamera, kStream };
-
-struct Source {
-  SourceKind kind = SourceKind::kImage;
-  std::string name;  // As given: a path, /dev/videoN, "camera N" or a URL.
-  int camera_index = -1;
-  std::string overlay_stem;  // Unique among the run's sources.
-  bool live() const { return kind == SourceKind::kCamera || kind == SourceKind::kStream; }
-};
-
-Source MakeSource(SourceKind kind, std::string name) {
-  Source source;
-  source.kind = kind;
-  source.name = std::move(name);
-  return source;
-}
-
 // What one frame (or one source that could not be read) gives.
 struct Task {
   size_t source = 0;
@@ -118,69 +88,6 @@ struct Outcome {
   int tags = 0;
   cv::Mat shown;  // --show: the frame with the detections drawn.
 };
-
-// The sources named on the command line, in order; false with *error for
-// inputs that do not exist.
-bool GatherSources(const DetectOptions& options, std::vector<Source>* sources, std::string* error) {
-  std::vector<std::string> missing;
-  for (const std::string& input : options.inputs) {
-    std::error_code ec;
-    const fs::path path(input);
-    if (input.find("://") != std::string::npos) {
-      sources->push_back(MakeSource(SourceKind::kStream, input));
-    } else if (input.rfind("/dev/video", 0) == 0) {
-      sources->push_back(MakeSource(SourceKind::kCamera, input));
-    } else if (fs::is_directory(path, ec)) {
-      std::vector<fs::path> files;
-      for (const auto& entry : fs::directory_iterator(path, ec)) {
-        if (entry.is_regular_file() && (IsImage(entry.path()) || IsVideo(entry.path())))
-          files.push_back(entry.path());
-      }
-      std::sort(files.begin(), files.end());
-      for (const fs::path& file : files)
-        sources->push_back(
-            MakeSource(IsVideo(file) ? SourceKind::kVideo : SourceKind::kImage, file.string()));
-    } else if (!fs::exists(path, ec)) {
-      missing.push_back(input);
-    } else if (!fs::is_regular_file(path, ec)) {
-      // A FIFO named .png would block the run forever; a device is not an image.
-      *error = "'" + input + "' is not a regular file, a folder, /dev/videoN or a URL";
-      return false;
-    } else {
-      sources->push_back(
-          MakeSource(IsVideo(path) ? SourceKind::kVideo : SourceKind::kImage, input));
-    }
-  }
-  for (int index : options.camera_indices) {
-    Source camera = MakeSource(SourceKind::kCamera, "camera " + std::to_string(index));
-    camera.camera_index = index;
-    sources->push_back(camera);
-  }
-  if (!missing.empty()) {
-    *error = "no such file or folder: '" + missing[0] + "'" +
-             (missing.size() > 1 ? " (and " + std::to_string(missing.size() - 1) + " more)" : "");
-    return false;
-  }
-  if (sources->empty()) {
-    *error =
-        "nothing to detect in: give images, folders, videos, /dev/videoN, a stream URL or "
-        "--camera-index N";
-    return false;
-  }
-  // Overlay names: the file name with its extension (scene.jpg and scene.mp4
-  // differ), and a counter for names met before (a/x.png, b/x.png).
-  std::map<std::string, int> used;
-  for (size_t i = 0; i < sources->size(); ++i) {
-    Source& s = (*sources)[i];
-    std::string stem =
-        s.kind == SourceKind::kStream ? "stream" : fs::path(s.name).filename().string();
-    if (s.camera_index >= 0) stem = "camera" + std::to_string(s.camera_index);
-    std::replace(stem.begin(), stem.end(), '.', '_');
-    const int n = ++used[stem];
-    s.overlay_stem = n == 1 ? stem : stem + "-" + std::to_string(n);
-  }
-  return true;
-}
 
 Json Points(const std::array<cv::Point2d, 4>& points) {
   Json out = Json::array();
@@ -600,7 +507,7 @@ int RunDetect(const DetectOptions& options) {
   if (options.show && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
     return fail("--show needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set)");
   std::vector<Source> sources;
-  if (!GatherSources(options, &sources, &error)) return fail(error);
+  if (!GatherSources(options.inputs, options.camera_indices, &sources, &error)) return fail(error);
   if (!options.overlay_dir.empty()) {
     std::error_code ec;
     fs::create_directories(options.overlay_dir, ec);

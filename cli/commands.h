@@ -36,6 +36,7 @@ void RegisterGenerate(CLI::App& app, Action* action);
 void RegisterVerify(CLI::App& app, Action* action);
 void RegisterDetect(CLI::App& app, Action* action);
 void RegisterCalib(CLI::App& app, Action* action);  // calib-sheet and calibrate.
+void RegisterCalibrateCamera(CLI::App& app, Action* action);
 
 }  // namespace chromatag::cli
 

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   chromatag::cli::RegisterVerify(app, &action);
   chromatag::cli::RegisterDetect(app, &action);
   chromatag::cli::RegisterCalib(app, &action);
+  chromatag::cli::RegisterCalibrateCamera(app, &action);
 
   try {
     app.parse(argc, argv);

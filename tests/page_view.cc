@@ -19,8 +19,10 @@ cv::Mat PhotographPage(const PrintedPage& page, const CameraIntrinsics& camera, 
   // near twice that, so that sampling does not alias.
   const double near_mm = std::max(1e-3, 1000 * tvec[2] - 0.5 * page.bgr.cols / page.px_per_mm);
   const double view_px_per_mm = 2 * std::max(camera.fx, camera.fy) / near_mm;
-  cv::Mat source = page.bgr;
-  while (source.cols > 64 && source.cols * 0.5 / page.bgr.cols * page.px_per_mm > 2 * view_px_per_mm) {
+  // All in linear light, as lens and sensor work.
+  cv::Mat source = SrgbToLinearImage(page.bgr);
+  while (source.cols > 64 &&
+         source.cols * 0.5 / page.bgr.cols * page.px_per_mm > 2 * view_px_per_mm) {
     cv::Mat smaller;
     cv::resize(source, smaller, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
     source = smaller;
@@ -36,27 +38,44 @@ cv::Mat PhotographPage(const PrintedPage& page, const CameraIntrinsics& camera, 
                           tvec[2]);
   // Undistorted pixels -> source pixels.
   const cv::Matx33d source_from_ideal = source_from_board * (CameraMatrix(camera) * plane).inv();
-  // Every pixel of a twice-as-fine view, at its centre.
+  // Every pixel of a twice-as-fine view, at its centre, undistorted: the
+  // same for every view of one camera, so kept for the next call.
   const cv::Size hi(2 * size.width, 2 * size.height);
-  std::vector<cv::Point2d> pixels;
-  pixels.reserve(static_cast<size_t>(hi.area()));
-  for (int y = 0; y < hi.height; ++y)
-    for (int x = 0; x < hi.width; ++x) pixels.emplace_back((x - 0.5) / 2, (y - 0.5) / 2);
-  const std::vector<cv::Point2d> ideal = UndistortPoints(camera, pixels);
+  static thread_local struct {
+    CameraIntrinsics camera;
+    cv::Size size;
+    std::vector<cv::Point2d> ideal;
+  } cache;
+  const CameraIntrinsics& c = cache.camera;
+  if (cache.size != size || c.fx != camera.fx || c.fy != camera.fy || c.cx != camera.cx ||
+      c.cy != camera.cy || c.model != camera.model || c.distortion != camera.distortion) {
+    std::vector<cv::Point2d> pixels;
+    pixels.reserve(static_cast<size_t>(hi.area()));
+    for (int y = 0; y < hi.height; ++y)
+      for (int x = 0; x < hi.width; ++x) pixels.emplace_back((x - 0.5) / 2, (y - 0.5) / 2);
+    cache.ideal = UndistortPoints(camera, pixels);
+    cache.camera = camera;
+    cache.size = size;
+  }
+  const std::vector<cv::Point2d>& ideal = cache.ideal;
   cv::Mat map(hi, CV_32FC2);
   for (int y = 0, i = 0; y < hi.height; ++y) {
     for (int x = 0; x < hi.width; ++x, ++i) {
       const cv::Vec3d p = source_from_ideal * cv::Vec3d(ideal[i].x, ideal[i].y, 1.0);
       // Behind the camera or beyond the lens's range: off the page.
       const bool ahead = p[2] > 0 && std::isfinite(ideal[i].x) && std::isfinite(ideal[i].y);
-      map.at<cv::Vec2f>(y, x) = ahead ? cv::Vec2f(static_cast<float>(p[0] / p[2]),
-                                                  static_cast<float>(p[1] / p[2]))
-                                      : cv::Vec2f(-1e6f, -1e6f);
+      map.at<cv::Vec2f>(y, x) =
+          ahead ? cv::Vec2f(static_cast<float>(p[0] / p[2]), static_cast<float>(p[1] / p[2]))
+                : cv::Vec2f(-1e6f, -1e6f);
     }
   }
-  cv::Mat fine, frame;
-  cv::remap(source, fine, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, background);
-  cv::resize(fine, frame, size, 0, 0, cv::INTER_AREA);
+  const cv::Mat linear_background = SrgbToLinearImage(
+      cv::Mat(1, 1, CV_8UC3, cv::Scalar(background[0], background[1], background[2])));
+  cv::Mat fine, small;
+  cv::remap(source, fine, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+            cv::Scalar(linear_background.at<cv::Vec3f>(0, 0)));
+  cv::resize(fine, small, size, 0, 0, cv::INTER_AREA);
+  cv::Mat frame = LinearToSrgbImage(small);
   ApplyCamera(effects, &frame);
   return frame;
 }

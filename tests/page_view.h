@@ -1,7 +1,8 @@
 // A printed page photographed by a camera with a known lens: each pixel of
 // the view is traced through the lens model (distortion undone) and the
 // plane's homography back onto the page, sampled at twice the resolution
-// and averaged down, then the camera's blur, noise and JPEG (ApplyCamera).
+// and averaged down in linear light (as lens and sensor work), then the
+// camera's blur, noise and JPEG (ApplyCamera).
 // For camera calibration tests and the calibration benchmark, where the
 // truth is the camera itself.
 #ifndef CHROMATAG_TESTS_PAGE_VIEW_H_

@@ -125,30 +125,38 @@ cv::Mat LinearCamera(const cv::Mat& bgr, const SceneOptions& options) {
 
 }  // namespace
 
-namespace {
-
-cv::Mat AverageInLinearLight(const cv::Mat& hi, cv::Size size) {
+cv::Mat SrgbToLinearImage(const cv::Mat& bgr) {
   static const std::vector<float> to_linear = [] {
     std::vector<float> t(256);
     for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.f);
     return t;
   }();
-  cv::Mat linear(hi.size(), CV_32FC3);
-  for (int y = 0; y < hi.rows; ++y) {
-    const uint8_t* in = hi.ptr<uint8_t>(y);
+  cv::Mat linear(bgr.size(), CV_32FC3);
+  for (int y = 0; y < bgr.rows; ++y) {
+    const uint8_t* in = bgr.ptr<uint8_t>(y);
     float* out = linear.ptr<float>(y);
-    for (int i = 0; i < 3 * hi.cols; ++i) out[i] = to_linear[in[i]];
+    for (int i = 0; i < 3 * bgr.cols; ++i) out[i] = to_linear[in[i]];
   }
-  cv::Mat small;
-  cv::resize(linear, small, size, 0, 0, cv::INTER_AREA);
-  cv::Mat bgr(size, CV_8UC3);
-  for (int y = 0; y < size.height; ++y) {
-    const float* in = small.ptr<float>(y);
+  return linear;
+}
+
+cv::Mat LinearToSrgbImage(const cv::Mat& linear) {
+  cv::Mat bgr(linear.size(), CV_8UC3);
+  for (int y = 0; y < linear.rows; ++y) {
+    const float* in = linear.ptr<float>(y);
     uint8_t* out = bgr.ptr<uint8_t>(y);
-    for (int i = 0; i < 3 * size.width; ++i)
+    for (int i = 0; i < 3 * linear.cols; ++i)
       out[i] = cv::saturate_cast<uint8_t>(255.f * LinearToSrgb(std::clamp(in[i], 0.f, 1.f)));
   }
   return bgr;
+}
+
+namespace {
+
+cv::Mat AverageInLinearLight(const cv::Mat& hi, cv::Size size) {
+  cv::Mat small;
+  cv::resize(SrgbToLinearImage(hi), small, size, 0, 0, cv::INTER_AREA);
+  return LinearToSrgbImage(small);
 }
 
 }  // namespace

@@ -87,6 +87,10 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
 // size and background are not used.
 void ApplyCamera(const SceneOptions& options, cv::Mat* bgr);
 
+// 8-bit sRGB (BGR) to linear light (CV_32FC3, [0, 1]) and back, rounded.
+cv::Mat SrgbToLinearImage(const cv::Mat& bgr);
+cv::Mat LinearToSrgbImage(const cv::Mat& linear);
+
 // Largest distance between corresponding corners.
 double MaxCornerError(const std::array<cv::Point2d, 4>& a, const std::array<cv::Point2d, 4>& b);
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/families/input_file.h"
 
 namespace chromatag {
@@ -123,6 +124,28 @@ std::optional<Board> BoardFromSheet(const SheetRecord& sheet, std::string* error
   return board;
 }
 
+std::optional<Board> BoardFromCalibSheet(const CalibSheetLayout& layout, std::string* error) {
+  Board board;
+  board.name = "calibration sheet " + std::to_string(layout.sheet_id);
+  board.palette = layout.palette.name;
+  for (const CornerTag& corner : layout.tags) {
+    BoardTag tag;
+    tag.family = layout.family;
+    tag.id = corner.id;
+    tag.size = layout.tag_size_mm / 1000.0;
+    double x = 0, y = 0;
+    for (const auto& c : corner.corners_mm) {
+      x += 0.25 * c[0];
+      y += 0.25 * c[1];
+    }
+    // Page millimetres (y down) to metres from the page's bottom-left corner (y up).
+    tag.translation = {x / 1000.0, (layout.page.height_mm - y) / 1000.0, 0.0};
+    board.tags.push_back(tag);
+  }
+  if (!board.IsValid(error)) return std::nullopt;
+  return board;
+}
+
 std::optional<Board> ParseBundleYaml(const std::string& text, const std::string& name,
                                      std::string* error) {
   const auto fail = [&](const std::string& message) -> std::optional<Board> {
@@ -181,6 +204,15 @@ std::optional<Board> ReadBoardFile(const std::string& spec, std::string* error) 
   const std::string ext = Lower(std::filesystem::path(path).extension().string());
   std::string why;
   if (ext == ".json") {
+    // A colour calibration sheet's sidecar names its schema near the top.
+    const auto head = ReadInputFile(path, "board file", kMaxJsonFileBytes, error);
+    if (!head) return std::nullopt;
+    if (head->find(std::string("\"") + kCalibSheetSchema + "\"") != std::string::npos) {
+      const auto layout = ParseCalibSidecar(*head, &why);
+      std::optional<Board> board = layout ? BoardFromCalibSheet(*layout, &why) : std::nullopt;
+      if (!board && error) *error = "board file '" + path + "': " + why;
+      return board;
+    }
     const auto sheet = ReadSidecar(path, error);
     if (!sheet) return std::nullopt;
     auto board = BoardFromSheet(*sheet, &why);

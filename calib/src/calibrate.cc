@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "chromatag/calib/board_file.h"
 #include "chromatag/calib/cube_lut.h"
 #include "chromatag/calib/report.h"
 #include "chromatag/detector/config.h"
+#include "chromatag/detector/detector.h"
 #include "chromatag/families/version.h"
 
 namespace chromatag {
@@ -197,6 +199,49 @@ std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
   files.push_back({Join(folder, kReportPngFile), RenderReportPng(result)});
   files.push_back({Join(folder, kMeasurementsFile), MeasurementsJson(result)});
   return files;
+}
+
+std::optional<CameraCalibration> CalibrateCameraFromPhotos(const CalibSheetLayout& layout,
+                                                           const std::vector<PhotoInput>& photos,
+                                                           std::string* why) {
+  const auto fail = [&](const std::string& message) -> std::optional<CameraCalibration> {
+    if (why) *why = message;
+    return std::nullopt;
+  };
+  if (photos.size() < 3) {
+    return fail(std::to_string(photos.size()) +
+                " photo(s); the camera needs 3 or more (better 10-20), the sheet tilted "
+                "differently in each");
+  }
+  for (const PhotoInput& photo : photos) {
+    if (photo.bgr.size() != photos.front().bgr.size())
+      return fail("the photos are not all one size ('" + photo.name + "' differs from '" +
+                  photos.front().name + "')");
+  }
+  const auto board = BoardFromCalibSheet(layout, why);
+  if (!board) return std::nullopt;
+  DetectorOptions options;
+  options.families = {layout.family};
+  const auto detector = Detector::Create(options, why);
+  if (!detector) return std::nullopt;
+  std::vector<CalibrationView> views;
+  DetectionResult result;
+  for (const PhotoInput& photo : photos) {
+    detector->Detect(photo.bgr, PixelOrder::kBgr, &result);
+    views.push_back({photo.name, result.detections});
+  }
+  auto camera = CalibrateCamera(*board, views, photos.front().bgr.size(), {}, why);
+  if (!camera) return std::nullopt;
+  // Photos taken square-on to the sheet, as for colour alone, fit any focal
+  // length: no camera file rather than a wrong one.
+  int tilted = 0;
+  for (const CalibrationViewResult& v : camera->views) tilted += v.used && v.tilt_deg >= 20 ? 1 : 0;
+  if (tilted < 3) {
+    return fail(std::to_string(tilted) +
+                " photo(s) show the sheet tilted 20 degrees or more; the focal length needs 3 or "
+                "more, tilted 20-45 degrees about different axes");
+  }
+  return camera;
 }
 
 }  // namespace chromatag

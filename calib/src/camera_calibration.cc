@@ -299,6 +299,17 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
       if (d.family == nullptr) continue;
       const int index = board.Find(d.family->name(), d.id);
       if (index < 0) continue;
+      // A tag cut by the image's edge has corners extrapolated from the
+      // visible parts of its sides, straight where the lens bends them.
+      const std::vector<cv::Point2d> corners = RingCorners(d);
+      const bool inside = std::all_of(corners.begin(), corners.end(), [&](const cv::Point2d& p) {
+        return p.x >= 0 && p.y >= 0 && p.x <= image_size.width - 1 && p.y <= image_size.height - 1;
+      });
+      if (!inside) {
+        out.tags_left_out.push_back(d.id);
+        out.why_left_out.push_back("a corner outside the image");
+        continue;
+      }
       points[v].detection.push_back(static_cast<int>(i));
       points[v].board.push_back(BoardTagCorners(board.tags[index], *d.family));
       points[v].image.push_back(RingCorners(d));

@@ -309,6 +309,7 @@ std::string CameraFileText(const CameraIntrinsics& camera, const CameraFileInfo&
       fs << "distortion_coefficients" << cv::Mat(d, true).reshape(1, 1);
       if (info.rms_px >= 0) fs << "avg_reprojection_error" << info.rms_px;
       out = fs.releaseAndGetString();
+      if (!out.empty() && out.back() != '\n') out += '\n';
       break;
     }
     case CameraFileFormat::kRos: {

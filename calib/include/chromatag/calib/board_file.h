@@ -6,6 +6,8 @@
 //   origin at the bottom-left corner of the bottom-left tag's black square;
 //   any other sheet at the page's bottom-left corner. x right, y up the
 //   page, z out of it; metres.
+// - A colour calibration sheet's sidecar ("chromatag-calib-sheet"): its
+//   corner tags, origin at the page's bottom-left corner, axes as above.
 // - A bundle YAML in the shape apriltag_ros uses for tag_bundles: per tag
 //   id, size (the black square, metres), x, y, z (0 when left out) and the
 //   unit quaternion qw, qx, qy, qz of the tag in the bundle frame (identity
@@ -17,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "chromatag/calib/calib_sheet.h"
 #include "chromatag/detector/board.h"
 #include "chromatag/generator/sidecar.h"
 
@@ -25,6 +28,10 @@ namespace chromatag {
 // The board a sheet's sidecar describes. Refuses a sheet of more than one
 // page (its pages need not lie on one plane).
 std::optional<Board> BoardFromSheet(const SheetRecord& sheet, std::string* error = nullptr);
+
+// The board of a colour calibration sheet: its corner tags.
+std::optional<Board> BoardFromCalibSheet(const CalibSheetLayout& layout,
+                                         std::string* error = nullptr);
 
 // The bundle called `name` in a bundle YAML's tag_bundles (empty: the file's
 // only bundle). Refuses (nullopt, *error) anything else, saying what.

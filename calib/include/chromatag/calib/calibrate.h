@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "chromatag/calib/calib_sheet.h"
+#include "chromatag/calib/camera_calibration.h"
 #include "chromatag/calib/locate_sheet.h"
 #include "chromatag/calib/measure.h"
 #include "chromatag/calib/palette_choice.h"
@@ -67,6 +68,15 @@ std::optional<CalibrationResult> Calibrate(const CalibSheetLayout& layout,
                                            const CalibrateOptions& options = {},
                                            std::string* error = nullptr);
 
+// Camera intrinsics from the same photos, the sheet's corner tags as the
+// board (BoardFromCalibSheet): taken at varied tilts, the photos that give
+// the colours give the camera too. nullopt with *why when they cannot:
+// fewer than three photos, photos of different sizes, fewer than three
+// showing the tags, or the fit failed.
+std::optional<CameraCalibration> CalibrateCameraFromPhotos(const CalibSheetLayout& layout,
+                                                           const std::vector<PhotoInput>& photos,
+                                                           std::string* why = nullptr);
+
 // Output file names inside the output folder.
 inline constexpr const char* kDetectorConfigFile = "detector.json";
 inline constexpr const char* kPaletteFile = "palette.json";
@@ -74,6 +84,8 @@ inline constexpr const char* kLutFile = "printer.cube";
 inline constexpr const char* kReportPdfFile = "report.pdf";
 inline constexpr const char* kReportPngFile = "report.png";
 inline constexpr const char* kMeasurementsFile = "measurements.json";
+// Written when CalibrateCameraFromPhotos succeeds (OpenCV's layout).
+inline constexpr const char* kCameraFile = "camera.yaml";
 
 // The files to write into `folder` (for WriteFilesAtomically): the detector
 // config, the palette (if one was chosen), the LUT, the report as PDF and PNG,

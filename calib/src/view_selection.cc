@@ -1,0 +1,196 @@
+#include "chromatag/calib/view_selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace chromatag {
+namespace {
+
+constexpr int kCellsX = 8, kCellsY = 6;
+
+std::string Format(const char* format, double a, double b = 0.0) {
+  char text[160];
+  std::snprintf(text, sizeof text, format, a, b);
+  return text;
+}
+
+}  // namespace
+
+bool ViewSelectionOptions::IsValid(std::string* error) const {
+  const auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (max_views < 3 || max_views > 1000)
+    return fail("the most views to keep must be in [3, 1000], got " + std::to_string(max_views));
+  if (min_tags < 1) return fail("a view needs at least 1 board tag");
+  if (!(min_pose_distance > 0) || min_new_cells < 1)
+    return fail("min_pose_distance must be > 0 and min_new_cells at least 1");
+  return true;
+}
+
+double ViewPose::DistanceTo(const ViewPose& o) const {
+  return std::abs(centre_x - o.centre_x) + std::abs(centre_y - o.centre_y) +
+         std::abs(size - o.size) + std::abs(tilt_x - o.tilt_x) + std::abs(tilt_y - o.tilt_y);
+}
+
+ViewSelector::ViewSelector(const Board& board, cv::Size image_size,
+                           const ViewSelectionOptions& options)
+    : board_(board), image_size_(image_size), options_(options) {}
+
+bool ViewSelector::Describe(const std::vector<Detection>& detections, ViewPose* pose,
+                            std::string* why) const {
+  std::vector<cv::Point2f> corners;
+  int tags = 0;
+  for (const Detection& d : detections) {
+    if (d.family == nullptr || board_.Find(d.family->name(), d.id) < 0) continue;
+    ++tags;
+    for (const auto* ring : {&d.corners, &d.green_corners, &d.red_corners})
+      for (const cv::Point2d& p : *ring) corners.emplace_back(p);
+  }
+  if (tags < options_.min_tags) {
+    *why = std::to_string(tags) + " board tag(s) seen (needs " + std::to_string(options_.min_tags) +
+           ")";
+    return false;
+  }
+  // The tilt needs a camera; the real one is what is being calibrated. A
+  // typical lens (a 64-degree field of view across the width) tells the
+  // board's tilt well enough to tell poses apart.
+  CameraIntrinsics nominal;
+  nominal.fx = nominal.fy = 0.8 * image_size_.width;
+  nominal.cx = 0.5 * image_size_.width;
+  nominal.cy = 0.5 * image_size_.height;
+  BoardPose board_pose;
+  if (!EstimateBoardPose(detections, board_, nominal, &board_pose)) {
+    *why = "the board's pose could not be found";
+    return false;
+  }
+  cv::Matx33d r;
+  cv::Rodrigues(board_pose.rvec, r);
+  *pose = ViewPose();
+  pose->tilt_x = r(0, 2);
+  pose->tilt_y = r(1, 2);
+  cv::Point2d sum(0, 0);
+  for (const cv::Point2f& p : corners) {
+    sum += cv::Point2d(p);
+    const int cx = std::clamp(static_cast<int>(p.x * kCellsX / image_size_.width), 0, kCellsX - 1);
+    const int cy = std::clamp(static_cast<int>(p.y * kCellsY / image_size_.height), 0, kCellsY - 1);
+    pose->cells[cy * kCellsX + cx] = true;
+  }
+  pose->corners = static_cast<int>(corners.size());
+  pose->centre_x = sum.x / corners.size() / image_size_.width;
+  pose->centre_y = sum.y / corners.size() / image_size_.height;
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(corners, hull);
+  pose->size = std::sqrt(cv::contourArea(hull) / image_size_.area());
+  return true;
+}
+
+void ViewSelector::Compare(const ViewPose& pose, const std::vector<const ViewPose*>& kept,
+                           int* new_cells, double* distance, int* nearest) const {
+  *new_cells = 0;
+  for (size_t c = 0; c < pose.cells.size(); ++c) {
+    if (!pose.cells[c]) continue;
+    bool seen = false;
+    for (const ViewPose* k : kept) seen |= k->cells[c];
+    *new_cells += seen ? 0 : 1;
+  }
+  *distance = std::numeric_limits<double>::infinity();
+  *nearest = -1;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    const double d = pose.DistanceTo(*kept[i]);
+    if (d < *distance) {
+      *distance = d;
+      *nearest = static_cast<int>(i);
+    }
+  }
+}
+
+ViewDecision ViewSelector::Offer(const std::vector<Detection>& detections) {
+  ViewDecision decision;
+  if (full()) {
+    decision.why = "the cap of " + std::to_string(options_.max_views) + " views is reached";
+    return decision;
+  }
+  ViewPose pose;
+  if (!Describe(detections, &pose, &decision.why)) return decision;
+  std::vector<const ViewPose*> kept;
+  for (const ViewPose& k : kept_) kept.push_back(&k);
+  int new_cells = 0, nearest = -1;
+  double distance = 0;
+  Compare(pose, kept, &new_cells, &distance, &nearest);
+  if (kept.empty()) {
+    decision.why = "the first view";
+  } else if (new_cells >= options_.min_new_cells) {
+    decision.why = Format("covers %.0f new cells of the image", new_cells);
+  } else if (distance >= options_.min_pose_distance) {
+    decision.why = Format("a new pose (%.2f from the nearest kept view)", distance);
+  } else {
+    decision.why = Format("like kept view %.0f (pose %.2f apart)", nearest + 1, distance);
+    return decision;
+  }
+  decision.keep = true;
+  kept_.push_back(pose);
+  return decision;
+}
+
+std::vector<size_t> ViewSelector::Choose(const std::vector<ViewPose>& candidates,
+                                         std::vector<std::string>* why) const {
+  why->assign(candidates.size(), "");
+  std::vector<size_t> chosen;
+  std::vector<const ViewPose*> kept;
+  std::vector<bool> taken(candidates.size(), false);
+  while (static_cast<int>(chosen.size()) < options_.max_views) {
+    // Most new cells first, then the most distant pose; ties to more corners.
+    int best = -1, best_cells = -1;
+    double best_distance = -1;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      if (taken[i]) continue;
+      int cells = 0, nearest = -1;
+      double distance = 0;
+      Compare(candidates[i], kept, &cells, &distance, &nearest);
+      const bool adds =
+          kept.empty() || cells >= options_.min_new_cells || distance >= options_.min_pose_distance;
+      if (!adds) continue;
+      const int score_cells = cells >= options_.min_new_cells ? cells : 0;
+      const double score_distance = kept.empty() ? candidates[i].corners : distance;
+      if (score_cells > best_cells ||
+          (score_cells == best_cells && score_distance > best_distance)) {
+        best = static_cast<int>(i);
+        best_cells = score_cells;
+        best_distance = score_distance;
+      }
+    }
+    if (best < 0) break;
+    int cells = 0, nearest = -1;
+    double distance = 0;
+    Compare(candidates[best], kept, &cells, &distance, &nearest);
+    (*why)[best] = kept.empty() ? std::string("the most corners")
+                   : cells >= options_.min_new_cells
+                       ? Format("covers %.0f new cells of the image", cells)
+                       : Format("a new pose (%.2f from the nearest kept view)", distance);
+    taken[best] = true;
+    chosen.push_back(static_cast<size_t>(best));
+    kept.push_back(&candidates[best]);
+  }
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (taken[i]) continue;
+    int cells = 0, nearest = -1;
+    double distance = 0;
+    Compare(candidates[i], kept, &cells, &distance, &nearest);
+    if (cells >= options_.min_new_cells || distance >= options_.min_pose_distance) {
+      (*why)[i] = "the cap of " + std::to_string(options_.max_views) + " views is reached";
+    } else {
+      (*why)[i] = Format("like a kept view (pose %.2f apart, %.0f new cells)", distance, cells);
+    }
+  }
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+}  // namespace chromatag

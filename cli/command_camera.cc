@@ -1,0 +1,349 @@
+// chromatag calibrate-camera: intrinsics from views of a ChromaTag board.
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+#include <optional>
+
+#include "chromatag/calib/board_file.h"
+#include "chromatag/calib/camera_calibration.h"
+#include "chromatag/calib/camera_file.h"
+#include "chromatag/calib/camera_report.h"
+#include "chromatag/calib/view_selection.h"
+#include "chromatag/detector/config.h"
+#include "chromatag/detector/detector.h"
+#include "chromatag/families/input_file.h"
+#include "chromatag/generator/file_util.h"
+#include "commands.h"
+#include "sources.h"
+
+namespace chromatag::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CameraCalibOptions {
+  std::vector<std::string> inputs;
+  std::vector<int> camera_indices;
+  std::string board_file;
+  std::string output;
+  std::string format = "opencv";
+  std::string model = "pinhole";
+  bool k3 = false;
+  int max_views = 40;
+  std::vector<std::string> reports;
+  std::string config;
+  std::string camera_name = "camera";
+};
+
+// Ctrl-C ends the reading of a live camera and calibrates with the views
+// kept so far; a second one ends the process.
+std::atomic<bool> g_stop{false};
+
+void OnInterrupt(int) {
+  g_stop = true;
+  std::signal(SIGINT, SIG_DFL);
+}
+
+// Reads the inputs, detects, and keeps the views to calibrate with.
+class ViewCollector {
+ public:
+  ViewCollector(const Detector& detector, const Board& board, const ViewSelectionOptions& options)
+      : detector_(detector), board_(board), selection_(options) {}
+
+  // False when nothing could be read; messages for skipped inputs go to stderr.
+  void Read(const std::vector<Source>& sources) {
+    for (const Source& source : sources) {
+      if (g_stop) break;
+      if (source.kind == SourceKind::kImage) {
+        ReadImage(source.name);
+      } else {
+        ReadVideo(source);
+      }
+    }
+  }
+
+  const std::vector<CalibrationView>& views() const { return views_; }
+  cv::Size image_size() const { return size_; }
+  bool failed() const { return failed_; }
+
+ private:
+  void Skip(const std::string& message) {
+    std::cerr << "calibrate-camera: " << message << ", skipped\n";
+    failed_ = true;
+  }
+
+  // The frame's size against the first frame's; false (and a message) when
+  // it differs: one calibration is for one image size.
+  bool SameSize(const cv::Mat& frame, const std::string& name) {
+    if (size_.empty()) size_ = frame.size();
+    if (frame.size() == size_) return true;
+    Skip("'" + name + "' is " + std::to_string(frame.cols) + " x " + std::to_string(frame.rows) +
+         ", the first view " + std::to_string(size_.width) + " x " + std::to_string(size_.height) +
+         " (one calibration is for one image size)");
+    return false;
+  }
+
+  // Every image given is used: the user chose it.
+  void ReadImage(const std::string& path) {
+    int width = 0, height = 0;
+    if (ImageHeaderSize(path, &width, &height) &&
+        static_cast<double>(width) * height > kMaxImagePixels) {
+      Skip("'" + path + "' is " + std::to_string(width) + " x " + std::to_string(height) +
+           " pixels, over the limit of " + std::to_string(kMaxImagePixels >> 20) + " Mpx");
+      return;
+    }
+    const cv::Mat frame = cv::imread(path, cv::IMREAD_COLOR);
+    if (frame.empty()) return Skip("cannot read image '" + path + "'");
+    if (!SameSize(frame, path)) return;
+    DetectionResult result;
+    detector_.Detect(frame, PixelOrder::kBgr, &result);
+    views_.push_back({path, result.detections});
+  }
+
+  // Frames of a video are chosen once all are seen; a live camera's as
+  // they come, until the cap or Ctrl-C.
+  void ReadVideo(const Source& source) {
+    cv::VideoCapture capture;
+    if (source.camera_index >= 0) {
+      capture.open(source.camera_index);
+    } else {
+      capture.open(source.name);
+    }
+    if (!capture.isOpened()) return Skip("cannot open '" + source.name + "'");
+    std::optional<ViewSelector> selector;
+    std::vector<ViewPose> poses;
+    std::vector<CalibrationView> candidates;
+    std::map<std::string, int> not_kept;  // Reason -> frames.
+    int frames = 0;
+    DetectionResult result;
+    while (!g_stop) {
+      cv::Mat frame;
+      if (!capture.read(frame) || frame.empty()) break;
+      if (frame.type() != CV_8UC3)
+        return Skip("'" + source.name + "' gives frames that are not 8-bit colour");
+      if (!SameSize(frame, source.name)) return;
+      if (!selector) selector.emplace(board_, size_, selection_);
+      detector_.Detect(frame, PixelOrder::kBgr, &result);
+      const std::string name = source.name + " frame " + std::to_string(frames++);
+      if (source.live()) {
+        const ViewDecision decision = selector->Offer(result.detections);
+        if (decision.keep) {
+          views_.push_back({name, result.detections});
+          std::cerr << "calibrate-camera: kept " << name << " (" << selector->kept() << " of "
+                    << selection_.max_views << "): " << decision.why << "\n";
+          if (selector->full()) break;
+        }
+        continue;
+      }
+      ViewPose pose;
+      std::string why;
+      if (!selector->Describe(result.detections, &pose, &why)) {
+        ++not_kept[why.find("board tag") != std::string::npos ? "too few board tags" : why];
+        continue;
+      }
+      poses.push_back(pose);
+      candidates.push_back({name, result.detections});
+    }
+    if (frames == 0) return Skip("no frames in '" + source.name + "'");
+    if (source.live()) return;
+    std::vector<std::string> why;
+    const std::vector<size_t> chosen = selector->Choose(poses, &why);
+    for (size_t i : chosen) {
+      std::cerr << "calibrate-camera: kept " << candidates[i].name << ": " << why[i] << "\n";
+      views_.push_back(std::move(candidates[i]));
+    }
+    for (size_t i = 0; i < why.size(); ++i) {
+      if (std::find(chosen.begin(), chosen.end(), i) != chosen.end()) continue;
+      ++not_kept[why[i].rfind("like a kept view", 0) == 0 ? "like a kept view" : why[i]];
+    }
+    std::string summary;
+    for (const auto& [reason, count] : not_kept)
+      summary += (summary.empty() ? "" : ", ") + std::to_string(count) + " " + reason;
+    std::cerr << "calibrate-camera: " << source.name << ": " << frames << " frames, kept "
+              << chosen.size() << (summary.empty() ? "" : "; not kept: " + summary) << "\n";
+  }
+
+  const Detector& detector_;
+  const Board& board_;
+  const ViewSelectionOptions selection_;
+  std::vector<CalibrationView> views_;
+  cv::Size size_;
+  bool failed_ = false;
+};
+
+void PrintResult(const CameraCalibration& c) {
+  std::printf("view                                      tags  rms px\n");
+  for (const CalibrationViewResult& v : c.views) {
+    std::string name = v.name.size() > 40 ? "..." + v.name.substr(v.name.size() - 37) : v.name;
+    for (char& ch : name) ch = (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ? '?' : ch;
+    if (v.used) {
+      std::printf("%-40s %6d  %6.3f", name.c_str(), v.tags, v.rms_px);
+      for (size_t t = 0; t < v.tags_left_out.size(); ++t)
+        std::printf("  left out ID %d: %s", v.tags_left_out[t], v.why_left_out[t].c_str());
+      std::printf("\n");
+    } else {
+      std::printf("%-40s  left out: %s\n", name.c_str(), v.why_not.c_str());
+    }
+  }
+  const std::vector<std::string> names = CalibrationParameterNames(c.camera);
+  std::vector<double> values = {c.camera.fx, c.camera.fy, c.camera.cx, c.camera.cy};
+  values.insert(values.end(), c.camera.distortion.begin(), c.camera.distortion.end());
+  std::printf("\n%s model, %d x %d, %d corners, reprojection rms %.3f px\n",
+              LensModelName(c.camera.model), c.image_size.width, c.image_size.height,
+              c.corners_used, c.rms_px);
+  for (size_t i = 0; i < names.size() && i < values.size(); ++i) {
+    const double deviation = i < c.std_dev.size() ? c.std_dev[i] : 0.0;
+    if (i >= 4 && deviation == 0.0 && values[i] == 0.0) {
+      std::printf("  %-3s %12.6f (not fitted)\n", names[i].c_str(), values[i]);
+    } else {
+      std::printf(i < 4 ? "  %-3s %12.3f +- %.3f px\n" : "  %-3s %12.6f +- %.6f\n",
+                  names[i].c_str(), values[i], deviation);
+    }
+  }
+  std::fflush(stdout);
+  for (const std::string& w : c.warnings) std::cerr << "calibrate-camera: warning: " << w << "\n";
+}
+
+int RunCalibrateCamera(const CameraCalibOptions& o) {
+  const auto fail = [](const std::string& message) { return Fail("calibrate-camera", message); };
+  const CameraFileFormat format = o.format == "ros"      ? CameraFileFormat::kRos
+                                  : o.format == "kalibr" ? CameraFileFormat::kKalibr
+                                                         : CameraFileFormat::kOpenCv;
+  CameraCalibrationOptions calibration_options;
+  calibration_options.model = o.model == "fisheye" ? LensModel::kFisheye : LensModel::kPinhole;
+  calibration_options.fit_k3 = o.k3;
+  std::string error;
+  if (!calibration_options.IsValid(&error)) return fail("--k3: " + error);
+  if (o.k3 && format == CameraFileFormat::kKalibr)
+    return fail("--k3 with --format kalibr: Kalibr's radtan model has no k3");
+  const std::string ext = Lower(fs::path(o.output).extension().string());
+  if (ext != ".yaml" && ext != ".yml")
+    return fail("-o '" + o.output + "': camera files are YAML (.yaml or .yml)");
+  for (const std::string& report : o.reports) {
+    const std::string e = Lower(fs::path(report).extension().string());
+    if (e != ".pdf" && e != ".png") return fail("--report '" + report + "': .pdf or .png");
+  }
+  for (char ch : o.camera_name) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
+      return fail("--camera-name '" + o.camera_name + "': letters, digits and _ only");
+  }
+  ViewSelectionOptions selection;
+  selection.max_views = o.max_views;
+  if (!selection.IsValid(&error)) return fail("--max-views: " + error);
+
+  const std::optional<Board> board = ReadBoardFile(o.board_file, &error);
+  if (!board) return fail(error);
+  DetectorOptions detector_options;
+  detector_options.families.clear();
+  for (const BoardTag& tag : board->tags) {
+    if (std::find(detector_options.families.begin(), detector_options.families.end(), tag.family) ==
+        detector_options.families.end())
+      detector_options.families.push_back(tag.family);
+  }
+  if (!o.config.empty()) {
+    const std::vector<std::string> families = detector_options.families;
+    if (!LoadDetectorConfig(o.config, &detector_options, &error)) return fail(error);
+    detector_options.families = families;  // The board's, whatever the config says.
+  }
+  const auto detector = Detector::Create(detector_options, &error);
+  if (!detector) return fail(error);
+  std::vector<Source> sources;
+  if (!GatherSources(o.inputs, o.camera_indices, &sources, &error)) return fail(error);
+
+  g_stop = false;
+  std::signal(SIGINT, OnInterrupt);
+  ViewCollector collector(*detector, *board, selection);
+  collector.Read(sources);
+  std::signal(SIGINT, SIG_DFL);
+  if (collector.views().empty())
+    return Fail("calibrate-camera", "no views to calibrate with", kExitFailure);
+
+  const auto calibration = CalibrateCamera(*board, collector.views(), collector.image_size(),
+                                           calibration_options, &error);
+  if (!calibration) {
+    // Say which views fell short: the user's next step is more of them.
+    int with_board = 0;
+    for (const CalibrationView& v : collector.views()) {
+      int tags = 0;
+      for (const Detection& d : v.detections)
+        tags += d.family && board->Find(d.family->name(), d.id) >= 0 ? 1 : 0;
+      with_board += tags >= calibration_options.min_tags_per_view ? 1 : 0;
+    }
+    return Fail("calibrate-camera",
+                error + " (" + std::to_string(collector.views().size()) + " views read, " +
+                    std::to_string(with_board) + " show 2 or more board tags; give at least 3, " +
+                    "better 15-30, at varied tilts)",
+                kExitFailure);
+  }
+  PrintResult(*calibration);
+
+  CameraFileInfo info;
+  info.image_size = calibration->image_size;
+  info.camera_name = o.camera_name;
+  info.rms_px = calibration->rms_px;
+  const std::string text = CameraFileText(calibration->camera, info, format, &error);
+  if (text.empty()) return Fail("calibrate-camera", error, kExitFailure);
+  std::vector<OutputFile> files = {{o.output, text}};
+  const std::string title = fs::path(o.board_file).filename().string();
+  for (const std::string& report : o.reports) {
+    files.push_back({report, Lower(fs::path(report).extension().string()) == ".pdf"
+                                 ? RenderCameraReportPdf(*calibration, title)
+                                 : RenderCameraReportPng(*calibration, title)});
+  }
+  if (!WriteFilesAtomically(files, &error)) return Fail("calibrate-camera", error, kExitFailure);
+  std::cerr << "calibrate-camera: wrote " << o.output;
+  for (const std::string& report : o.reports) std::cerr << ", " << report;
+  std::cerr << "\n";
+  return collector.failed() ? kExitFailure : kExitOk;
+}
+
+}  // namespace
+
+void RegisterCalibrateCamera(CLI::App& app, Action* action) {
+  auto o = std::make_shared<CameraCalibOptions>();
+  CLI::App* c = app.add_subcommand(
+      "calibrate-camera",
+      "Camera intrinsics from images, videos or a live camera of a ChromaTag board "
+      "(docs/camera-calibration.md)");
+  c->add_option("--board", o->board_file,
+                "The board: a sheet's sidecar (generate --board, calib-sheet) or a bundle YAML "
+                "(FILE[#NAME]); planar")
+      ->required();
+  c->add_option("-o,--output", o->output, "Camera file to write (.yaml)")->required();
+  c->add_option("--format", o->format,
+                "opencv (cv::FileStorage), ros (camera_info) or kalibr (camchain); detect "
+                "--camera reads all three")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"opencv", "ros", "kalibr"}));
+  c->add_option("--model", o->model,
+                "pinhole (k1, k2, p1, p2[, k3]) or fisheye (cv::fisheye's equidistant k1-k4)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pinhole", "fisheye"}));
+  c->add_flag("--k3", o->k3, "Pinhole: fit k3 as well (wide lenses)");
+  c->add_option("--max-views", o->max_views,
+                "Most views kept from videos and cameras, chosen for coverage and pose [3, 1000]")
+      ->capture_default_str();
+  c->add_option("--report", o->reports,
+                "Write the report: coverage, residuals, per-view rms, parameters (.pdf or .png; "
+                "repeatable)");
+  c->add_option("--config", o->config,
+                "Detector config JSON (thresholds from 'chromatag calibrate')");
+  c->add_option("--camera-name", o->camera_name,
+                "Name in the camera file (ROS camera_name, Kalibr /NAME/image_raw)")
+      ->capture_default_str();
+  c->add_option("--camera-index", o->camera_indices,
+                "Read a camera by its index; views are kept as they come until --max-views or "
+                "Ctrl-C");
+  c->add_option("INPUT", o->inputs,
+                "Images (each used), folders, videos (views chosen), /dev/videoN or stream URLs");
+  c->callback([o, action] { *action = [o] { return RunCalibrateCamera(*o); }; });
+}
+
+}  // namespace chromatag::cli

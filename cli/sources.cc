@@ -1,0 +1,98 @@
+#include "sources.h"
+
+#include <algorithm>
+#include <map>
+
+#include "commands.h"
+
+namespace chromatag::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+Source MakeSource(SourceKind kind, std::string name) {
+  Source source;
+  source.kind = kind;
+  source.name = std::move(name);
+  return source;
+}
+
+}  // namespace
+
+bool IsVideo(const fs::path& path) {
+  const std::string ext = Lower(path.extension().string());
+  for (const char* v : {".avi", ".mp4", ".mkv", ".mov", ".webm", ".mpg", ".mpeg", ".m4v"})
+    if (ext == v) return true;
+  return false;
+}
+
+bool IsImage(const fs::path& path) {
+  const std::string ext = Lower(path.extension().string());
+  for (const char* v : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".ppm", ".pgm", ".webp"})
+    if (ext == v) return true;
+  return false;
+}
+
+bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int>& camera_indices,
+                   std::vector<Source>* sources, std::string* error) {
+  std::vector<std::string> missing;
+  for (const std::string& input : inputs) {
+    std::error_code ec;
+    const fs::path path(input);
+    if (input.find("://") != std::string::npos) {
+      sources->push_back(MakeSource(SourceKind::kStream, input));
+    } else if (input.rfind("/dev/video", 0) == 0) {
+      sources->push_back(MakeSource(SourceKind::kCamera, input));
+    } else if (fs::is_directory(path, ec)) {
+      std::vector<fs::path> files;
+      for (const auto& entry : fs::directory_iterator(path, ec)) {
+        if (entry.is_regular_file() && (IsImage(entry.path()) || IsVideo(entry.path())))
+          files.push_back(entry.path());
+      }
+      std::sort(files.begin(), files.end());
+      for (const fs::path& file : files)
+        sources->push_back(
+            MakeSource(IsVideo(file) ? SourceKind::kVideo : SourceKind::kImage, file.string()));
+    } else if (!fs::exists(path, ec)) {
+      missing.push_back(input);
+    } else if (!fs::is_regular_file(path, ec)) {
+      // A FIFO named .png would block the run forever; a device is not an image.
+      *error = "'" + input + "' is not a regular file, a folder, /dev/videoN or a URL";
+      return false;
+    } else {
+      sources->push_back(
+          MakeSource(IsVideo(path) ? SourceKind::kVideo : SourceKind::kImage, input));
+    }
+  }
+  for (int index : camera_indices) {
+    Source camera = MakeSource(SourceKind::kCamera, "camera " + std::to_string(index));
+    camera.camera_index = index;
+    sources->push_back(camera);
+  }
+  if (!missing.empty()) {
+    *error = "no such file or folder: '" + missing[0] + "'" +
+             (missing.size() > 1 ? " (and " + std::to_string(missing.size() - 1) + " more)" : "");
+    return false;
+  }
+  if (sources->empty()) {
+    *error =
+        "no input: give images, folders, videos, /dev/videoN, a stream URL or "
+        "--camera-index N";
+    return false;
+  }
+  // Overlay names: the file name with its extension (scene.jpg and scene.mp4
+  // differ), and a counter for names met before (a/x.png, b/x.png).
+  std::map<std::string, int> used;
+  for (size_t i = 0; i < sources->size(); ++i) {
+    Source& s = (*sources)[i];
+    std::string stem =
+        s.kind == SourceKind::kStream ? "stream" : fs::path(s.name).filename().string();
+    if (s.camera_index >= 0) stem = "camera" + std::to_string(s.camera_index);
+    std::replace(stem.begin(), stem.end(), '.', '_');
+    const int n = ++used[stem];
+    s.overlay_stem = n == 1 ? stem : stem + "-" + std::to_string(n);
+  }
+  return true;
+}
+
+}  // namespace chromatag::cli

@@ -1,0 +1,34 @@
+// The inputs of `detect` and `calibrate-camera`: images, folders of them,
+// videos, /dev/videoN, stream URLs and camera indices, in order.
+#ifndef CHROMATAG_CLI_SOURCES_H_
+#define CHROMATAG_CLI_SOURCES_H_
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace chromatag::cli {
+
+// By extension.
+bool IsVideo(const std::filesystem::path& path);
+bool IsImage(const std::filesystem::path& path);
+
+enum class SourceKind { kImage, kVideo, kCamera, kStream };
+
+struct Source {
+  SourceKind kind = SourceKind::kImage;
+  std::string name;  // As given: a path, /dev/videoN, "camera N" or a URL.
+  int camera_index = -1;
+  std::string overlay_stem;  // Unique among the run's sources.
+  bool live() const { return kind == SourceKind::kCamera || kind == SourceKind::kStream; }
+};
+
+// The sources named on the command line (a folder gives its images and
+// videos, sorted), then the camera indices; false with *error for inputs
+// that do not exist or are not regular files, or for no input at all.
+bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int>& camera_indices,
+                   std::vector<Source>* sources, std::string* error);
+
+}  // namespace chromatag::cli
+
+#endif  // CHROMATAG_CLI_SOURCES_H_

@@ -1,0 +1,439 @@
+// Camera calibration end to end: a board written by the generator
+// (generate --board), photographed by a 752 x 480 camera with fx about 600
+// and strong barrel distortion (k1 -0.25) at 20 poses, through noise, blur
+// and JPEG; the detector's corners calibrate it (library and
+// `chromatag calibrate-camera`), and the camera file it writes gives the
+// board's pose in a fresh view (`detect --camera --board`).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "calib_sim.h"
+#include "chromatag/calib/board_file.h"
+#include "chromatag/calib/camera_calibration.h"
+#include "chromatag/calib/camera_file.h"
+#include "chromatag/detector/detector.h"
+#include "chromatag/generator/sheet.h"
+#include "chromatag/generator/sheet_request.h"
+#include "chromatag/generator/sidecar.h"
+#include "page_view.h"
+#include "test_util.h"
+
+namespace chromatag {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::PrintedPage;
+
+constexpr double kPi = 3.14159265358979323846;
+const cv::Size kSize(752, 480);
+
+CameraIntrinsics TrueCamera() {
+  CameraIntrinsics camera;
+  camera.fx = 600;
+  camera.fy = 603;
+  camera.cx = 370.5;
+  camera.cy = 244.25;
+  camera.distortion = {-0.25, 0.08, 0.001, -0.0005, 0.0};
+  return camera;
+}
+
+struct PrintedBoard {
+  PrintedPage page;
+  Board board;
+  std::string sidecar;  // The board file's text.
+};
+
+// `generate --board 6x4 --page 250x180mm` at 8 pixels per mm: 24 mm tags.
+// `spacing` changes the layout (another board with the same IDs);
+// `replace` prints one tag with another board tag's ID.
+PrintedBoard PrintBoard(const std::string& spacing = "", int replace = -1) {
+  SheetRequest request;
+  request.board = "6x4";
+  request.page = "250x180mm";
+  request.spacing = spacing;
+  request.format = "png";
+  request.dpi = 8 * 25.4;
+  SheetOptions options;
+  std::string error;
+  EXPECT_TRUE(ToSheetOptions(request, "board.png", &options, &error)) << error;
+  auto files = RenderSheet(options, "board.png", &error);
+  EXPECT_TRUE(files) << error;
+  PrintedBoard printed;
+  printed.sidecar = files->back().contents;
+  const auto record = ParseSidecar(printed.sidecar, "", &error);
+  EXPECT_TRUE(record) << error;
+  printed.board = *BoardFromSheet(*record, &error);
+  printed.page.origin_mm = record->board_origin_mm;
+  if (replace >= 0) {
+    options.ids[replace] = options.ids[(replace + 7) % options.ids.size()];
+    files = RenderSheet(options, "board.png", &error);
+  }
+  const std::string& png = files->front().contents;
+  printed.page.bgr = cv::imdecode(std::vector<uchar>(png.begin(), png.end()), cv::IMREAD_COLOR);
+  printed.page.px_per_mm = options.dpi / 25.4;
+  return printed;
+}
+
+struct Pose {
+  cv::Vec3d rvec, tvec;
+};
+
+// The board's centre `distance` ahead, tilted `tilt` degrees about a random
+// in-plane axis, shifted up to `shift` metres sideways.
+Pose RandomPose(const Board& board, std::mt19937* rng, double tilt, double distance, double shift) {
+  std::uniform_real_distribution<double> axis(0, 360), spin(-20, 20), side(-shift, shift);
+  Pose pose;
+  pose.rvec = testing::BoardFacing(tilt, axis(*rng), spin(*rng));
+  cv::Vec3d centre(0, 0, 0);
+  for (const BoardTag& tag : board.tags) centre += tag.translation / double(board.tags.size());
+  cv::Matx33d r;
+  cv::Rodrigues(pose.rvec, r);
+  pose.tvec = cv::Vec3d(side(*rng), side(*rng), distance) - r * centre;
+  return pose;
+}
+
+// Noise of 1 grey level, a lens blur of up to 1 px, JPEG in every third view.
+testing::SceneOptions Effects(int view, std::mt19937* rng, double blur = -1) {
+  testing::SceneOptions effects;
+  effects.noise_sigma = 1.0;
+  effects.blur_sigma = blur >= 0 ? blur : std::uniform_real_distribution<double>(0.3, 1.0)(*rng);
+  effects.blur_in_linear_light = true;
+  effects.jpeg_quality = view % 3 == 0 ? 85 : 0;
+  effects.seed = static_cast<unsigned>(view + 1);
+  return effects;
+}
+
+// Twenty views: tilted 10 to 45 degrees, 0.2 to 0.32 m away (the board
+// fills half the width or more, its tags 45 to 70 px wide face-on), shifted
+// so that corners reach the image's edges.
+std::vector<cv::Mat> RenderTwentyViews(const PrintedBoard& printed, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> tilt(10, 45), distance(0.2, 0.32);
+  std::vector<cv::Mat> views;
+  for (int v = 0; v < 20; ++v) {
+    const Pose pose = RandomPose(printed.board, &rng, tilt(rng), distance(rng), 0.05);
+    views.push_back(testing::PhotographPage(printed.page, TrueCamera(), kSize, pose.rvec, pose.tvec,
+                                            Effects(v, &rng)));
+  }
+  return views;
+}
+
+// The twenty views of the plain board, rendered once for all the tests.
+const std::vector<cv::Mat>& TwentyViews(const PrintedBoard& printed) {
+  static const std::vector<cv::Mat> views = RenderTwentyViews(printed, 11);
+  return views;
+}
+
+CalibrationView Detect(const cv::Mat& frame, const std::string& name) {
+  static const auto detector = Detector::Create(DetectorOptions());
+  DetectionResult result;
+  detector->Detect(frame, PixelOrder::kBgr, &result);
+  return {name, result.detections};
+}
+
+// The limits: fx and fy within 0.1 %, the principal point within
+// 1 px, k1 within 0.005, rms at most 0.2 px.
+void ExpectWithinLimits(const CameraIntrinsics& c, double rms) {
+  const CameraIntrinsics truth = TrueCamera();
+  EXPECT_NEAR(c.fx, truth.fx, 0.001 * truth.fx);
+  EXPECT_NEAR(c.fy, truth.fy, 0.001 * truth.fy);
+  EXPECT_NEAR(c.cx, truth.cx, 1.0);
+  EXPECT_NEAR(c.cy, truth.cy, 1.0);
+  ASSERT_GE(c.distortion.size(), 1u);
+  EXPECT_NEAR(c.distortion[0], truth.distortion[0], 0.005);
+  EXPECT_LE(rms, 0.2);
+}
+
+// The twenty views calibrate the camera within the limits; a view of
+// another board with the same IDs, a view blurred by shake and a view with
+// one tag misprinted are left out (or the tag is), each named.
+TEST(CameraCalibrationEndToEnd, RecoversTheCameraAndNamesBadViews) {
+  const PrintedBoard printed = PrintBoard();
+  std::vector<CalibrationView> views;
+  const std::vector<cv::Mat> frames = TwentyViews(printed);
+  for (size_t i = 0; i < frames.size(); ++i)
+    views.push_back(Detect(frames[i], "view " + std::to_string(i)));
+  std::mt19937 rng(3);
+  // The same tags 40 % further apart.
+  const PrintedBoard other = PrintBoard("14mm");
+  const Pose near = RandomPose(printed.board, &rng, 25, 0.28, 0.02);
+  views.push_back(Detect(testing::PhotographPage(other.page, TrueCamera(), kSize, near.rvec,
+                                                 near.tvec, Effects(20, &rng)),
+                         "another board"));
+  // Shake: the view smeared 12 px along a diagonal.
+  cv::Mat shaken = testing::PhotographPage(printed.page, TrueCamera(), kSize, near.rvec, near.tvec,
+                                           Effects(21, &rng, 0.5));
+  cv::Mat kernel = cv::Mat::zeros(13, 13, CV_32F);
+  for (int i = 0; i < 13; ++i) kernel.at<float>(i, i) = 1.0f / 13;
+  cv::filter2D(shaken, shaken, -1, kernel);
+  views.push_back(Detect(shaken, "shaken"));
+  // Tag 9 printed with tag 16's ID.
+  const PrintedBoard misprinted = PrintBoard("", 9);
+  const Pose third = RandomPose(printed.board, &rng, 30, 0.26, 0.02);
+  views.push_back(Detect(testing::PhotographPage(misprinted.page, TrueCamera(), kSize, third.rvec,
+                                                 third.tvec, Effects(22, &rng)),
+                         "misprint"));
+  std::string error;
+  const auto calibration = CalibrateCamera(printed.board, views, kSize, {}, &error);
+  ASSERT_TRUE(calibration) << error;
+  ExpectWithinLimits(calibration->camera, calibration->rms_px);
+  int used = 0;
+  for (size_t v = 0; v < 20; ++v) used += calibration->views[v].used ? 1 : 0;
+  EXPECT_GE(used, 19);
+  const CalibrationViewResult& wrong = calibration->views[20];
+  EXPECT_FALSE(wrong.used);
+  EXPECT_FALSE(wrong.why_not.empty());
+  const CalibrationViewResult& blurred = calibration->views[21];
+  EXPECT_FALSE(blurred.used && blurred.tags_left_out.empty())
+      << "the shaken view was used whole, at " << blurred.rms_px << " px rms";
+  const CalibrationViewResult& misprint = calibration->views[22];
+  EXPECT_TRUE(misprint.used) << misprint.why_not;
+  EXPECT_EQ(misprint.tags_left_out, std::vector<int>{printed.board.tags[16].id});
+  std::printf("fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f rms %.3f; another board: %s; shaken: %s\n",
+              calibration->camera.fx, calibration->camera.fy, calibration->camera.cx,
+              calibration->camera.cy, calibration->camera.distortion[0], calibration->rms_px,
+              wrong.why_not.c_str(),
+              blurred.used
+                  ? ("tags left out: " + std::to_string(blurred.tags_left_out.size())).c_str()
+                  : blurred.why_not.c_str());
+}
+
+class CalibrateCameraCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("chromatag-camera-cli-" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "views");
+  }
+  void TearDown() override {
+    if (!std::getenv("KEEP")) fs::remove_all(dir_);
+  }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  void Write(const std::string& name, const std::string& text) const {
+    std::ofstream(Path(name), std::ios::binary) << text;
+  }
+  fs::path dir_;
+};
+
+// The twenty views as files calibrate the camera; each output format is read
+// back by `detect --camera`, which with `--board` gives the board's pose in
+// a fresh view to within 0.5 degrees and 0.5 % of its distance.
+TEST_F(CalibrateCameraCli, CalibratesAndDetectReadsItsCameraFile) {
+  const PrintedBoard printed = PrintBoard();
+  Write("board.json", printed.sidecar);
+  const std::vector<cv::Mat> frames = TwentyViews(printed);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    char name[48];
+    std::snprintf(name, sizeof name, "views/view%02zu.png", i);
+    ASSERT_TRUE(cv::imwrite(Path(name), frames[i]));
+  }
+  const auto run = testing::RunChromatag({"calibrate-camera", Path("views"), "--board",
+                                          Path("board.json"), "-o", Path("camera.yaml"), "--report",
+                                          Path("report.pdf"), "--report", Path("report.png")});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("reprojection rms"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("fx"), std::string::npos) << run.out;
+  CameraIntrinsics camera;
+  std::string error;
+  ASSERT_TRUE(LoadCameraFile(Path("camera.yaml"), &camera, &error)) << error;
+  ExpectWithinLimits(camera, 0.0);
+  EXPECT_EQ(testing::ReadFile(Path("report.pdf")).rfind("%PDF", 0), 0u);
+  const cv::Mat report = cv::imread(Path("report.png"));
+  EXPECT_EQ(report.cols, 1263);
+
+  // A fresh view at a known pose.
+  std::mt19937 rng(77);
+  const Pose truth = RandomPose(printed.board, &rng, 35, 0.3, 0.03);
+  ASSERT_TRUE(cv::imwrite(Path("fresh.png"),
+                          testing::PhotographPage(printed.page, TrueCamera(), kSize, truth.rvec,
+                                                  truth.tvec, Effects(5, &rng))));
+  for (const std::string format : {"opencv", "ros", "kalibr"}) {
+    SCOPED_TRACE(format);
+    const std::string file = Path(format + ".yaml");
+    if (format != "opencv") {
+      const auto again =
+          testing::RunChromatag({"calibrate-camera", Path("views"), "--board", Path("board.json"),
+                                 "-o", file, "--format", format});
+      ASSERT_EQ(again.exit_code, 0) << again.err;
+    } else {
+      fs::copy_file(Path("camera.yaml"), file);
+    }
+    const auto detect = testing::RunChromatag(
+        {"detect", Path("fresh.png"), "--camera", file, "--board", Path("board.json"), "--json"});
+    ASSERT_EQ(detect.exit_code, 0) << detect.err;
+    const auto line = nlohmann::json::parse(detect.out);
+    ASSERT_TRUE(line["board"].is_object()) << detect.out;
+    const cv::Vec3d rvec(line["board"]["rvec"][0], line["board"]["rvec"][1],
+                         line["board"]["rvec"][2]);
+    const cv::Vec3d tvec(line["board"]["tvec"][0], line["board"]["tvec"][1],
+                         line["board"]["tvec"][2]);
+    cv::Matx33d r, t;
+    cv::Rodrigues(rvec, r);
+    cv::Rodrigues(truth.rvec, t);
+    cv::Vec3d apart;
+    cv::Rodrigues(cv::Matx33d(r.t() * t), apart);
+    EXPECT_LT(cv::norm(apart) * 180 / kPi, 0.5);
+    EXPECT_LT(cv::norm(tvec - truth.tvec) / cv::norm(truth.tvec), 0.005);
+  }
+}
+
+// From a video the views are chosen: frames much like a kept one are not
+// kept, and the run says so.
+TEST_F(CalibrateCameraCli, ChoosesViewsFromAVideo) {
+  const PrintedBoard printed = PrintBoard();
+  Write("board.json", printed.sidecar);
+  const std::vector<cv::Mat> frames = TwentyViews(printed);
+  cv::VideoWriter video(Path("film.avi"), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10, kSize);
+  ASSERT_TRUE(video.isOpened());
+  // Each view held for three frames, as a slow hand gives.
+  for (const cv::Mat& frame : frames)
+    for (int i = 0; i < 3; ++i) video.write(frame);
+  video.release();
+  const auto run = testing::RunChromatag({"calibrate-camera", Path("film.avi"), "--board",
+                                          Path("board.json"), "-o", Path("camera.yaml")});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("60 frames, kept"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("like a kept view"), std::string::npos) << run.err;
+  CameraIntrinsics camera;
+  std::string error;
+  ASSERT_TRUE(LoadCameraFile(Path("camera.yaml"), &camera, &error)) << error;
+  EXPECT_NEAR(camera.fx, 600, 1.5);
+}
+
+TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
+  const PrintedBoard printed = PrintBoard();
+  Write("board.json", printed.sidecar);
+  const std::vector<cv::Mat> frames = TwentyViews(printed);
+  ASSERT_TRUE(cv::imwrite(Path("one.png"), frames[0]));
+  ASSERT_TRUE(cv::imwrite(Path("two.png"), frames[1]));
+  const auto two =
+      testing::RunChromatag({"calibrate-camera", Path("one.png"), Path("two.png"), "--board",
+                             Path("board.json"), "-o", Path("camera.yaml")});
+  EXPECT_EQ(two.exit_code, 1);
+  EXPECT_NE(two.err.find("fewer than three views"), std::string::npos) << two.err;
+  EXPECT_FALSE(fs::exists(Path("camera.yaml")));
+  const auto k3 =
+      testing::RunChromatag({"calibrate-camera", Path("one.png"), "--board", Path("board.json"),
+                             "-o", Path("camera.yaml"), "--k3", "--format", "kalibr"});
+  EXPECT_EQ(k3.exit_code, 2);
+  EXPECT_NE(k3.err.find("no k3"), std::string::npos) << k3.err;
+  const auto no_board = testing::RunChromatag({"calibrate-camera", Path("one.png"), "--board",
+                                               Path("missing.json"), "-o", Path("camera.yaml")});
+  EXPECT_EQ(no_board.exit_code, 2);
+  EXPECT_NE(no_board.err.find("missing.json"), std::string::npos) << no_board.err;
+  const auto txt = testing::RunChromatag({"calibrate-camera", Path("one.png"), "--board",
+                                          Path("board.json"), "-o", Path("camera.txt")});
+  EXPECT_EQ(txt.exit_code, 2);
+  EXPECT_NE(txt.err.find(".yaml"), std::string::npos) << txt.err;
+}
+
+}  // namespace
+}  // namespace chromatag
+
+namespace chromatag {
+namespace {
+
+// The colour calibration sheet serves as the board: photos of it at varied
+// tilts give the detector thresholds and the camera in one `calibrate` run,
+// and `calibrate-camera` takes its sidecar as the board.
+TEST_F(CalibrateCameraCli, TheColourSheetCalibratesTheCameraToo) {
+  const auto sheet =
+      testing::RunChromatag({"calib-sheet", "-o", Path("sheet.png"), "--dpi", "203.2"});
+  ASSERT_EQ(sheet.exit_code, 0) << sheet.err;
+  // Printed by the calibration tests' simulated printer (paper black L* 12,
+  // desaturated, hue shifted), as the colour calibration expects a print.
+  PrintedPage page;
+  page.bgr = cv::imread(Path("sheet.png"));
+  ASSERT_FALSE(page.bgr.empty());
+  const testing::SimPrinter printer;
+  std::map<int, cv::Vec3b> printed;
+  for (auto it = page.bgr.begin<cv::Vec3b>(); it != page.bgr.end<cv::Vec3b>(); ++it) {
+    cv::Vec3b& p = *it;
+    const int key = p[0] | p[1] << 8 | p[2] << 16;
+    auto found = printed.find(key);
+    if (found == printed.end()) {
+      const Rgb8 ink = LabToSrgb8(printer.Print(Rgb8{p[2], p[1], p[0]}));
+      found = printed.emplace(key, cv::Vec3b(ink.b, ink.g, ink.r)).first;
+    }
+    p = found->second;
+  }
+  page.px_per_mm = 8.0;
+  page.origin_mm = {0.0, 297.0};  // A4 portrait: the board origin at its bottom-left corner.
+  std::string error;
+  const auto board = ReadBoardFile(Path("sheet.png.json"), &error);
+  ASSERT_TRUE(board) << error;
+  ASSERT_EQ(board->tags.size(), 4u);
+  CameraIntrinsics camera;
+  camera.fx = camera.fy = 1000;
+  camera.cx = 641;
+  camera.cy = 478;
+  camera.distortion = {-0.12, 0.05, 0.0, 0.0, 0.0};
+  const cv::Size size(1280, 960);
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> axis(0, 360), tilt(20, 40), side(-0.03, 0.03);
+  std::vector<std::string> photos;
+  for (int v = 0; v < 12; ++v) {
+    Pose pose;
+    pose.rvec = testing::BoardFacing(v == 0 ? 0 : tilt(rng), axis(rng));
+    cv::Matx33d r;
+    cv::Rodrigues(pose.rvec, r);
+    pose.tvec = cv::Vec3d(side(rng), side(rng), 0.42) - r * cv::Vec3d(0.105, 0.1485, 0);
+    // Exposed for the paper, as the colour calibration asks.
+    testing::SceneOptions effects;
+    effects.linear_camera = true;
+    effects.exposure = 0.8;
+    effects.noise_sigma = 1.0;
+    effects.blur_sigma = 0.6;
+    effects.seed = static_cast<unsigned>(v + 1);
+    photos.push_back(Path("photo" + std::to_string(v) + ".png"));
+    ASSERT_TRUE(
+        cv::imwrite(photos.back(), testing::PhotographPage(page, camera, size, pose.rvec, pose.tvec,
+                                                           effects, cv::Scalar(60, 70, 80))));
+  }
+  std::vector<std::string> args = {"calibrate", "--sheet", Path("sheet.png.json"), "-o",
+                                   Path("out")};
+  args.insert(args.end(), photos.begin(), photos.end());
+  const auto run = testing::RunChromatag(args);
+  ASSERT_EQ(run.exit_code, 0) << run.err << run.out;
+  EXPECT_TRUE(fs::exists(Path("out/detector.json")));
+  EXPECT_NE(run.out.find("Camera from"), std::string::npos) << run.out;
+  CameraIntrinsics found;
+  ASSERT_TRUE(LoadCameraFile(Path("out/camera.yaml"), &found, &error)) << error << run.out;
+  EXPECT_NEAR(found.fx, 1000, 2);
+  EXPECT_NEAR(found.fy, 1000, 2);
+  EXPECT_NEAR(found.cx, 641, 2);
+  EXPECT_NEAR(found.cy, 478, 2);
+  EXPECT_NEAR(found.distortion[0], -0.12, 0.01);
+  std::printf("from the colour sheet: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f\n", found.fx,
+              found.fy, found.cx, found.cy, found.distortion[0]);
+
+  // calibrate-camera reads the same sidecar as a board.
+  const auto direct =
+      testing::RunChromatag({"calibrate-camera", Path("photo1.png"), Path("photo2.png"),
+                             Path("photo3.png"), Path("photo4.png"), Path("photo5.png"), "--board",
+                             Path("sheet.png.json"), "-o", Path("cam.yaml")});
+  EXPECT_EQ(direct.exit_code, 0) << direct.err;
+
+  // Two photos give colours but no camera, and say why.
+  const auto two = testing::RunChromatag(
+      {"calibrate", "--sheet", Path("sheet.png.json"), "-o", Path("two"), photos[0], photos[1]});
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_NE(two.out.find("Camera intrinsics not written: 2 photo(s)"), std::string::npos)
+      << two.out;
+  EXPECT_FALSE(fs::exists(Path("two/camera.yaml")));
+}
+
+}  // namespace
+}  // namespace chromatag
