@@ -92,15 +92,14 @@ struct Pose {
 
 // The board's centre `distance` ahead, tilted `tilt` degrees about a random
 // in-plane axis, shifted up to `shift` metres sideways.
-Pose RandomPose(const Board& board, std::mt19937* rng, double tilt, double distance, double shift) {
+Pose RandomPose(const Board& board, std::mt19937* rng, double tilt, double distance,
+                double shift) {
   std::uniform_real_distribution<double> axis(0, 360), spin(-20, 20), side(-shift, shift);
-  Pose pose;
-  pose.rvec = testing::BoardFacing(tilt, axis(*rng), spin(*rng));
   cv::Vec3d centre(0, 0, 0);
   for (const BoardTag& tag : board.tags) centre += tag.translation / double(board.tags.size());
-  cv::Matx33d r;
-  cv::Rodrigues(pose.rvec, r);
-  pose.tvec = cv::Vec3d(side(*rng), side(*rng), distance) - r * centre;
+  Pose pose;
+  const double a = axis(*rng), s = spin(*rng), x = side(*rng), y = side(*rng);
+  testing::PlaceBoard(centre, {x, y, distance}, tilt, a, s, &pose.rvec, &pose.tvec);
   return pose;
 }
 
@@ -386,10 +385,8 @@ TEST_F(CalibrateCameraCli, TheColourSheetCalibratesTheCameraToo) {
   std::vector<std::string> photos;
   for (int v = 0; v < 12; ++v) {
     Pose pose;
-    pose.rvec = testing::BoardFacing(v == 0 ? 0 : tilt(rng), axis(rng));
-    cv::Matx33d r;
-    cv::Rodrigues(pose.rvec, r);
-    pose.tvec = cv::Vec3d(side(rng), side(rng), 0.42) - r * cv::Vec3d(0.105, 0.1485, 0);
+    const double t = v == 0 ? 0 : tilt(rng), a = axis(rng), x = side(rng), y = side(rng);
+    testing::PlaceBoard({0.105, 0.1485, 0}, {x, y, 0.42}, t, a, 0, &pose.rvec, &pose.tvec);
     // Exposed for the paper, as the colour calibration asks.
     testing::SceneOptions effects;
     effects.linear_camera = true;

@@ -91,4 +91,12 @@ cv::Vec3d BoardFacing(double tilt_deg, double axis_deg, double spin_deg) {
   return rvec;
 }
 
+void PlaceBoard(const cv::Vec3d& on_board, const cv::Vec3d& in_camera, double tilt_deg,
+                double axis_deg, double spin_deg, cv::Vec3d* rvec, cv::Vec3d* tvec) {
+  *rvec = BoardFacing(tilt_deg, axis_deg, spin_deg);
+  cv::Matx33d r;
+  cv::Rodrigues(*rvec, r);
+  *tvec = in_camera - r * on_board;
+}
+
 }  // namespace chromatag::testing

@@ -38,6 +38,11 @@ cv::Mat PhotographPage(const PrintedPage& page, const CameraIntrinsics& camera, 
 // vector.
 cv::Vec3d BoardFacing(double tilt_deg, double axis_deg, double spin_deg = 0.0);
 
+// camera_from_board (rvec, tvec) that puts board point `on_board` at
+// `in_camera`, the board turned as BoardFacing(tilt_deg, axis_deg, spin_deg).
+void PlaceBoard(const cv::Vec3d& on_board, const cv::Vec3d& in_camera, double tilt_deg,
+                double axis_deg, double spin_deg, cv::Vec3d* rvec, cv::Vec3d* tvec);
+
 }  // namespace chromatag::testing
 
 #endif  // CHROMATAG_TESTS_PAGE_VIEW_H_

@@ -236,22 +236,24 @@ void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& titl
   }
   y += 6;
   std::vector<std::string> left_out;
-  for (size_t v = 0; v < c.views.size(); ++v) {
-    const CalibrationViewResult& view = c.views[v];
-    if (!view.used) left_out.push_back(F("view %.0f ", v + 1) + view.name + ": " + view.why_not);
+  for (const CalibrationViewResult& view : c.views) {
+    if (!view.used) left_out.push_back(view.name + ": " + view.why_not);
     for (size_t t = 0; t < view.tags_left_out.size(); ++t)
-      left_out.push_back(F("view %.0f ", v + 1) + view.name + ", ID " +
-                         std::to_string(view.tags_left_out[t]) + ": " +
+      left_out.push_back(view.name + ", ID " + std::to_string(view.tags_left_out[t]) + ": " +
                          (t < view.why_left_out.size() ? view.why_left_out[t] : ""));
   }
   Text(cr, kMargin, y, 9.5, left_out.empty() ? "Nothing left out" : "Left out", true);
   y += 12;
-  for (size_t i = 0; i < left_out.size() && y < kHeight - kMargin; ++i) {
-    const bool last = y + 10 >= kHeight - kMargin && i + 1 < left_out.size();
-    const std::string line =
-        last ? F("... and %.0f more", left_out.size() - i) : Wrap(left_out[i], 70).front();
-    Text(cr, kMargin, y, 7.5, line, false, 0.15);
-    y += 9.5;
+  for (size_t i = 0; i < left_out.size(); ++i) {
+    if (y + 20 >= kHeight - kMargin && i + 1 < left_out.size()) {
+      Text(cr, kMargin, y, 7.5, F("... and %.0f more", left_out.size() - i), false, 0.15);
+      break;
+    }
+    const std::vector<std::string> lines = Wrap(left_out[i], 72);
+    for (size_t l = 0; l < lines.size(); ++l) {
+      Text(cr, kMargin + (l ? 8 : 0), y, 7.5, lines[l], false, 0.15);
+      y += 9.5;
+    }
   }
   // Right: two image panels, the scatter and the bars.
   const double right = 330, panel = 236, gap = 22;
