@@ -16,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/calib/board_file.h"
+#include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
@@ -138,13 +139,17 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
   }
   py::object camera_matrix = py::none(), dist_coeffs = py::none();
   double tag_size = 0.0;
-  std::string config;
+  std::string config, camera_file, camera_model = "pinhole";
   for (const auto& item : kwargs) {
     const std::string name = item.first.cast<std::string>();
     if (name == "camera_matrix") {
       camera_matrix = py::reinterpret_borrow<py::object>(item.second);
     } else if (name == "dist_coeffs") {
       dist_coeffs = py::reinterpret_borrow<py::object>(item.second);
+    } else if (name == "camera_model") {
+      camera_model = py::str(item.second);
+    } else if (name == "camera_file") {
+      camera_file = py::str(item.second);
     } else if (name == "tag_size") {
       tag_size = item.second.cast<double>();
     } else if (name == "report_rejected") {
@@ -177,12 +182,23 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
       if (!d) throw Error("dist_coeffs must be numbers (k1, k2, p1, p2[, k3[, k4, k5, k6]])");
       for (py::ssize_t i = 0; i < d.size(); ++i) camera.distortion.push_back(d.data()[i]);
     }
+    if (camera_model != "pinhole" && camera_model != "fisheye")
+      throw Error("camera_model must be 'pinhole' or 'fisheye', not '" + camera_model + "'");
+    camera.model = camera_model == "fisheye" ? LensModel::kFisheye : LensModel::kPinhole;
+    if (!camera.IsValid(&error)) throw Error(error);
     options.camera = camera;
   } else if (!dist_coeffs.is_none()) {
     throw Error("dist_coeffs without camera_matrix");
   }
+  if (!camera_file.empty()) {
+    if (options.camera) throw Error("give camera_file or camera_matrix, not both");
+    CameraIntrinsics camera;
+    if (!LoadCameraFile(camera_file, &camera, &error)) throw Error(error);
+    options.camera = camera;
+  }
   options.tag_size = tag_size;
-  if (tag_size > 0 && !options.camera) throw Error("tag_size needs camera_matrix for a pose");
+  if (tag_size > 0 && !options.camera)
+    throw Error("tag_size needs camera_matrix or camera_file for a pose");
   auto detector = Detector::Create(options, &error);
   if (!detector) throw Error(error);
   return {std::move(detector)};
@@ -530,11 +546,14 @@ PYBIND11_MODULE(_chromatag, m) {
   py::class_<PyDetector>(
       m, "Detector",
       "Detector(families=('16h5', '36h11'), *, config=None, camera_matrix=None,\n"
-      "         dist_coeffs=None, tag_size=0.0, **options)\n\n"
+      "         dist_coeffs=None, camera_model='pinhole', camera_file=None,\n"
+      "         tag_size=0.0, **options)\n\n"
       "options are DetectorOptions' fields (step, adiff_thresh, border_thresh,\n"
       "min_decision_margin, ...; docs/calibration.md); config a file written by\n"
-      "'chromatag calibrate'. With camera_matrix and tag_size (metres, side of\n"
-      "the black square) each detection has a pose.")
+      "'chromatag calibrate'. The camera: camera_matrix and dist_coeffs as OpenCV's\n"
+      "(camera_model 'fisheye' for cv::fisheye's k1-k4), or camera_file, an OpenCV,\n"
+      "ROS or Kalibr file as 'chromatag calibrate-camera' writes. With a camera and\n"
+      "tag_size (metres, side of the black square) each detection has a pose.")
       .def(py::init([](const py::object& families, const py::kwargs& kwargs) {
              return MakeDetector(families, kwargs);
            }),

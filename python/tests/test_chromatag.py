@@ -99,6 +99,34 @@ def test_pose_from_camera_and_tag_size():
     assert (frame != before).any(axis=2).sum() > 200
 
 
+def test_camera_from_a_file_and_the_fisheye_model(tmp_path):
+    frame, _ = scene(cell_px=12)
+    f = 500.0
+    k = np.array([[f, 0, 240], [0, f, 200], [0, 0, 1]])
+    # The camera file calibrate-camera writes (ROS camera_info layout) gives
+    # the same pose as the matrix given by hand.
+    path = tmp_path / "camera.yaml"
+    path.write_text("image_width: 480\nimage_height: 400\ncamera_name: camera\n"
+                    "camera_matrix:\n  rows: 3\n  cols: 3\n  data: [500, 0, 240, 0, 500, 200, 0, 0, 1]\n"
+                    "distortion_model: equidistant\n"
+                    "distortion_coefficients:\n  rows: 1\n  cols: 4\n  data: [0.1, 0, 0, 0]\n")
+    from_file = chromatag.Detector(camera_file=str(path), tag_size=0.06).detect(frame)[0]
+    by_hand = chromatag.Detector(camera_matrix=k, dist_coeffs=[0.1, 0, 0, 0], camera_model="fisheye",
+                                 tag_size=0.06).detect(frame)[0]
+    np.testing.assert_allclose(from_file.pose.tvec, by_hand.pose.tvec, rtol=1e-12)
+    pinhole = chromatag.Detector(camera_matrix=k, dist_coeffs=[0.1, 0, 0, 0],
+                                 tag_size=0.06).detect(frame)[0]
+    assert abs(pinhole.pose.tvec[2] - by_hand.pose.tvec[2]) > 1e-6  # The model matters.
+    with pytest.raises(chromatag.Error, match="fisheye model needs 4"):
+        chromatag.Detector(camera_matrix=k, dist_coeffs=[0.1] * 5, camera_model="fisheye")
+    with pytest.raises(chromatag.Error, match="camera_model must be"):
+        chromatag.Detector(camera_matrix=k, camera_model="omni")
+    with pytest.raises(chromatag.Error, match="not both"):
+        chromatag.Detector(camera_matrix=k, camera_file=str(path))
+    with pytest.raises(chromatag.Error, match="missing.yaml"):
+        chromatag.Detector(camera_file=str(tmp_path / "missing.yaml"))
+
+
 @pytest.mark.parametrize("offset_m", [0.0, 0.01])
 @pytest.mark.parametrize("quarter_turns", [0, 1, 2, 3])
 def test_pose_of_an_exactly_frontal_tag(offset_m, quarter_turns):
