@@ -92,8 +92,7 @@ struct Pose {
 
 // The board's centre `distance` ahead, tilted `tilt` degrees about a random
 // in-plane axis, shifted up to `shift` metres sideways.
-Pose RandomPose(const Board& board, std::mt19937* rng, double tilt, double distance,
-                double shift) {
+Pose RandomPose(const Board& board, std::mt19937* rng, double tilt, double distance, double shift) {
   std::uniform_real_distribution<double> axis(0, 360), spin(-20, 20), side(-shift, shift);
   cv::Vec3d centre(0, 0, 0);
   for (const BoardTag& tag : board.tags) centre += tag.translation / double(board.tags.size());
@@ -286,6 +285,44 @@ TEST_F(CalibrateCameraCli, CalibratesAndDetectReadsItsCameraFile) {
     EXPECT_LT(cv::norm(apart) * 180 / kPi, 0.5);
     EXPECT_LT(cv::norm(tvec - truth.tvec) / cv::norm(truth.tvec), 0.005);
   }
+}
+
+// A fisheye lens (cv::fisheye's equidistant model), calibrated with
+// --model fisheye into a Kalibr camchain that detect reads back.
+TEST_F(CalibrateCameraCli, CalibratesAFisheyeLens) {
+  const PrintedBoard printed = PrintBoard();
+  Write("board.json", printed.sidecar);
+  CameraIntrinsics lens;
+  lens.fx = 330;
+  lens.fy = 331;
+  lens.cx = 377;
+  lens.cy = 238;
+  lens.model = LensModel::kFisheye;
+  lens.distortion = {0.05, -0.02, 0.01, -0.003};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> tilt(10, 45), distance(0.12, 0.2);
+  for (int v = 0; v < 16; ++v) {
+    const Pose pose = RandomPose(printed.board, &rng, tilt(rng), distance(rng), 0.06);
+    ASSERT_TRUE(cv::imwrite(Path("views/view" + std::to_string(v) + ".png"),
+                            testing::PhotographPage(printed.page, lens, kSize, pose.rvec, pose.tvec,
+                                                    Effects(v, &rng))));
+  }
+  const auto run = testing::RunChromatag({"calibrate-camera", Path("views"), "--board",
+                                          Path("board.json"), "--model", "fisheye", "--format",
+                                          "kalibr", "-o", Path("camchain.yaml")});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(testing::ReadFile(Path("camchain.yaml")).find("distortion_model: equidistant"),
+            std::string::npos);
+  CameraIntrinsics camera;
+  std::string error;
+  ASSERT_TRUE(LoadCameraFile(Path("camchain.yaml"), &camera, &error)) << error;
+  EXPECT_EQ(camera.model, LensModel::kFisheye);
+  EXPECT_NEAR(camera.fx, lens.fx, 0.001 * lens.fx);
+  EXPECT_NEAR(camera.fy, lens.fy, 0.001 * lens.fy);
+  EXPECT_NEAR(camera.cx, lens.cx, 1.0);
+  EXPECT_NEAR(camera.cy, lens.cy, 1.0);
+  ASSERT_EQ(camera.distortion.size(), 4u);
+  EXPECT_NEAR(camera.distortion[0], lens.distortion[0], 0.005);
 }
 
 // From a video the views are chosen: frames much like a kept one are not
