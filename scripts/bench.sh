@@ -3,14 +3,18 @@
 # the side-by-side comparison with AprilTag 3 and OpenCV ArUco on both data
 # sets: "classic" (issue 7, 10,000 frames) into BUILD_DIR/bench-results/classic/
 # and "camera" (8,000 frames: 16h5 and 36h11, four prints) into
-# BUILD_DIR/bench-results/camera/, each a report.md, PNG figures and frames.csv.
+# BUILD_DIR/bench-results/camera/, each a report.md, PNG figures and frames.csv;
+# then camera calibration from a ChromaTag board against OpenCV's ChArUco
+# (calib_comparison, 5 trials of 20 views) into
+# BUILD_DIR/bench-results/camera-calibration/, a report.md and results.json.
 #
 #   scripts/bench.sh [BUILD_DIR] [--quick] [--publish | --publish-only]
 #
-# --quick         small comparisons (400 frames each, about a minute)
+# --quick         small comparisons (400 frames each, 2 calibration trials; about a minute)
 # --publish       also copy each comparison's report and figures to docs/benchmarks/
 #                 (the camera set's to docs/benchmarks/camera/) and its tables into
-#                 docs/benchmarks.md, between that set's markers
+#                 docs/benchmarks.md, between that set's markers; the calibration
+#                 report to docs/benchmarks/camera-calibration.md
 # --publish-only  publish the results already in BUILD_DIR/bench-results/, run nothing
 # BENCH_LABEL     what is measured, for the report (default: git describe --always --dirty)
 set -euo pipefail
@@ -30,7 +34,11 @@ done
 root=$(cd "$(dirname "$0")/.." && pwd)
 results=$build_dir/bench-results
 camera_frames=(--frames 8000)
-[[ ${#quick[@]} -gt 0 ]] && camera_frames=()
+calib_trials=(--trials 5)
+if [[ ${#quick[@]} -gt 0 ]]; then
+  camera_frames=()
+  calib_trials=(--trials 2)
+fi
 
 if [[ $run == 1 ]]; then
   echo "CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //')"
@@ -45,6 +53,9 @@ if [[ $run == 1 ]]; then
   echo "== tag_comparison --set camera -> $results/camera/report.md"
   "$build_dir/bench/tag_comparison" --set camera "${quick[@]}" "${camera_frames[@]}" \
     --label "$label" --out "$results/camera"
+  echo "== calib_comparison -> $results/camera-calibration/report.md"
+  "$build_dir/bench/calib_comparison" "${calib_trials[@]}" --label "$label" \
+    --out "$results/camera-calibration"
 fi
 
 # publish SET DOCS_SUBDIR MARKER_NAME: copies $results/SET to docs/DOCS_SUBDIR and
@@ -79,7 +90,19 @@ publish() {
   fi
 }
 
+# The calibration comparison is a page of its own: its report, as written.
+publish_calibration() {
+  local from=$results/camera-calibration/report.md to=$root/docs/benchmarks/camera-calibration.md
+  if [[ ! -f $from ]]; then
+    echo "bench.sh: no $from; the calibration comparison is not published" >&2
+    return
+  fi
+  cp "$from" "$to"
+  echo "Copied the calibration comparison's report to docs/benchmarks/camera-calibration.md"
+}
+
 if [[ $publish == 1 ]]; then
   publish classic benchmarks "tag_comparison results"
   publish camera benchmarks/camera "tag_comparison camera results"
+  publish_calibration
 fi

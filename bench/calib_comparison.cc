@@ -1,0 +1,135 @@
+// calib_comparison: camera calibration from views of a ChromaTag board
+// against OpenCV's ChArUco calibration of a board of the same size, on the
+// same simulated camera and the same board poses (src/calib_trial.h).
+// scripts/bench.sh runs it; docs/benchmarks/camera-calibration.md is its
+// report.
+//
+//   calib_comparison [--trials N] [--views N] [--seed S] [--threads T]
+//                    [--label L] [--out DIR]
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <opencv2/core/utility.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "src/calib_report.h"
+#include "src/calib_trial.h"
+
+namespace {
+
+// The model name, and the family and model numbers that identify the core
+// when a virtual machine hides the name.
+std::string CpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, name = "unknown", family, model;
+  const auto value = [](const std::string& text) {
+    const size_t start = text.find_first_not_of(" \t", text.find(':') + 1);
+    return start == std::string::npos ? std::string() : text.substr(start);
+  };
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0 && name == "unknown") name = value(line);
+    if (line.rfind("cpu family", 0) == 0 && family.empty()) family = value(line);
+    if (line.rfind("model\t", 0) == 0 && model.empty()) model = value(line);
+  }
+  return name + " (family " + family + ", model " + model + "), " +
+         std::to_string(std::thread::hardware_concurrency()) + " logical CPUs";
+}
+
+// Other work on the machine makes the times noisier: the report says how busy it was.
+std::string LoadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one + " / " + five + " / " + fifteen;
+}
+
+std::string CommandLine(int argc, char** argv) {
+  std::ostringstream command;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = i ? argv[i] : std::filesystem::path(argv[0]).filename().string();
+    command << (i ? " " : "") << (arg.find(' ') == std::string::npos ? arg : "'" + arg + "'");
+  }
+  return command.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace chromatag::bench;
+  CLI::App app{
+      "Camera calibration from a ChromaTag board against OpenCV's ChArUco calibration, on the "
+      "same simulated camera and board poses"};
+  int trials = 5;
+  TrialOptions options;
+  options.render_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::string out_dir = "calib-results", label;
+  app.add_option("--trials", trials, "trials, each with its own poses and camera effects")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--views", options.views, "board poses per trial (both boards at each)")
+      ->check(CLI::Range(3, 1000))
+      ->capture_default_str();
+  app.add_option("--seed", options.seed, "seed of the poses and camera effects")
+      ->capture_default_str();
+  app.add_option("--threads", options.render_threads,
+                 "threads rendering views (detection and calibration always run on one)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
+  app.add_option("--out", out_dir, "folder for report.md and results.json")->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help.
+    std::cerr << "calib_comparison: error: " << e.what() << " (see calib_comparison --help)\n";
+    return 2;
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) {
+    std::cerr << "calib_comparison: cannot create " << out_dir << ": " << ec.message() << "\n";
+    return 1;
+  }
+  // Detection and calibration on this thread alone, OpenCV's included, so
+  // that their times compare; the rendering threads are ours.
+  cv::setNumThreads(1);
+  const auto start = std::chrono::steady_clock::now();
+  const std::string load_before = LoadAverage();
+  std::string error;
+  const auto setup = MakeCalibrationSetup(&error);
+  if (!setup) {
+    std::cerr << "calib_comparison: " << error << "\n";
+    return 1;
+  }
+  CalibrationRunInfo info;
+  info.options = options;
+  std::vector<TrialResult> results;
+  for (int t = 0; t < trials; ++t) {
+    results.push_back(RunCalibrationTrial(*setup, options, t));
+    info.render_s += results.back().render_s;
+    std::cerr << "calib_comparison: trial " << t + 1 << " of " << trials << " done\n";
+  }
+  info.command = CommandLine(argc, argv);
+  info.label = label;
+  info.cpu = CpuModel();
+#ifdef CHROMATAG_BUILD_FLAGS
+  info.build = CHROMATAG_BUILD_FLAGS;
+#endif
+  info.load = "load average " + load_before + " before the run, " + LoadAverage() + " after";
+  info.total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  info.chromatag_board = setup->chromatag.description;
+  info.charuco_board = setup->charuco.description;
+  std::string markdown;
+  if (!WriteCalibrationReport(results, info, out_dir, &markdown, &error)) {
+    std::cerr << "calib_comparison: " << error << "\n";
+    return 1;
+  }
+  std::cout << markdown << "\nWritten to " << out_dir << "/report.md\n";
+  return 0;
+}
