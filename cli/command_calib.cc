@@ -188,7 +188,13 @@ int RunCalibrate(const CalibrateArgs& args) {
     std::fflush(stdout);
     for (const std::string& w : camera->warnings) std::cerr << "warning: camera: " << w << "\n";
   } else {
-    std::printf("Camera intrinsics not written: %s\n", camera_why.c_str());
+    // A camera.yaml from an earlier run is not from these photos.
+    const std::filesystem::path stale = std::filesystem::path(args.output) / kCameraFile;
+    std::error_code ec;
+    const bool removed =
+        std::filesystem::is_regular_file(stale, ec) && std::filesystem::remove(stale, ec);
+    std::printf("Camera intrinsics not written: %s%s\n", camera_why.c_str(),
+                removed ? " (the earlier camera.yaml there is removed)" : "");
   }
   return kExitOk;
 }

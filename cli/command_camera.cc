@@ -1,6 +1,7 @@
 // chromatag calibrate-camera: intrinsics from views of a ChromaTag board.
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -57,7 +58,7 @@ class ViewCollector {
   ViewCollector(const Detector& detector, const Board& board, const ViewSelectionOptions& options)
       : detector_(detector), board_(board), selection_(options) {}
 
-  // False when nothing could be read; messages for skipped inputs go to stderr.
+  // Messages for skipped inputs go to stderr.
   void Read(const std::vector<Source>& sources) {
     for (const Source& source : sources) {
       if (g_stop) break;
@@ -69,8 +70,28 @@ class ViewCollector {
     }
   }
 
-  const std::vector<CalibrationView>& views() const { return views_; }
-  cv::Size image_size() const { return size_; }
+  // The views of the image size most of them have; the others are named
+  // and skipped (one calibration is for one image size).
+  std::vector<CalibrationView> Views(cv::Size* size) {
+    std::map<std::pair<int, int>, int> count;
+    for (const cv::Size& s : sizes_) ++count[{s.width, s.height}];
+    std::pair<int, int> most{0, 0};
+    for (const auto& [s, n] : count)
+      if (n > count[most]) most = s;
+    *size = cv::Size(most.first, most.second);
+    std::vector<CalibrationView> kept;
+    for (size_t i = 0; i < views_.size(); ++i) {
+      if (sizes_[i] == *size) {
+        kept.push_back(views_[i]);
+      } else {
+        Skip("'" + views_[i].name + "' is " + std::to_string(sizes_[i].width) + " x " +
+             std::to_string(sizes_[i].height) + ", most views " + std::to_string(size->width) +
+             " x " + std::to_string(size->height) + " (one calibration is for one image size)");
+      }
+    }
+    return kept;
+  }
+
   bool failed() const { return failed_; }
 
  private:
@@ -79,15 +100,9 @@ class ViewCollector {
     failed_ = true;
   }
 
-  // The frame's size against the first frame's; false (and a message) when
-  // it differs: one calibration is for one image size.
-  bool SameSize(const cv::Mat& frame, const std::string& name) {
-    if (size_.empty()) size_ = frame.size();
-    if (frame.size() == size_) return true;
-    Skip("'" + name + "' is " + std::to_string(frame.cols) + " x " + std::to_string(frame.rows) +
-         ", the first view " + std::to_string(size_.width) + " x " + std::to_string(size_.height) +
-         " (one calibration is for one image size)");
-    return false;
+  void Add(const std::string& name, const std::vector<Detection>& detections, cv::Size size) {
+    views_.push_back({name, detections});
+    sizes_.push_back(size);
   }
 
   // Every image given is used: the user chose it.
@@ -101,14 +116,14 @@ class ViewCollector {
     }
     const cv::Mat frame = cv::imread(path, cv::IMREAD_COLOR);
     if (frame.empty()) return Skip("cannot read image '" + path + "'");
-    if (!SameSize(frame, path)) return;
     DetectionResult result;
     detector_.Detect(frame, PixelOrder::kBgr, &result);
-    views_.push_back({path, result.detections});
+    Add(path, result.detections, frame.size());
   }
 
-  // Frames of a video are chosen once all are seen; a live camera's as
-  // they come, until the cap or Ctrl-C.
+  // Frames of a video are chosen once all are seen; a live camera's as they
+  // come, until the cap or Ctrl-C. One selector serves every video and
+  // camera of the run, so the cap and the kept poses are the run's.
   void ReadVideo(const Source& source) {
     cv::VideoCapture capture;
     if (source.camera_index >= 0) {
@@ -117,34 +132,43 @@ class ViewCollector {
       capture.open(source.name);
     }
     if (!capture.isOpened()) return Skip("cannot open '" + source.name + "'");
-    std::optional<ViewSelector> selector;
     std::vector<ViewPose> poses;
     std::vector<CalibrationView> candidates;
     std::map<std::string, int> not_kept;  // Reason -> frames.
     int frames = 0;
+    cv::Size size;
     DetectionResult result;
     while (!g_stop) {
       cv::Mat frame;
       if (!capture.read(frame) || frame.empty()) break;
       if (frame.type() != CV_8UC3)
         return Skip("'" + source.name + "' gives frames that are not 8-bit colour");
-      if (!SameSize(frame, source.name)) return;
-      if (!selector) selector.emplace(board_, size_, selection_);
+      if (!selector_) {
+        selector_.emplace(board_, frame.size(), selection_);
+        selector_size_ = frame.size();
+      }
+      if (frame.size() != selector_size_) {
+        return Skip("'" + source.name + "' gives " + std::to_string(frame.cols) + " x " +
+                    std::to_string(frame.rows) + " frames, the first video " +
+                    std::to_string(selector_size_.width) + " x " +
+                    std::to_string(selector_size_.height));
+      }
+      size = frame.size();
       detector_.Detect(frame, PixelOrder::kBgr, &result);
       const std::string name = source.name + " frame " + std::to_string(frames++);
       if (source.live()) {
-        const ViewDecision decision = selector->Offer(result.detections);
+        const ViewDecision decision = selector_->Offer(result.detections);
         if (decision.keep) {
-          views_.push_back({name, result.detections});
-          std::cerr << "calibrate-camera: kept " << name << " (" << selector->kept() << " of "
+          Add(name, result.detections, size);
+          std::cerr << "calibrate-camera: kept " << name << " (" << selector_->kept() << " of "
                     << selection_.max_views << "): " << decision.why << "\n";
-          if (selector->full()) break;
+          if (selector_->full()) break;
         }
         continue;
       }
       ViewPose pose;
       std::string why;
-      if (!selector->Describe(result.detections, &pose, &why)) {
+      if (!selector_->Describe(result.detections, &pose, &why)) {
         ++not_kept[why.find("board tag") != std::string::npos ? "too few board tags" : why];
         continue;
       }
@@ -154,10 +178,10 @@ class ViewCollector {
     if (frames == 0) return Skip("no frames in '" + source.name + "'");
     if (source.live()) return;
     std::vector<std::string> why;
-    const std::vector<size_t> chosen = selector->Choose(poses, &why);
+    const std::vector<size_t> chosen = selector_->Choose(poses, &why);
     for (size_t i : chosen) {
       std::cerr << "calibrate-camera: kept " << candidates[i].name << ": " << why[i] << "\n";
-      views_.push_back(std::move(candidates[i]));
+      Add(candidates[i].name, candidates[i].detections, size);
     }
     for (size_t i = 0; i < why.size(); ++i) {
       if (std::find(chosen.begin(), chosen.end(), i) != chosen.end()) continue;
@@ -173,8 +197,10 @@ class ViewCollector {
   const Detector& detector_;
   const Board& board_;
   const ViewSelectionOptions selection_;
+  std::optional<ViewSelector> selector_;
+  cv::Size selector_size_;
   std::vector<CalibrationView> views_;
-  cv::Size size_;
+  std::vector<cv::Size> sizes_;
   bool failed_ = false;
 };
 
@@ -230,16 +256,25 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
     const std::string e = Lower(fs::path(report).extension().string());
     if (e != ".pdf" && e != ".png") return fail("--report '" + report + "': .pdf or .png");
   }
-  for (char ch : o.camera_name) {
-    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
-      return fail("--camera-name '" + o.camera_name + "': letters, digits and _ only");
+  if (o.camera_name.empty() ||
+      !std::all_of(o.camera_name.begin(), o.camera_name.end(), [](char ch) {
+        return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_';
+      }))
+    return fail("--camera-name '" + o.camera_name + "': letters, digits and _ only");
+  for (int index : o.camera_indices) {
+    if (index < 0) return fail("--camera-index " + std::to_string(index) + ": 0 or more");
   }
   ViewSelectionOptions selection;
   selection.max_views = o.max_views;
   if (!selection.IsValid(&error)) return fail("--max-views: " + error);
-
+  // Everything that can be checked before a long run is.
+  std::vector<std::string> outputs = {o.output};
+  outputs.insert(outputs.end(), o.reports.begin(), o.reports.end());
+  if (!CheckOutputTargets(outputs, &error)) return fail(error);
   const std::optional<Board> board = ReadBoardFile(o.board_file, &error);
   if (!board) return fail(error);
+  if (!CheckCalibrationBoard(*board, calibration_options, &error))
+    return fail("--board '" + o.board_file + "': " + error);
   DetectorOptions detector_options;
   detector_options.families.clear();
   for (const BoardTag& tag : board->tags) {
@@ -256,31 +291,25 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   if (!detector) return fail(error);
   std::vector<Source> sources;
   if (!GatherSources(o.inputs, o.camera_indices, &sources, &error)) return fail(error);
+  const bool live =
+      std::any_of(sources.begin(), sources.end(), [](const Source& s) { return s.live(); });
 
   g_stop = false;
   std::signal(SIGINT, OnInterrupt);
   ViewCollector collector(*detector, *board, selection);
   collector.Read(sources);
   std::signal(SIGINT, SIG_DFL);
-  if (collector.views().empty())
-    return Fail("calibrate-camera", "no views to calibrate with", kExitFailure);
+  // Ctrl-C ends a live camera's views; files were meant to be read whole.
+  if (g_stop && !live)
+    return Fail("calibrate-camera", "interrupted; nothing written", kExitFailure);
+  cv::Size size;
+  const std::vector<CalibrationView> views = collector.Views(&size);
+  if (views.empty()) return Fail("calibrate-camera", "no views to calibrate with", kExitFailure);
 
-  const auto calibration = CalibrateCamera(*board, collector.views(), collector.image_size(),
-                                           calibration_options, &error);
+  const auto calibration = CalibrateCamera(*board, views, size, calibration_options, &error);
   if (!calibration) {
-    // Say which views fell short: the user's next step is more of them.
-    int with_board = 0;
-    for (const CalibrationView& v : collector.views()) {
-      int tags = 0;
-      for (const Detection& d : v.detections)
-        tags += d.family && board->Find(d.family->name(), d.id) >= 0 ? 1 : 0;
-      with_board += tags >= calibration_options.min_tags_per_view ? 1 : 0;
-    }
     return Fail("calibrate-camera",
-                error + " (" + std::to_string(collector.views().size()) + " views read, " +
-                    std::to_string(with_board) + " show 2 or more board tags; give at least 3, " +
-                    "better 15-30, at varied tilts)",
-                kExitFailure);
+                error + "; give at least 3 views, better 15-30, at varied tilts", kExitFailure);
   }
   PrintResult(*calibration);
 

@@ -373,6 +373,63 @@ TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
                                           Path("board.json"), "-o", Path("camera.txt")});
   EXPECT_EQ(txt.exit_code, 2);
   EXPECT_NE(txt.err.find(".yaml"), std::string::npos) << txt.err;
+  // Refused before any input is read: an output that cannot be written, a
+  // board of one tag, a board not on one plane, a negative camera index.
+  Write(
+      "one_tag.yaml",
+      "tag_bundles:\n  - name: one\n    family: 16h5\n    layout:\n      - {id: 0, size: 0.05}\n");
+  Write("cube.yaml",
+        "tag_bundles:\n  - name: cube\n    family: 16h5\n    layout:\n      - {id: 0, size: 0.05}\n"
+        "      - {id: 1, size: 0.05, x: 0.1, z: 0.05}\n");
+  for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"--board", Path("board.json"), "-o", Path("missing/camera.yaml")}, "no such folder"},
+           {{"--board", Path("board.json"), "-o", Path("camera.yaml"), "--report",
+             Path("missing/report.pdf")},
+            "no such folder"},
+           {{"--board", Path("one_tag.yaml"), "-o", Path("camera.yaml")}, "has 1 tag(s)"},
+           {{"--board", Path("cube.yaml"), "-o", Path("camera.yaml")}, "planar board"},
+           {{"--board", Path("board.json"), "-o", Path("camera.yaml"), "--camera-index", "-1"},
+            "--camera-index -1"}}) {
+    std::vector<std::string> command = {"calibrate-camera", Path("one.png")};
+    command.insert(command.end(), args.begin(), args.end());
+    const auto refused = testing::RunChromatag(command);
+    EXPECT_EQ(refused.exit_code, 2) << message << ": " << refused.err;
+    EXPECT_EQ(testing::CountLines(refused.err), 1) << refused.err;
+    EXPECT_NE(refused.err.find(message), std::string::npos) << refused.err;
+  }
+  // The views of another board (the same tags further apart): the message
+  // says they do not fit it.
+  const PrintedBoard other = PrintBoard("14mm");
+  Write("other.json", other.sidecar);
+  const auto wrong = testing::RunChromatag({"calibrate-camera", Path("one.png"), Path("two.png"),
+                                            Path("one.png"), Path("two.png"), "--board",
+                                            Path("other.json"), "-o", Path("camera.yaml")});
+  EXPECT_EQ(wrong.exit_code, 1);
+  EXPECT_NE(wrong.err.find("is the board file the board in the views?"), std::string::npos)
+      << wrong.err;
+  EXPECT_FALSE(fs::exists(Path("camera.yaml")));
+}
+
+// Views of another size than most are named and skipped; the others
+// calibrate, and the exit code says an input was skipped.
+TEST_F(CalibrateCameraCli, OneImageSizePerCalibration) {
+  const PrintedBoard printed = PrintBoard();
+  Write("board.json", printed.sidecar);
+  const std::vector<cv::Mat> frames = TwentyViews(printed);
+  for (int i = 0; i < 8; ++i)
+    ASSERT_TRUE(cv::imwrite(Path("views/v" + std::to_string(i) + ".png"), frames[i]));
+  cv::Mat small;
+  cv::resize(frames[9], small, cv::Size(640, 409));
+  ASSERT_TRUE(cv::imwrite(Path("views/a_small.png"), small));  // Sorted first.
+  const auto run = testing::RunChromatag({"calibrate-camera", Path("views"), "--board",
+                                          Path("board.json"), "-o", Path("camera.yaml")});
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("a_small.png' is 640 x 409, most views 752 x 480"), std::string::npos)
+      << run.err;
+  CameraIntrinsics camera;
+  std::string error;
+  ASSERT_TRUE(LoadCameraFile(Path("camera.yaml"), &camera, &error)) << error;
+  EXPECT_NEAR(camera.fx, 600, 3);
 }
 
 }  // namespace
@@ -460,12 +517,16 @@ TEST_F(CalibrateCameraCli, TheColourSheetCalibratesTheCameraToo) {
                              Path("sheet.png.json"), "-o", Path("cam.yaml")});
   EXPECT_EQ(direct.exit_code, 0) << direct.err;
 
-  // Two photos give colours but no camera, and say why.
+  // Two photos give colours but no camera, and say why; a camera.yaml left
+  // there by an earlier run goes.
+  fs::create_directories(Path("two"));
+  fs::copy_file(Path("out/camera.yaml"), Path("two/camera.yaml"));
   const auto two = testing::RunChromatag(
       {"calibrate", "--sheet", Path("sheet.png.json"), "-o", Path("two"), photos[0], photos[1]});
   ASSERT_EQ(two.exit_code, 0) << two.err;
   EXPECT_NE(two.out.find("Camera intrinsics not written: 2 photo(s)"), std::string::npos)
       << two.out;
+  EXPECT_NE(two.out.find("the earlier camera.yaml there is removed"), std::string::npos) << two.out;
   EXPECT_FALSE(fs::exists(Path("two/camera.yaml")));
 }
 

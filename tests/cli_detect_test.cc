@@ -241,7 +241,7 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
   for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
            {{"--board", dir + "/board.png.json"}, "--board needs --camera FILE"},
            {{"--camera", dir + "/camera.yaml", "--board", dir + "/none.json"},
-            "cannot read sidecar '" + dir + "/none.json'"},
+            "cannot read board file '" + dir + "/none.json'"},
            {{"--camera", dir + "/camera.yaml", "--board", dir + "/camera.yaml"},
             "has no tag_bundles"},
            {{"--camera", dir + "/camera.yaml"}, "or --board FILE"},

@@ -205,17 +205,27 @@ std::optional<Board> ReadBoardFile(const std::string& spec, std::string* error) 
   std::string why;
   if (ext == ".json") {
     // A colour calibration sheet's sidecar names its schema near the top.
-    const auto head = ReadInputFile(path, "board file", kMaxJsonFileBytes, error);
-    if (!head) return std::nullopt;
-    if (head->find(std::string("\"") + kCalibSheetSchema + "\"") != std::string::npos) {
-      const auto layout = ParseCalibSidecar(*head, &why);
+    const auto text = ReadInputFile(path, "board file", kMaxJsonFileBytes, error);
+    if (!text) return std::nullopt;
+    if (text->find(std::string("\"") + kCalibSheetSchema + "\"") != std::string::npos) {
+      const auto layout = ParseCalibSidecar(*text, &why);
       std::optional<Board> board = layout ? BoardFromCalibSheet(*layout, &why) : std::nullopt;
       if (!board && error) *error = "board file '" + path + "': " + why;
       return board;
     }
-    const auto sheet = ReadSidecar(path, error);
-    if (!sheet) return std::nullopt;
-    auto board = BoardFromSheet(*sheet, &why);
+    if (text->find("\"chromatag-layout\"") == std::string::npos) {
+      if (error)
+        *error = "board file '" + path +
+                 "' is neither a sheet's sidecar (schema chromatag-layout, from chromatag "
+                 "generate) nor a calibration sheet's (chromatag-calib-sheet, from chromatag "
+                 "calib-sheet)";
+      return std::nullopt;
+    }
+    const auto slash = path.find_last_of('/');
+    auto sheet =
+        ParseSidecar(*text, slash == std::string::npos ? "" : path.substr(0, slash + 1), &why);
+    if (sheet) sheet->sidecar_path = path;  // The board's name.
+    std::optional<Board> board = sheet ? BoardFromSheet(*sheet, &why) : std::nullopt;
     if (!board && error) *error = "board file '" + path + "': " + why;
     return board;
   }

@@ -64,16 +64,26 @@ struct Fit {
   std::vector<double> std_dev;
 };
 
-// One standard deviation of the intrinsics (f, c, then the distortion) of a
-// fisheye fit, from the Jacobian of every corner's projection: sigma^2
-// (J^T J)^-1 over intrinsics and every view's pose, sigma^2 the residuals'
-// variance. OpenCV returns this only for its pinhole calibration.
-std::vector<double> FisheyeStdDev(const std::vector<std::vector<cv::Point3d>>& object,
-                                  const std::vector<std::vector<cv::Point2d>>& image,
-                                  const Fit& fit) {
-  constexpr int kIntrinsics = 8;  // fx, fy, cx, cy, k1-k4.
+// One standard deviation of the fitted intrinsics (fx, fy, cx, cy, then the
+// fitted distortion coefficients), from the Jacobian of every corner's
+// projection over the intrinsics and every view's pose: sigma^2 (J^T J)^-1,
+// sigma^2 the residuals' variance over 2N - P degrees of freedom. Computed
+// here for both models: OpenCV's fisheye calibration gives none, and its
+// pinhole calibration (4.6) divides by N - P.
+std::vector<double> StdDev(const std::vector<std::vector<cv::Point3d>>& object,
+                           const std::vector<std::vector<cv::Point2d>>& image, const Fit& fit,
+                           bool fit_k3) {
+  const bool fisheye = fit.camera.model == LensModel::kFisheye;
+  // The Jacobian's columns for the fitted intrinsics and for the pose:
+  // cv::fisheye::projectPoints gives f(2), c(2), k(4), om(3), T(3), alpha;
+  // cv::projectPoints gives rvec(3), tvec(3), f(2), c(2), then the
+  // distortion (k3 fifth, held when not fitted).
+  std::vector<int> intrinsic, pose;
+  for (int c = fisheye ? 0 : 6; c < (fisheye ? 8 : (fit_k3 ? 15 : 14)); ++c) intrinsic.push_back(c);
+  for (int c = fisheye ? 8 : 0; c < (fisheye ? 14 : 6); ++c) pose.push_back(c);
+  const int intrinsics = static_cast<int>(intrinsic.size());
   const int views = static_cast<int>(object.size());
-  const int parameters = kIntrinsics + 6 * views;
+  const int parameters = intrinsics + 6 * views;
   cv::Mat jtj = cv::Mat::zeros(parameters, parameters, CV_64F);
   double squares = 0;
   int rows = 0;
@@ -81,12 +91,16 @@ std::vector<double> FisheyeStdDev(const std::vector<std::vector<cv::Point3d>>& o
   const cv::Mat d(fit.camera.distortion, true);
   for (int v = 0; v < views; ++v) {
     std::vector<cv::Point2d> projected;
-    cv::Mat jacobian;  // 2N x 15: f(2), c(2), k(4), om(3), T(3), alpha.
-    cv::fisheye::projectPoints(object[v], projected, fit.rvecs[v], fit.tvecs[v], k, d, 0.0,
-                               jacobian);
+    cv::Mat jacobian;
+    if (fisheye) {
+      cv::fisheye::projectPoints(object[v], projected, fit.rvecs[v], fit.tvecs[v], k, d, 0.0,
+                                 jacobian);
+    } else {
+      cv::projectPoints(object[v], fit.rvecs[v], fit.tvecs[v], k, d, projected, jacobian);
+    }
     cv::Mat j = cv::Mat::zeros(jacobian.rows, parameters, CV_64F);
-    jacobian.colRange(0, kIntrinsics).copyTo(j.colRange(0, kIntrinsics));
-    jacobian.colRange(8, 14).copyTo(j.colRange(kIntrinsics + 6 * v, kIntrinsics + 6 * v + 6));
+    for (int c = 0; c < intrinsics; ++c) jacobian.col(intrinsic[c]).copyTo(j.col(c));
+    for (int c = 0; c < 6; ++c) jacobian.col(pose[c]).copyTo(j.col(intrinsics + 6 * v + c));
     jtj += j.t() * j;
     for (size_t i = 0; i < projected.size(); ++i) {
       const cv::Point2d e = projected[i] - image[v][i];
@@ -97,7 +111,7 @@ std::vector<double> FisheyeStdDev(const std::vector<std::vector<cv::Point3d>>& o
   const double variance = squares / std::max(1, rows - parameters);
   const cv::Mat covariance = jtj.inv(cv::DECOMP_SVD) * variance;
   std::vector<double> out;
-  for (int i = 0; i < kIntrinsics; ++i)
+  for (int i = 0; i < intrinsics; ++i)
     out.push_back(std::sqrt(std::max(0.0, covariance.at<double>(i, i))));
   return out;
 }
@@ -115,7 +129,6 @@ bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& us
   std::vector<cv::Mat> rvecs, tvecs;
   fit->camera = CameraIntrinsics();
   fit->camera.model = options.model;
-  fit->std_dev.clear();
   try {
     if (options.model == LensModel::kFisheye) {
       const int flags = cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW;
@@ -130,11 +143,8 @@ bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& us
         object_f.push_back(Convert<cv::Point3d, cv::Point3f>(object[i]));
         image_f.push_back(Convert<cv::Point2d, cv::Point2f>(image[i]));
       }
-      cv::Mat std_dev, extrinsic_dev, per_view;
-      fit->rms_px =
-          cv::calibrateCamera(object_f, image_f, image_size, k, d, rvecs, tvecs, std_dev,
-                              extrinsic_dev, per_view, options.fit_k3 ? 0 : cv::CALIB_FIX_K3);
-      for (int i = 0; i < 9 && i < std_dev.rows; ++i) fit->std_dev.push_back(std_dev.at<double>(i));
+      fit->rms_px = cv::calibrateCamera(object_f, image_f, image_size, k, d, rvecs, tvecs,
+                                        options.fit_k3 ? 0 : cv::CALIB_FIX_K3);
     }
   } catch (const cv::Exception& e) {
     *error = "the fit failed (" + e.err + ")";
@@ -154,13 +164,21 @@ bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& us
     fit->rvecs.emplace_back(rvecs[i].ptr<double>());
     fit->tvecs.emplace_back(tvecs[i].ptr<double>());
   }
-  if (options.model == LensModel::kFisheye) fit->std_dev = FisheyeStdDev(object, image, *fit);
-  for (double x : {fit->camera.fx, fit->camera.fy, fit->camera.cx, fit->camera.cy, fit->rms_px}) {
-    if (!std::isfinite(x)) {
-      *error = "the fit did not converge";
-      return false;
+  // A fit that diverged: nothing of it is usable.
+  std::vector<double> all = {fit->camera.fx, fit->camera.fy, fit->camera.cx, fit->camera.cy,
+                             fit->rms_px};
+  all.insert(all.end(), fit->camera.distortion.begin(), fit->camera.distortion.end());
+  for (size_t i = 0; i < fit->rvecs.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      all.push_back(fit->rvecs[i][c]);
+      all.push_back(fit->tvecs[i][c]);
     }
   }
+  if (!std::all_of(all.begin(), all.end(), [](double x) { return std::isfinite(x); })) {
+    *error = "the fit did not converge";
+    return false;
+  }
+  fit->std_dev = StdDev(object, image, *fit, options.fit_k3);
   return true;
 }
 
@@ -265,6 +283,24 @@ bool CameraCalibrationOptions::IsValid(std::string* error) const {
   return true;
 }
 
+bool CheckCalibrationBoard(const Board& board, const CameraCalibrationOptions& options,
+                           std::string* error) {
+  if (!board.IsValid(error)) return false;
+  for (const BoardTag& tag : board.tags) {
+    if (std::abs(tag.translation[2]) > 1e-9 || std::abs(tag.rotation(2, 2) - 1.0) > 1e-9) {
+      if (error) *error = "camera calibration needs a planar board (every tag at z = 0, facing +z)";
+      return false;
+    }
+  }
+  if (static_cast<int>(board.tags.size()) < options.min_tags_per_view) {
+    if (error)
+      *error = "the board has " + std::to_string(board.tags.size()) + " tag(s); a view must show " +
+               std::to_string(options.min_tags_per_view) + " or more of them";
+    return false;
+  }
+  return true;
+}
+
 std::vector<std::string> CalibrationParameterNames(const CameraIntrinsics& camera) {
   std::vector<std::string> names = {"fx", "fy", "cx", "cy"};
   const std::vector<std::string> pinhole = {"k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6"};
@@ -282,12 +318,8 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
     if (error) *error = message;
     return std::nullopt;
   };
-  if (!options.IsValid(error) || !board.IsValid(error)) return std::nullopt;
+  if (!options.IsValid(error) || !CheckCalibrationBoard(board, options, error)) return std::nullopt;
   if (image_size.width <= 0 || image_size.height <= 0) return fail("the image size is empty");
-  for (const BoardTag& tag : board.tags) {
-    if (std::abs(tag.translation[2]) > 1e-9 || std::abs(tag.rotation(2, 2) - 1.0) > 1e-9)
-      return fail("camera calibration needs a planar board (every tag at z = 0, facing +z)");
-  }
   CameraCalibration result;
   result.image_size = image_size;
   std::vector<ViewPoints> points(views.size());
@@ -330,8 +362,26 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
   std::vector<size_t> used;
   for (size_t v = 0; v < views.size(); ++v)
     if (usable(v)) used.push_back(v);
-  const char* too_few = "fewer than three views show enough of the board";
-  if (used.size() < 3) return fail(too_few);
+  // Fewer than three views left: say what became of the others.
+  const auto too_few = [&] {
+    int few_tags = 0, badly = 0;
+    for (const CalibrationViewResult& v : result.views) {
+      few_tags += v.why_not.find("board tag") != std::string::npos ? 1 : 0;
+      badly += v.why_not.find("reprojects") != std::string::npos ? 1 : 0;
+    }
+    std::string message = "fewer than three views show enough of the board (" +
+                          std::to_string(views.size()) + " given";
+    if (few_tags)
+      message += ", " + std::to_string(few_tags) + " with fewer than " +
+                 std::to_string(options.min_tags_per_view) + " of its tags";
+    if (badly)
+      message += Format(
+          ", %.0f reprojecting worse than %.2f px rms: is the board file the board "
+          "in the views?",
+          badly, options.max_view_rms_px);
+    return fail(message + ")");
+  };
+  if (used.size() < 3) return too_few();
   Fit fit;
   std::string why;
   if (!RunFit(points, used, image_size, options, &fit, &why)) return fail(why);
@@ -354,7 +404,7 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
   // Then, until nothing changes: views that fit badly leave the
   // calibration and tags with a corner far from the fit leave their view.
   for (int round = 0; round < 5; ++round) {
-    if (used.size() < 3) return fail(too_few);
+    if (used.size() < 3) return too_few();
     if (!RunFit(points, used, image_size, options, &fit, &why)) return fail(why);
     const double corner_limit =
         std::max(options.max_corner_error_px, options.corner_error_factor * fit.rms_px);
@@ -384,7 +434,7 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
     used = kept;
     if (!changed) break;
   }
-  if (used.size() < 3) return fail(too_few);
+  if (used.size() < 3) return too_few();
   if (!RunFit(points, used, image_size, options, &fit, &why)) return fail(why);
   for (size_t u = 0; u < used.size(); ++u) {
     const size_t v = used[u];
@@ -404,6 +454,7 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
   }
   result.camera = fit.camera;
   result.rms_px = fit.rms_px;
+  // k3 held at 0 has no deviation.
   result.std_dev = fit.std_dev;
   result.std_dev.resize(4 + result.camera.distortion.size(), 0.0);
   result.warnings = Warnings(result);

@@ -42,6 +42,23 @@ bool FromMatrix(const std::vector<double>& k, const std::vector<double>& d,
   return true;
 }
 
+// OpenCV's and ROS's names of a distortion model: false (and *error) for
+// one this toolkit does not handle.
+bool ModelFromName(const std::string& name, LensModel* model, std::string* error) {
+  if (name == "fisheye" || name == "equidistant") {
+    *model = LensModel::kFisheye;
+    return true;
+  }
+  if (name == "plumb_bob" || name == "rational_polynomial" || name == "pinhole") {
+    *model = LensModel::kPinhole;
+    return true;
+  }
+  *error = "distortion_model '" + name +
+           "' is not supported (plumb_bob, rational_polynomial, or fisheye / equidistant for "
+           "OpenCV's fisheye model)";
+  return false;
+}
+
 // A YAML number list: [a, b, ...] or {rows, cols, data: [...]} (OpenCV's
 // !!opencv-matrix and ROS's layout alike).
 std::vector<double> YamlNumbers(const YAML::Node& node) {
@@ -77,17 +94,9 @@ bool FromYaml(const std::string& text, CameraIntrinsics* camera, std::string* er
     if (root["camera_matrix"]) {  // OpenCV or ROS.
       std::vector<double> d;
       if (root["distortion_coefficients"]) d = YamlNumbers(root["distortion_coefficients"]);
-      if (root["distortion_model"]) {
-        const std::string model = root["distortion_model"].as<std::string>();
-        if (model == "fisheye" || model == "equidistant") {
-          camera->model = LensModel::kFisheye;
-        } else if (model != "plumb_bob" && model != "rational_polynomial" && model != "pinhole") {
-          *error = "distortion_model '" + model +
-                   "' is not supported (plumb_bob, rational_polynomial, or equidistant for "
-                   "OpenCV's fisheye model)";
-          return false;
-        }
-      }
+      if (root["distortion_model"] &&
+          !ModelFromName(root["distortion_model"].as<std::string>(), &camera->model, error))
+        return false;
       return FromMatrix(YamlNumbers(root["camera_matrix"]), d, camera, error);
     }
     // Kalibr: the first camera of a camchain, or a single camera's block.
@@ -144,16 +153,9 @@ bool FromJson(const std::string& text, CameraIntrinsics* camera, std::string* er
     };
     std::vector<double> d;
     if (root.contains("distortion_coefficients")) d = numbers(root["distortion_coefficients"]);
-    if (root.contains("distortion_model")) {
-      const std::string model = root["distortion_model"].get<std::string>();
-      if (model == "fisheye" || model == "equidistant") {
-        camera->model = LensModel::kFisheye;
-      } else if (model != "plumb_bob" && model != "rational_polynomial" && model != "pinhole") {
-        *error = "distortion_model '" + model +
-                 "' is not supported (plumb_bob, rational_polynomial or fisheye)";
-        return false;
-      }
-    }
+    if (root.contains("distortion_model") &&
+        !ModelFromName(root["distortion_model"].get<std::string>(), &camera->model, error))
+      return false;
     return FromMatrix(numbers(root["camera_matrix"]), d, camera, error);
   } catch (const nlohmann::json::parse_error&) {
     *error = "is not valid JSON";
@@ -216,6 +218,12 @@ bool FromXml(const std::string& text, CameraIntrinsics* camera, std::string* err
     }
     d = *numbers;
   }
+  if (const auto model = Element(*storage, "distortion_model")) {
+    std::string name = *model;
+    name.erase(0, name.find_first_not_of(" \t\r\n\""));
+    name.erase(name.find_last_not_of(" \t\r\n\"") + 1);
+    if (!ModelFromName(name, &camera->model, error)) return false;
+  }
   return FromMatrix(*k_numbers, d, camera, error);
 }
 
@@ -224,6 +232,7 @@ bool FromXml(const std::string& text, CameraIntrinsics* camera, std::string* err
 bool ParseCameraFile(const std::string& text, const std::string& extension,
                      CameraIntrinsics* camera, std::string* why) {
   const std::string ext = Lower(extension);
+  *camera = CameraIntrinsics();  // A pinhole camera unless the file says otherwise.
   bool ok = false;
   if (ext == ".json") {
     ok = FromJson(text, camera, why);
@@ -291,6 +300,11 @@ std::string CameraFileText(const CameraIntrinsics& camera, const CameraFileInfo&
     return std::string();
   };
   if (!camera.IsValid(error)) return {};
+  // Written into YAML unquoted, and into Kalibr's topic name.
+  if (info.camera_name.empty() ||
+      !std::all_of(info.camera_name.begin(), info.camera_name.end(),
+                   [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }))
+    return fail("camera name '" + info.camera_name + "': letters, digits and _ only");
   const bool fisheye = camera.model == LensModel::kFisheye;
   std::vector<double> d = camera.distortion;
   const std::vector<double> k = {camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1};
@@ -303,7 +317,10 @@ std::string CameraFileText(const CameraIntrinsics& camera, const CameraFileInfo&
       fs << "image_width" << info.image_size.width;
       fs << "image_height" << info.image_size.height;
       fs << "camera_name" << info.camera_name;
-      fs << "distortion_model" << (fisheye ? "fisheye" : "plumb_bob");
+      fs << "distortion_model"
+         << (fisheye         ? "fisheye"
+             : d.size() == 8 ? "rational_polynomial"
+                             : "plumb_bob");
       fs << "camera_matrix" << cv::Mat(cv::Matx33d(k.data()));
       if (d.empty()) d.assign(fisheye ? 4 : 5, 0.0);
       fs << "distortion_coefficients" << cv::Mat(d, true).reshape(1, 1);

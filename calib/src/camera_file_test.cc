@@ -82,6 +82,27 @@ TEST(CameraFileTest, KalibrRefusesK3) {
   EXPECT_FALSE(CameraFileText(camera, {}, CameraFileFormat::kKalibr, &error).empty());
 }
 
+// OpenCV's XML names the model too; a file without one is a pinhole camera,
+// whatever the struct held before.
+TEST(CameraFileTest, XmlNamesItsModel) {
+  const std::string xml =
+      "<?xml version=\"1.0\"?>\n<opencv_storage>\n"
+      "<camera_matrix type_id=\"opencv-matrix\"><rows>3</rows><cols>3</cols><dt>d</dt>"
+      "<data>300 0 320 0 300 240 0 0 1</data></camera_matrix>\n"
+      "<distortion_coefficients type_id=\"opencv-matrix\"><rows>1</rows><cols>4</cols>"
+      "<dt>d</dt><data>0.1 0.01 0 0</data></distortion_coefficients>\n"
+      "<distortion_model>\"fisheye\"</distortion_model>\n</opencv_storage>\n";
+  CameraIntrinsics camera;
+  std::string error;
+  ASSERT_TRUE(ParseCameraFile(xml, ".xml", &camera, &error)) << error;
+  EXPECT_EQ(camera.model, LensModel::kFisheye);
+  std::string pinhole = xml;
+  pinhole.erase(pinhole.find("<distortion_model>"),
+                pinhole.find("</opencv_storage>") - pinhole.find("<distortion_model>"));
+  ASSERT_TRUE(ParseCameraFile(pinhole, ".xml", &camera, &error)) << error;
+  EXPECT_EQ(camera.model, LensModel::kPinhole);
+}
+
 TEST(CameraFileTest, RefusesAnUnknownLensModel) {
   CameraIntrinsics camera;
   std::string error;

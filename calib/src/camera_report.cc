@@ -256,12 +256,15 @@ void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& titl
     }
   }
   // Right: two image panels, the scatter and the bars.
-  const double right = 330, panel = 236, gap = 22;
-  const double top = kMargin + 70;
+  // The image panels at most 236 points wide and 236 high, so that a
+  // portrait frame leaves room for the plots below.
+  const double right = 330, gap = 22, top = kMargin + 70;
+  const double aspect = static_cast<double>(c.image_size.height) / c.image_size.width;
+  const double panel = std::min(236.0, 236.0 / aspect);
   DrawCoverage(cr, c, right, top, panel);
-  DrawResidualVectors(cr, c, right + panel + gap, top, panel);
-  const double below = top + panel * c.image_size.height / c.image_size.width + 34;
-  const double side = std::min(170.0, kHeight - kMargin - below - 14);
+  DrawResidualVectors(cr, c, right + 236.0 + gap, top, panel);
+  const double below = top + panel * aspect + 34;
+  const double side = std::max(100.0, std::min(170.0, kHeight - kMargin - below - 14));
   DrawScatter(cr, c, right, below, side);
   DrawViewBars(cr, c, right + side + 40, below, kWidth - kMargin - (right + side + 40), side);
 }

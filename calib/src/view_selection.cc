@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 
@@ -140,54 +141,64 @@ ViewDecision ViewSelector::Offer(const std::vector<Detection>& detections) {
 }
 
 std::vector<size_t> ViewSelector::Choose(const std::vector<ViewPose>& candidates,
-                                         std::vector<std::string>* why) const {
+                                         std::vector<std::string>* why) {
   why->assign(candidates.size(), "");
+  // Each candidate's new cells (a bit per cell) and distance to the nearest
+  // kept pose, brought up to date as views are kept.
+  const auto bits = [](const ViewPose& pose) {
+    uint64_t b = 0;
+    for (size_t c = 0; c < pose.cells.size(); ++c) b |= pose.cells[c] ? uint64_t{1} << c : 0;
+    return b;
+  };
+  uint64_t covered = 0;
+  for (const ViewPose& k : kept_) covered |= bits(k);
+  std::vector<uint64_t> cells(candidates.size());
+  std::vector<double> distance(candidates.size(), std::numeric_limits<double>::infinity());
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    cells[i] = bits(candidates[i]);
+    for (const ViewPose& k : kept_)
+      distance[i] = std::min(distance[i], candidates[i].DistanceTo(k));
+  }
+  const auto new_cells = [&](size_t i) { return __builtin_popcountll(cells[i] & ~covered); };
+  const auto adds = [&](size_t i) {
+    return kept_.empty() || new_cells(i) >= options_.min_new_cells ||
+           distance[i] >= options_.min_pose_distance;
+  };
   std::vector<size_t> chosen;
-  std::vector<const ViewPose*> kept;
   std::vector<bool> taken(candidates.size(), false);
-  while (static_cast<int>(chosen.size()) < options_.max_views) {
-    // Most new cells first, then the most distant pose; ties to more corners.
+  while (!full()) {
+    // Most new cells first (when enough to count), then the most distant
+    // pose; the very first view: the most corners.
     int best = -1, best_cells = -1;
-    double best_distance = -1;
+    double best_score = -1;
     for (size_t i = 0; i < candidates.size(); ++i) {
-      if (taken[i]) continue;
-      int cells = 0, nearest = -1;
-      double distance = 0;
-      Compare(candidates[i], kept, &cells, &distance, &nearest);
-      const bool adds =
-          kept.empty() || cells >= options_.min_new_cells || distance >= options_.min_pose_distance;
-      if (!adds) continue;
-      const int score_cells = cells >= options_.min_new_cells ? cells : 0;
-      const double score_distance = kept.empty() ? candidates[i].corners : distance;
-      if (score_cells > best_cells ||
-          (score_cells == best_cells && score_distance > best_distance)) {
+      if (taken[i] || !adds(i)) continue;
+      const int n = !kept_.empty() && new_cells(i) >= options_.min_new_cells ? new_cells(i) : 0;
+      const double score = kept_.empty() ? candidates[i].corners : distance[i];
+      if (n > best_cells || (n == best_cells && score > best_score)) {
         best = static_cast<int>(i);
-        best_cells = score_cells;
-        best_distance = score_distance;
+        best_cells = n;
+        best_score = score;
       }
     }
     if (best < 0) break;
-    int cells = 0, nearest = -1;
-    double distance = 0;
-    Compare(candidates[best], kept, &cells, &distance, &nearest);
-    (*why)[best] = kept.empty() ? std::string("the most corners")
-                   : cells >= options_.min_new_cells
-                       ? Format("covers %.0f new cells of the image", cells)
-                       : Format("a new pose (%.2f from the nearest kept view)", distance);
-    taken[best] = true;
-    chosen.push_back(static_cast<size_t>(best));
-    kept.push_back(&candidates[best]);
+    const size_t b = static_cast<size_t>(best);
+    (*why)[b] = kept_.empty() ? std::string("the first view, with the most corners")
+                : new_cells(b) >= options_.min_new_cells
+                    ? Format("covers %.0f new cells of the image", new_cells(b))
+                    : Format("a new pose (%.2f from the nearest kept view)", distance[b]);
+    taken[b] = true;
+    chosen.push_back(b);
+    kept_.push_back(candidates[b]);
+    covered |= cells[b];
+    for (size_t i = 0; i < candidates.size(); ++i)
+      distance[i] = std::min(distance[i], candidates[i].DistanceTo(candidates[b]));
   }
   for (size_t i = 0; i < candidates.size(); ++i) {
     if (taken[i]) continue;
-    int cells = 0, nearest = -1;
-    double distance = 0;
-    Compare(candidates[i], kept, &cells, &distance, &nearest);
-    if (cells >= options_.min_new_cells || distance >= options_.min_pose_distance) {
-      (*why)[i] = "the cap of " + std::to_string(options_.max_views) + " views is reached";
-    } else {
-      (*why)[i] = Format("like a kept view (pose %.2f apart, %.0f new cells)", distance, cells);
-    }
+    (*why)[i] = adds(i) ? "the cap of " + std::to_string(options_.max_views) + " views is reached"
+                        : Format("like a kept view (pose %.2f apart, %.0f new cells)", distance[i],
+                                 new_cells(i));
   }
   std::sort(chosen.begin(), chosen.end());
   return chosen;

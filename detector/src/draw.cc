@@ -3,8 +3,8 @@
 #include <string>
 
 #include <opencv2/calib3d.hpp>
-
 #include <opencv2/imgproc.hpp>
+
 #include "chromatag/detector/camera.h"
 
 namespace chromatag {

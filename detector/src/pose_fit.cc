@@ -1,12 +1,12 @@
 #include "pose_fit.h"
 
-#include "chromatag/detector/camera.h"
-
 #include <algorithm>
 #include <cmath>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "chromatag/detector/camera.h"
 
 namespace chromatag::internal {
 namespace {
@@ -53,6 +53,12 @@ bool UndistortedRingCorners(const Detection& detection, const CameraIntrinsics& 
     }
   }
   *undistorted = UndistortPoints(camera, image);
+  for (const cv::Point2d& p : *undistorted) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+      if (error) *error = "a corner lies beyond the range of the camera's lens model";
+      return false;
+    }
+  }
   return true;
 }
 

@@ -77,14 +77,13 @@ void SyncFolder(const std::string& folder) {
 
 }  // namespace
 
-bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* error) {
+bool CheckOutputTargets(const std::vector<std::string>& paths, std::string* error) {
   auto fail = [&](const std::string& path, const std::string& why) {
     if (error) *error = "cannot write '" + path + "': " + why;
     return false;
   };
-  // Every target checked before anything is written.
-  for (size_t i = 0; i < files.size(); ++i) {
-    const std::string& path = files[i].path;
+  for (size_t i = 0; i < paths.size(); ++i) {
+    const std::string& path = paths[i];
     std::error_code ec;
     const fs::file_status folder = fs::status(Folder(path), ec);
     if (!fs::exists(folder)) return fail(path, "no such folder");
@@ -95,9 +94,21 @@ bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* err
     if (fs::exists(target) && !fs::is_regular_file(target) && !fs::is_symlink(target))
       return fail(path, "it is not a regular file");
     for (size_t j = 0; j < i; ++j) {
-      if (files[j].path == path) return fail(path, "named twice in one write");
+      if (paths[j] == path) return fail(path, "named twice in one write");
     }
   }
+  return true;
+}
+
+bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* error) {
+  // Every target checked before anything is written.
+  std::vector<std::string> paths;
+  for (const OutputFile& file : files) paths.push_back(file.path);
+  if (!CheckOutputTargets(paths, error)) return false;
+  auto fail = [&](const std::string& path, const std::string& why) {
+    if (error) *error = "cannot write '" + path + "': " + why;
+    return false;
+  };
   SignalGuard guard;
   std::vector<std::string> temporaries;
   auto remove_all = [&](const std::vector<std::string>& paths) {

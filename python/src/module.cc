@@ -140,6 +140,7 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
   py::object camera_matrix = py::none(), dist_coeffs = py::none();
   double tag_size = 0.0;
   std::string config, camera_file, camera_model = "pinhole";
+  bool model_given = false;
   for (const auto& item : kwargs) {
     const std::string name = item.first.cast<std::string>();
     if (name == "camera_matrix") {
@@ -148,6 +149,7 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
       dist_coeffs = py::reinterpret_borrow<py::object>(item.second);
     } else if (name == "camera_model") {
       camera_model = py::str(item.second);
+      model_given = true;
     } else if (name == "camera_file") {
       camera_file = py::str(item.second);
     } else if (name == "tag_size") {
@@ -192,6 +194,7 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
   }
   if (!camera_file.empty()) {
     if (options.camera) throw Error("give camera_file or camera_matrix, not both");
+    if (model_given) throw Error("camera_model comes from camera_file; give one or the other");
     CameraIntrinsics camera;
     if (!LoadCameraFile(camera_file, &camera, &error)) throw Error(error);
     options.camera = camera;

@@ -123,6 +123,8 @@ def test_camera_from_a_file_and_the_fisheye_model(tmp_path):
         chromatag.Detector(camera_matrix=k, camera_model="omni")
     with pytest.raises(chromatag.Error, match="not both"):
         chromatag.Detector(camera_matrix=k, camera_file=str(path))
+    with pytest.raises(chromatag.Error, match="camera_model comes from camera_file"):
+        chromatag.Detector(camera_file=str(path), camera_model="fisheye")
     with pytest.raises(chromatag.Error, match="missing.yaml"):
         chromatag.Detector(camera_file=str(tmp_path / "missing.yaml"))
 

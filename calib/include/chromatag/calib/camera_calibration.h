@@ -79,7 +79,13 @@ struct CameraCalibration {
 // "k1", ... for the camera's model.
 std::vector<std::string> CalibrationParameterNames(const CameraIntrinsics& camera);
 
-// False (and *error) for a board that is not planar (every tag's z 0 and
+// Whether `board` can calibrate a camera: valid, planar (every tag at z = 0
+// and facing +z) and with at least options.min_tags_per_view tags; false
+// with *error saying what is wrong. CalibrateCamera checks this first.
+bool CheckCalibrationBoard(const Board& board, const CameraCalibrationOptions& options,
+                           std::string* error = nullptr);
+
+// nullopt (and *error) for a board that is not planar (every tag's z 0 and
 // its axes the board's), an empty image size, invalid options, or fewer
 // than three usable views, and when the fit itself fails.
 std::optional<CameraCalibration> CalibrateCamera(const Board& board,

@@ -55,6 +55,7 @@ class ViewSelector {
 
   // Where the board is in a frame; false when fewer than min_tags board
   // tags are seen or the board's pose cannot be found (*why says which).
+  // One selector is for one image size.
   bool Describe(const std::vector<Detection>& detections, ViewPose* pose, std::string* why) const;
 
   // Live: decides now, against the views kept so far.
@@ -63,12 +64,13 @@ class ViewSelector {
   int kept() const { return static_cast<int>(kept_.size()); }
 
   // Offline: from every candidate's pose (Describe), the indices to keep,
-  // chosen greedily: first the frame with the most corners, then each time
-  // the one that adds most (new cells, then distance to the kept poses)
-  // until none adds enough or the cap is reached. `why` gets a reason for
-  // every candidate, kept or not.
+  // chosen greedily against the views kept so far: each time the one that
+  // adds most (new cells of the image, then distance to the kept poses; the
+  // most corners for the very first) until none adds enough or the cap is
+  // reached. The chosen join the kept views. `why` gets a reason for every
+  // candidate, kept or not.
   std::vector<size_t> Choose(const std::vector<ViewPose>& candidates,
-                             std::vector<std::string>* why) const;
+                             std::vector<std::string>* why);
 
  private:
   // New cells and the distance to the nearest kept pose (and its index).

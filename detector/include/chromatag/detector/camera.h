@@ -23,7 +23,7 @@ std::vector<cv::Point2d> ProjectPoints(const CameraIntrinsics& camera,
 // Pixels of the real lens to where an ideal pinhole camera with the same
 // camera matrix would see them; iterated to convergence (OpenCV's default
 // five iterations leave up to a quarter pixel near the edge of a strongly
-// distorted image).
+// distorted image). NaN for a pixel the fisheye model cannot invert.
 std::vector<cv::Point2d> UndistortPoints(const CameraIntrinsics& camera,
                                          const std::vector<cv::Point2d>& pixels);
 

@@ -27,6 +27,11 @@ struct OutputFile {
 // and *error names the target and why.
 bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* error = nullptr);
 
+// The checks WriteFilesAtomically makes of its targets before writing, for
+// a command to make before long work: false with *error naming the first
+// target that cannot be written and why.
+bool CheckOutputTargets(const std::vector<std::string>& paths, std::string* error = nullptr);
+
 // SHA-256 of `data`, as 64 lower-case hex digits (FIPS 180-4).
 std::string Sha256Hex(const std::string& data);
 
