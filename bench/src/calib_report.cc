@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "report_util.h"
+
 namespace chromatag::bench {
 namespace {
 
@@ -98,22 +100,6 @@ double Worst(const std::vector<double>& v) {
   return v.empty() ? std::nan("") : *std::max_element(v.begin(), v.end());
 }
 
-std::string MarkdownTable(const std::vector<std::string>& header,
-                          const std::vector<std::vector<std::string>>& rows) {
-  std::ostringstream out;
-  const auto line = [&](const std::vector<std::string>& cells) {
-    out << "|";
-    for (const std::string& cell : cells) out << " " << cell << " |";
-    out << "\n";
-  };
-  line(header);
-  out << "|";
-  for (size_t i = 0; i < header.size(); ++i) out << (i == 0 ? "---|" : "---:|");
-  out << "\n";
-  for (const auto& row : rows) line(row);
-  return out.str();
-}
-
 // "better (0.52x)" when ChromaTag's median is below ChArUco's.
 std::string AgainstCharuco(double chromatag, double charuco) {
   if (std::isinf(chromatag) || std::isinf(charuco)) {
@@ -163,10 +149,10 @@ std::string LimitsTable(const std::vector<TrialResult>& trials) {
     row.push_back(AgainstCharuco(medians[kChromaTagBoard], medians[kCharucoBoard]));
     rows.push_back(row);
   }
-  return MarkdownTable({"", "limit (ChromaTag)", "ChromaTag median", "ChromaTag worst",
-                        "ChromaTag trials within the limit", "ChArUco median", "ChArUco worst",
-                        "ChromaTag's median against ChArUco's"},
-                       rows);
+  return Markdown({"", "limit (ChromaTag)", "ChromaTag median", "ChromaTag worst",
+                   "ChromaTag trials within the limit", "ChArUco median", "ChArUco worst",
+                   "ChromaTag's median against ChArUco's"},
+                  rows);
 }
 
 // Trials in which a tool met every limit.
@@ -208,8 +194,8 @@ std::string OtherTable(const std::vector<TrialResult>& trials) {
     }
     rows.push_back(row);
   }
-  return MarkdownTable(
-      {"", "ChromaTag median", "ChromaTag range", "ChArUco median", "ChArUco range"}, rows);
+  return Markdown({"", "ChromaTag median", "ChromaTag range", "ChArUco median", "ChArUco range"},
+                  rows);
 }
 
 std::string TrialsTable(const std::vector<TrialResult>& trials) {
@@ -243,9 +229,9 @@ std::string TrialsTable(const std::vector<TrialResult>& trials) {
       rows.push_back(row);
     }
   }
-  return MarkdownTable({"trial", "views partly out", "JPEG views", "board", "fx %", "fy %", "cx px",
-                        "cy px", "k1", "k2", "rms px", "views used", "corners used"},
-                       rows);
+  return Markdown({"trial", "views partly out", "JPEG views", "board", "fx %", "fy %", "cx px",
+                   "cy px", "k1", "k2", "rms px", "views used", "corners used"},
+                  rows);
 }
 
 std::string Header(const std::vector<TrialResult>& trials, const CalibrationRunInfo& info) {
