@@ -346,6 +346,17 @@ TEST_F(CalibrateCameraCli, ChoosesViewsFromAVideo) {
   std::string error;
   ASSERT_TRUE(LoadCameraFile(Path("camera.yaml"), &camera, &error)) << error;
   EXPECT_NEAR(camera.fx, 600, 1.5);
+
+  // The same film as a stream (a live source): views kept as they come, the
+  // reading ended by the cap.
+  const auto live = testing::RunChromatag({"calibrate-camera", "file://" + Path("film.avi"),
+                                           "--board", Path("board.json"), "--max-views", "6",
+                                           "-o", Path("live.yaml")});
+  ASSERT_EQ(live.exit_code, 0) << live.err;
+  EXPECT_NE(live.err.find("(6 of 6)"), std::string::npos) << live.err;
+  EXPECT_EQ(live.err.find("(7 of 6)"), std::string::npos) << live.err;
+  EXPECT_NE(live.err.find("the first view"), std::string::npos) << live.err;
+  EXPECT_NE(live.err.find("warning: 6 views used"), std::string::npos) << live.err;
 }
 
 TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
