@@ -46,6 +46,9 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
+// How often waits look at the signal flags.
+constexpr std::chrono::milliseconds kPoll(50);
+
 struct DetectOptions {
   std::string family = "all";
   bool json = false;
@@ -57,18 +60,26 @@ struct DetectOptions {
   bool rejected = false;   // Report (JSON) and draw (overlay) rejected candidates.
   std::vector<int> camera_indices;
   bool show = false;
-  int jobs = 0;  // 0: one per core.
+  int jobs = 0;              // 0: one per core.
+  int64_t max_frames = 0;    // 0: no limit.
+  double duration_s = 0.0;   // 0: no limit.
+  bool every_frame = false;  // Live sources: never drop a stale frame.
   std::vector<std::string> inputs;
 };
 
-// Ctrl-C: the first ends the run cleanly (the frames under way finish and
-// the summary is printed); a second one, with the default handler back,
-// ends the process.
+// Ctrl-C (SIGINT) or SIGTERM: the first ends the reading, the frames under
+// way finish and are printed, then the summary; a second one stops waiting
+// for them (a stalled stream, a slow frame) and prints the summary at once.
+// Either way every printed line is whole, and the exit code is 128 + the
+// signal, as a shell expects.
 std::atomic<bool> g_stop{false};
+std::atomic<bool> g_stop_now{false};
+std::atomic<int> g_signal{0};
 
-void OnInterrupt(int) {
+void OnSignal(int signal) {
+  if (g_stop) g_stop_now = true;
   g_stop = true;
-  std::signal(SIGINT, SIG_DFL);
+  g_signal = signal;
 }
 
 // What one frame (or one source that could not be read) gives.
@@ -84,7 +95,8 @@ struct Outcome {
   std::string out;
   std::string err;
   bool failed = false;
-  bool frame = false;  // A frame was detected in.
+  bool frame = false;    // A frame was detected in.
+  bool dropped = false;  // A live frame dropped unseen: a newer one came first.
   int tags = 0;
   cv::Mat shown;  // --show: the frame with the detections drawn.
 };
@@ -142,20 +154,25 @@ class Run {
     for (int i = 0; i < jobs_; ++i) workers.emplace_back([this] { Work(); });
     if (!options_.json)
       std::cout << "file                            frame  family   id  h  margin  corner 0\n";
-    size_t frames = 0, with_tags = 0, tags = 0;
+    size_t frames = 0, with_tags = 0, tags = 0, dropped = 0;
     bool failed = false;
-    for (size_t next = 0;; ++next) {
+    for (size_t next = 0; !g_stop_now; ++next) {
       Outcome outcome;
       {
+        // Polled: a signal handler cannot wake a condition variable.
         std::unique_lock<std::mutex> lock(mutex_);
-        done_changed_.wait(lock,
-                           [&] { return done_.count(next) || (read_all_ && next == queued_); });
+        const auto ready = [&] { return done_.count(next) || (read_all_ && next == queued_); };
+        while (!ready() && !g_stop_now) done_changed_.wait_for(lock, kPoll);
         if (!done_.count(next)) break;
         outcome = std::move(done_[next]);
         done_.erase(next);
       }
       space_.notify_all();
-      std::cout << outcome.out;
+      if (outcome.dropped) {
+        ++dropped;
+        continue;
+      }
+      std::cout << outcome.out << std::flush;
       if (!outcome.err.empty()) {
         progress.Finish();  // The message on a line of its own; the bar comes back.
         std::cerr << outcome.err;
@@ -174,6 +191,30 @@ class Run {
         if (key == 'q' || key == 27) g_stop = true;
       }
     }
+    const auto summary = [&] {
+      progress.Finish();
+      std::cout.flush();
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::string ended = g_signal ? " (interrupted)" : limit_reached_ ? " (" + limit_ + ")" : "";
+      if (dropped) ended += ", " + std::to_string(dropped) + " stale live frames dropped";
+      std::fprintf(stderr,
+                   "detect: %zu frame%s, %zu with tags, %zu tag%s in %.2f s: %.1f frames/s on %d "
+                   "thread%s%s\n",
+                   frames, frames == 1 ? "" : "s", with_tags, tags, tags == 1 ? "" : "s", seconds,
+                   seconds > 0 ? static_cast<double>(frames) / seconds : 0.0, jobs_,
+                   jobs_ == 1 ? "" : "s", ended.c_str());
+      std::fflush(stderr);
+      return g_signal ? 128 + g_signal : failed ? kExitFailure : kExitOk;
+    };
+    if (g_stop_now) {
+      // A second signal: the reader may be stuck in a stalled stream and the
+      // workers in a frame; the printed lines are whole, the summary says
+      // how many, and the process ends here. Overlays are written through
+      // temporary files, so none is left half-written.
+      const int code = summary();
+      std::_Exit(code);
+    }
     reader.join();
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -181,36 +222,60 @@ class Run {
     }
     work_ready_.notify_all();
     for (std::thread& w : workers) w.join();
-    progress.Finish();
-    std::cout.flush();
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr,
-                 "detect: %zu frame%s, %zu with tags, %zu tag%s in %.2f s: %.1f frames/s on %d "
-                 "thread%s%s\n",
-                 frames, frames == 1 ? "" : "s", with_tags, tags, tags == 1 ? "" : "s", seconds,
-                 seconds > 0 ? static_cast<double>(frames) / seconds : 0.0, jobs_,
-                 jobs_ == 1 ? "" : "s", g_stop ? " (interrupted)" : "");
-    return failed ? kExitFailure : kExitOk;
+    return summary();
   }
 
  private:
   // Queues a task in order, waiting while `capacity_` frames are under way.
+  // A live frame instead replaces the frames of its source still waiting for
+  // a worker (they are stale now; each is reported as dropped), unless
+  // --every-frame.
   void Queue(Task task) {
     std::unique_lock<std::mutex> lock(mutex_);
-    space_.wait(lock, [&] { return queued_ - printed() < capacity_; });
+    if (sources_[task.source].live() && !options_.every_frame) {
+      for (auto it = tasks_.begin(); it != tasks_.end();) {
+        if (it->second.source != task.source || !it->second.error.empty()) {
+          ++it;
+          continue;
+        }
+        Outcome dropped;
+        dropped.dropped = true;
+        done_[it->first] = std::move(dropped);
+        it = tasks_.erase(it);
+      }
+      done_changed_.notify_all();
+    }
+    while (queued_ - printed() >= capacity_ && !g_stop_now) space_.wait_for(lock, kPoll);
     tasks_.push_back({queued_++, std::move(task)});
     lock.unlock();
     work_ready_.notify_one();
+  }
+
+  // Whether --max-frames or --duration ends the reading now.
+  bool LimitReached() {
+    if (options_.max_frames > 0 && frames_read_ >= options_.max_frames) {
+      limit_ = "--max-frames " + std::to_string(options_.max_frames);
+    } else if (options_.duration_s > 0 &&
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count() >=
+                   options_.duration_s) {
+      char text[48];
+      std::snprintf(text, sizeof text, "--duration %g s", options_.duration_s);
+      limit_ = text;
+    } else {
+      return false;
+    }
+    limit_reached_ = true;
+    return true;
   }
 
   // Tasks the printer has taken; the others are under way. Under mutex_.
   size_t printed() const { return queued_ - tasks_.size() - done_.size() - working_; }
 
   void Read() {
-    for (size_t i = 0; i < sources_.size() && !g_stop; ++i) {
+    for (size_t i = 0; i < sources_.size() && !g_stop && !LimitReached(); ++i) {
       const Source& source = sources_[i];
       if (source.kind == SourceKind::kImage) {
+        ++frames_read_;
         Queue({i, 0, {}, 0, {}});
         continue;
       }
@@ -235,18 +300,21 @@ class Run {
       if (!source.live())
         total_ += static_cast<size_t>(std::max(0.0, capture.get(cv::CAP_PROP_FRAME_COUNT)));
       int index = 0;
-      while (!g_stop) {
+      while (!g_stop && !LimitReached()) {
         cv::Mat frame;  // A new buffer each time: the workers keep the last ones.
         if (!capture.read(frame) || frame.empty()) break;
         if (frame.type() != CV_8UC3) {
           Queue({i, index, {}, 0, "'" + source.name + "' gives frames that are not 8-bit colour"});
           break;
         }
+        // Live: when the frame arrived (seconds since the epoch); a video
+        // file: the frame's place in it (seconds from its start).
         const double timestamp =
             source.live()
                 ? std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
                       .count()
-                : 0.0;
+                : capture.get(cv::CAP_PROP_POS_MSEC) / 1000.0;
+        ++frames_read_;
         Queue({i, index++, std::move(frame), timestamp, {}});
       }
       if (index == 0 && !g_stop)
@@ -376,7 +444,7 @@ class Run {
                    {"detections", detections}};
       if (board_)
         line["board"] = board_pose ? BoardJson(*board_pose, result->detections) : Json(nullptr);
-      if (source.live()) line["timestamp"] = task.timestamp;
+      if (source.kind != SourceKind::kImage) line["timestamp"] = task.timestamp;
       if (!overlay.empty()) line["overlay"] = overlay;
       if (options_.rejected) line["rejected"] = Rejected(result->rejected);
       // A file name that is not UTF-8 is written with U+FFFD, not refused.
@@ -451,6 +519,11 @@ class Run {
   const int jobs_;
   const size_t capacity_;
   std::atomic<size_t> total_{0};
+  // The reader's: frames read so far, and whether a limit ended the reading.
+  const std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+  int64_t frames_read_ = 0;
+  std::atomic<bool> limit_reached_{false};
+  std::string limit_;  // Written by the reader before it sets read_all_.
 
   std::mutex mutex_;
   std::condition_variable work_ready_, done_changed_, space_;
@@ -463,6 +536,13 @@ class Run {
 };
 
 int RunDetect(const DetectOptions& options) {
+  // From the start: a signal while the detector is set up still ends with a
+  // summary.
+  g_stop = false;
+  g_stop_now = false;
+  g_signal = 0;
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
   const auto fail = [](const std::string& message) { return Fail("detect", message); };
   DetectorOptions detector_options;
   detector_options.families =
@@ -519,11 +599,10 @@ int RunDetect(const DetectOptions& options) {
   const int jobs = options.jobs > 0
                        ? options.jobs
                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  g_stop = false;
-  std::signal(SIGINT, OnInterrupt);
   Run run(options, *detector, board, std::move(sources), jobs);
   const int code = run.Execute();
   std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
   return code;
 }
 
@@ -561,13 +640,25 @@ void RegisterDetect(CLI::App& app, Action* action) {
   command->add_flag("--show", options->show,
                     "Show the frames with the detections in a window (q quits)");
   command
+      ->add_option("--max-frames", options->max_frames,
+                   "End after this many frames (images and video frames, over all inputs)")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
+  command
+      ->add_option("--duration", options->duration_s,
+                   "End the reading after this many seconds (frames under way are finished)")
+      ->check(CLI::Range(1e-3, 1e9));
+  command->add_flag("--every-frame", options->every_frame,
+                    "Cameras and streams: detect in every frame, however late, instead of "
+                    "dropping frames a newer one has overtaken");
+  command
       ->add_option("-j,--jobs", options->jobs,
                    "Threads that decode and detect (default: one per core)")
       ->check(CLI::Range(1, 256));
   command->add_option(
       "INPUT", options->inputs,
       "Images, folders, videos, /dev/videoN or stream URLs (rtsp://, http://, ...); "
-      "Ctrl-C ends a live run with its summary");
+      "Ctrl-C or SIGTERM ends a run with its summary (a second one without waiting for frames "
+      "under way)");
   command->callback([options, action] { *action = [options] { return RunDetect(*options); }; });
 }
 

@@ -349,9 +349,9 @@ TEST_F(CalibrateCameraCli, ChoosesViewsFromAVideo) {
 
   // The same film as a stream (a live source): views kept as they come, the
   // reading ended by the cap.
-  const auto live = testing::RunChromatag({"calibrate-camera", "file://" + Path("film.avi"),
-                                           "--board", Path("board.json"), "--max-views", "6",
-                                           "-o", Path("live.yaml")});
+  const auto live =
+      testing::RunChromatag({"calibrate-camera", "file://" + Path("film.avi"), "--board",
+                             Path("board.json"), "--max-views", "6", "-o", Path("live.yaml")});
   ASSERT_EQ(live.exit_code, 0) << live.err;
   EXPECT_NE(live.err.find("(6 of 6)"), std::string::npos) << live.err;
   EXPECT_EQ(live.err.find("(7 of 6)"), std::string::npos) << live.err;

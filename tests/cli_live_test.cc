@@ -1,6 +1,6 @@
-// `chromatag detect` on videos and streams (issue 11): frames in order on
-// any number of threads, overlay names that cannot collide, timestamps on
-// live frames, and Ctrl-C ending a run cleanly with its summary.
+// `chromatag detect` on videos and streams: frames in order on any number of
+// threads, overlay names that cannot collide, timestamps, frame and time
+// limits, and Ctrl-C or SIGTERM ending a run cleanly with its summary.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -111,7 +111,8 @@ TEST(CliLiveTest, StreamsCarryTimestamps) {
   const std::string dir = FreshDir("stream");
   const std::string clip = MakeClip(dir, "clip.avi", 20);
   const double before = static_cast<double>(time(nullptr));
-  const auto run = Chromatag({"detect", "--json", "file://" + clip});
+  // Every frame: a stream read faster than it is detected would drop some.
+  const auto run = Chromatag({"detect", "--json", "--every-frame", "file://" + clip});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto lines = JsonLines(run.out);
   ASSERT_EQ(lines.size(), 20u);
@@ -122,14 +123,61 @@ TEST(CliLiveTest, StreamsCarryTimestamps) {
     EXPECT_GE(t, last);
     last = t;
   }
-  // Files are not live: no timestamp.
-  EXPECT_FALSE(JsonLines(Chromatag({"detect", "--json", clip}).out)[0].contains("timestamp"));
+  // A video file's frames carry their place in it: 30 frames a second.
+  const auto file_lines = JsonLines(Chromatag({"detect", "--json", clip}).out);
+  ASSERT_EQ(file_lines.size(), 20u);
+  for (size_t i = 0; i < file_lines.size(); ++i)
+    EXPECT_NEAR(file_lines[i]["timestamp"].get<double>(), i / 30.0, 1e-6);
 }
 
-// Ctrl-C during a live run: the frames under way finish, the summary says it
-// was interrupted, exit 0, and every line written is whole.
-TEST(CliLiveTest, InterruptEndsALiveRunCleanly) {
-  const std::string dir = FreshDir("interrupt");
+// A live source detects the newest frame: frames a newer one overtook
+// while they waited are dropped, counted in the summary, and never printed.
+TEST(CliLiveTest, LiveSourcesDropStaleFrames) {
+  const std::string dir = FreshDir("stale");
+  const std::string clip = MakeClip(dir, "clip.avi", 400);
+  const auto run = Chromatag({"detect", "--json", "-j", "1", "file://" + clip});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto lines = JsonLines(run.out);
+  const size_t dropped = 400 - lines.size();
+  if (dropped > 0) {
+    EXPECT_NE(run.err.find(std::to_string(dropped) + " stale live frames dropped"),
+              std::string::npos)
+        << run.err;
+  }
+  for (size_t i = 1; i < lines.size(); ++i)
+    EXPECT_GT(lines[i]["frame"].get<int>(), lines[i - 1]["frame"].get<int>());
+  const auto every = Chromatag({"detect", "--json", "-j", "1", "--every-frame", "file://" + clip});
+  EXPECT_EQ(JsonLines(every.out).size(), 400u);
+  EXPECT_EQ(every.err.find("dropped"), std::string::npos) << every.err;
+}
+
+// --max-frames and --duration end a run, and the summary says which.
+TEST(CliLiveTest, FrameAndTimeLimitsEndARun) {
+  const std::string dir = FreshDir("limits");
+  const std::string clip = MakeClip(dir, "clip.avi", 20);
+  const auto frames = Chromatag({"detect", "--json", "--max-frames", "7", clip, clip});
+  ASSERT_EQ(frames.exit_code, 0) << frames.err;
+  EXPECT_EQ(JsonLines(frames.out).size(), 7u);
+  EXPECT_NE(frames.err.find("(--max-frames 7)"), std::string::npos) << frames.err;
+  const std::string long_clip = MakeClip(dir, "long.avi", 3000);
+  const auto timed = Chromatag({"detect", "--json", "--duration", "0.05", long_clip});
+  ASSERT_EQ(timed.exit_code, 0) << timed.err;
+  EXPECT_LT(JsonLines(timed.out).size(), 3000u);
+  EXPECT_NE(timed.err.find("(--duration 0.05 s)"), std::string::npos) << timed.err;
+  const auto zero = Chromatag({"detect", "--max-frames", "0", clip});
+  EXPECT_EQ(zero.exit_code, 2);
+}
+
+// A live run ended by Ctrl-C, by Ctrl-C twice (the second without waiting
+// for frames under way) or by SIGTERM: every line written is whole, the
+// summary counts them and says it was interrupted, and the exit code is 128
+// + the signal, as a shell's.
+class CliLiveSignalTest : public ::testing::TestWithParam<std::vector<int>> {};
+
+TEST_P(CliLiveSignalTest, EndsALiveRunCleanly) {
+  const std::vector<int> signals = GetParam();
+  const std::string dir =
+      FreshDir("signal" + std::to_string(signals.size()) + std::to_string(signals[0]));
   const std::string clip = MakeClip(dir, "long.avi", 3000);
   int out_pipe[2];
   ASSERT_EQ(pipe(out_pipe), 0);
@@ -152,7 +200,7 @@ TEST(CliLiveTest, InterruptEndsALiveRunCleanly) {
   for (ssize_t n; (n = read(out_pipe[0], buffer, sizeof buffer)) > 0;) {
     out.append(buffer, static_cast<size_t>(n));
     if (!signalled && out.find('\n') != std::string::npos) {
-      kill(pid, SIGINT);
+      for (int signal : signals) kill(pid, signal);
       signalled = true;
     }
   }
@@ -160,14 +208,20 @@ TEST(CliLiveTest, InterruptEndsALiveRunCleanly) {
   int status = 0;
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + signals.back());
   const auto lines = JsonLines(out);  // Throws on a half-written line.
   EXPECT_GE(lines.size(), 1u);
   EXPECT_LT(lines.size(), 3000u);
   const std::string err = testing::ReadFile(err_path);
   EXPECT_NE(err.find("(interrupted)"), std::string::npos) << err;
-  EXPECT_NE(err.find(std::to_string(lines.size()) + " frame"), std::string::npos) << err;
+  EXPECT_NE(err.find("detect: " + std::to_string(lines.size()) + " frame"), std::string::npos)
+      << err;
 }
+
+INSTANTIATE_TEST_SUITE_P(Signals, CliLiveSignalTest,
+                         ::testing::Values(std::vector<int>{SIGINT},
+                                           std::vector<int>{SIGINT, SIGINT},
+                                           std::vector<int>{SIGTERM}));
 
 TEST(CliLiveTest, BadLiveUsageIsExitTwo) {
   const auto show = testing::RunCommand(
