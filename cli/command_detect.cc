@@ -130,9 +130,10 @@ Json Rejected(const std::vector<RejectedCandidate>& rejected) {
 class Run {
  public:
   Run(const DetectOptions& options, const Detector& detector, const std::optional<Board>& board,
-      std::vector<Source> sources, int jobs)
+      std::vector<Source> sources, int jobs, cv::Size camera_size)
       : options_(options),
         detector_(detector),
+        camera_size_(camera_size),
         board_(board),
         sources_(std::move(sources)),
         jobs_(jobs),
@@ -249,6 +250,49 @@ class Run {
     tasks_.push_back({queued_++, std::move(task)});
     lock.unlock();
     work_ready_.notify_one();
+  }
+
+  // The detector for frames of `size`: the camera file's intrinsics are for
+  // the image size it records. Frames of another size with the same aspect
+  // get them scaled; of another shape, the intrinsics as they are, with a
+  // warning that their poses are wrong. Either is said once per size, in
+  // *note.
+  const Detector& DetectorFor(cv::Size size, std::string* note) const {
+    const auto& camera = detector_.options().camera;
+    if (!camera || camera_size_.empty() || size == camera_size_) return detector_;
+    std::lock_guard<std::mutex> lock(scaled_mutex_);
+    const auto key = std::make_pair(size.width, size.height);
+    auto found = scaled_.find(key);
+    if (found != scaled_.end()) return found->second ? *found->second : detector_;
+    const double sx = static_cast<double>(size.width) / camera_size_.width;
+    const double sy = static_cast<double>(size.height) / camera_size_.height;
+    char text[320];
+    std::unique_ptr<Detector> scaled;
+    if (std::abs(sx / sy - 1.0) < 0.005) {
+      // Pixel centres at integers: a pixel's edge at -0.5 scales to -0.5.
+      CameraIntrinsics intrinsics = *camera;
+      intrinsics.fx *= sx;
+      intrinsics.fy *= sy;
+      intrinsics.cx = (camera->cx + 0.5) * sx - 0.5;
+      intrinsics.cy = (camera->cy + 0.5) * sy - 0.5;
+      DetectorOptions options = detector_.options();
+      options.camera = intrinsics;
+      scaled = Detector::Create(options);
+      std::snprintf(text, sizeof text,
+                    "chromatag detect: warning: the camera file is for %d x %d frames; %d x %d "
+                    "frames use its intrinsics scaled by %.4g\n",
+                    camera_size_.width, camera_size_.height, size.width, size.height, sx);
+    } else {
+      std::snprintf(text, sizeof text,
+                    "chromatag detect: warning: the camera file is for %d x %d frames; %d x %d "
+                    "frames have another shape, and their poses are wrong (calibrate the "
+                    "camera at this size)\n",
+                    camera_size_.width, camera_size_.height, size.width, size.height);
+    }
+    *note += text;
+    auto& entry = scaled_[key];
+    entry = std::move(scaled);
+    return entry ? *entry : detector_;
   }
 
   // Whether --max-frames or --duration ends the reading now.
@@ -383,10 +427,11 @@ class Run {
       }
     }
     const cv::Mat& frame = task.frame;
-    detector_.Detect(frame, PixelOrder::kBgr, result);
+    const Detector& detector = DetectorFor(frame.size(), &outcome.err);
+    detector.Detect(frame, PixelOrder::kBgr, result);
     outcome.frame = true;
     outcome.tags = static_cast<int>(result->detections.size());
-    const DetectorOptions& d = detector_.options();
+    const DetectorOptions& d = detector.options();
     std::optional<BoardPose> board_pose;
     if (board_) {
       BoardPose pose;
@@ -514,6 +559,10 @@ class Run {
 
   const DetectOptions& options_;
   const Detector& detector_;
+  const cv::Size camera_size_;  // The camera file's recorded image size, if any.
+  mutable std::mutex scaled_mutex_;
+  // Detectors for frame sizes other than the camera file's; null: not scaled.
+  mutable std::map<std::pair<int, int>, std::unique_ptr<Detector>> scaled_;
   const std::optional<Board>& board_;
   const std::vector<Source> sources_;
   const int jobs_;
@@ -551,9 +600,10 @@ int RunDetect(const DetectOptions& options) {
   std::string error;
   if (!options.config.empty() && !LoadDetectorConfig(options.config, &detector_options, &error))
     return fail(error);
+  CameraFileInfo camera_info;
   if (!options.camera_file.empty()) {
     CameraIntrinsics camera;
-    if (!LoadCameraFile(options.camera_file, &camera, &error)) return fail(error);
+    if (!LoadCameraFile(options.camera_file, &camera, &error, &camera_info)) return fail(error);
     detector_options.camera = camera;
   }
   if (!options.tag_size.empty()) {
@@ -599,7 +649,7 @@ int RunDetect(const DetectOptions& options) {
   const int jobs = options.jobs > 0
                        ? options.jobs
                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  Run run(options, *detector, board, std::move(sources), jobs);
+  Run run(options, *detector, board, std::move(sources), jobs, camera_info.image_size);
   const int code = run.Execute();
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);

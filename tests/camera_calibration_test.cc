@@ -287,6 +287,41 @@ TEST_F(CalibrateCameraCli, CalibratesAndDetectReadsItsCameraFile) {
   }
 }
 
+// The camera file records its image size: frames of half the size use the
+// intrinsics scaled (and say so), frames of another shape are warned about.
+TEST_F(CalibrateCameraCli, DetectScalesTheIntrinsicsToTheFrames) {
+  const PrintedBoard printed = PrintBoard();
+  Write("board.json", printed.sidecar);
+  CameraFileInfo info;
+  info.image_size = kSize;
+  std::string error;
+  Write("camera.yaml", CameraFileText(TrueCamera(), info, CameraFileFormat::kRos, &error));
+  std::mt19937 rng(78);
+  const Pose truth = RandomPose(printed.board, &rng, 30, 0.3, 0.02);
+  const cv::Mat view = testing::PhotographPage(printed.page, TrueCamera(), kSize, truth.rvec,
+                                               truth.tvec, Effects(1, &rng, 0.4));
+  cv::Mat half;
+  cv::resize(view, half, kSize / 2, 0, 0, cv::INTER_AREA);
+  ASSERT_TRUE(cv::imwrite(Path("half.png"), half));
+  ASSERT_TRUE(cv::imwrite(Path("cropped.png"), view(cv::Rect(0, 0, 700, 480))));
+  const auto run =
+      testing::RunChromatag({"detect", Path("half.png"), "--camera", Path("camera.yaml"), "--board",
+                             Path("board.json"), "--json"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("376 x 240 frames use its intrinsics scaled by 0.5"), std::string::npos)
+      << run.err;
+  const auto line = nlohmann::json::parse(run.out);
+  ASSERT_TRUE(line["board"].is_object()) << run.out;
+  const cv::Vec3d tvec(line["board"]["tvec"][0], line["board"]["tvec"][1],
+                       line["board"]["tvec"][2]);
+  EXPECT_LT(cv::norm(tvec - truth.tvec) / cv::norm(truth.tvec), 0.01);
+  const auto cropped = testing::RunChromatag(
+      {"detect", Path("cropped.png"), "--camera", Path("camera.yaml"), "--tag-size", "24mm"});
+  EXPECT_EQ(cropped.exit_code, 0) << cropped.err;
+  EXPECT_NE(cropped.err.find("have another shape, and their poses are wrong"), std::string::npos)
+      << cropped.err;
+}
+
 // A fisheye lens (cv::fisheye's equidistant model), calibrated with
 // --model fisheye into a Kalibr camchain that detect reads back.
 TEST_F(CalibrateCameraCli, CalibratesAFisheyeLens) {

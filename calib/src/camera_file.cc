@@ -227,10 +227,46 @@ bool FromXml(const std::string& text, CameraIntrinsics* camera, std::string* err
   return FromMatrix(*k_numbers, d, camera, error);
 }
 
+// The image size a camera file records, (0, 0) when it records none or one
+// that is not two positive integers: image_width and image_height (OpenCV,
+// ROS), or resolution [w, h] (Kalibr).
+cv::Size RecordedImageSize(const std::string& text, const std::string& ext) {
+  const auto valid = [](long long w, long long h) {
+    return w > 0 && h > 0 && w <= (1 << 20) && h <= (1 << 20)
+               ? cv::Size(static_cast<int>(w), static_cast<int>(h))
+               : cv::Size();
+  };
+  try {
+    if (ext == ".json") {
+      const nlohmann::json root = nlohmann::json::parse(text);
+      return valid(root.at("image_width").get<long long>(),
+                   root.at("image_height").get<long long>());
+    }
+    if (ext == ".xml") {
+      const auto w = Element(text, "image_width"), h = Element(text, "image_height");
+      const auto wn = w ? Numbers(*w) : std::nullopt, hn = h ? Numbers(*h) : std::nullopt;
+      if (!wn || !hn || wn->size() != 1 || hn->size() != 1) return {};
+      if ((*wn)[0] != std::floor((*wn)[0]) || (*hn)[0] != std::floor((*hn)[0])) return {};
+      return valid(static_cast<long long>((*wn)[0]), static_cast<long long>((*hn)[0]));
+    }
+    std::string body = text;
+    if (body.rfind("%YAML", 0) == 0) body = body.substr(std::min(body.find('\n'), body.size()));
+    const YAML::Node root = YAML::Load(body);
+    if (root["image_width"] && root["image_height"])
+      return valid(root["image_width"].as<long long>(), root["image_height"].as<long long>());
+    const YAML::Node cam = root["cam0"] ? root["cam0"] : root;
+    if (cam["resolution"] && cam["resolution"].IsSequence() && cam["resolution"].size() == 2)
+      return valid(cam["resolution"][0].as<long long>(), cam["resolution"][1].as<long long>());
+  } catch (const std::exception&) {
+    // Not recorded in a form read here: no size.
+  }
+  return {};
+}
+
 }  // namespace
 
 bool ParseCameraFile(const std::string& text, const std::string& extension,
-                     CameraIntrinsics* camera, std::string* why) {
+                     CameraIntrinsics* camera, std::string* why, CameraFileInfo* info) {
   const std::string ext = Lower(extension);
   *camera = CameraIntrinsics();  // A pinhole camera unless the file says otherwise.
   bool ok = false;
@@ -244,14 +280,21 @@ bool ParseCameraFile(const std::string& text, const std::string& extension,
     *why = "must be .yaml/.yml (OpenCV, ROS camera_info, Kalibr), .json or .xml (OpenCV)";
     return false;
   }
-  return ok && camera->IsValid(why);
+  if (!ok || !camera->IsValid(why)) return false;
+  if (info) {
+    *info = CameraFileInfo();
+    info->image_size = RecordedImageSize(text, ext);
+  }
+  return true;
 }
 
-bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error) {
+bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error,
+                    CameraFileInfo* info) {
   const auto text = ReadInputFile(path, "camera file", kMaxCameraFileBytes, error);
   if (!text) return false;
   std::string why;
-  if (!ParseCameraFile(*text, std::filesystem::path(path).extension().string(), camera, &why)) {
+  if (!ParseCameraFile(*text, std::filesystem::path(path).extension().string(), camera, &why,
+                       info)) {
     *error = "camera file '" + path + "' " + why;
     return false;
   }

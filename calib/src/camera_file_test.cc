@@ -35,7 +35,10 @@ TEST(CameraFileTest, WritesWhatItReadsBack) {
       const std::string text = CameraFileText(camera, info, format, &error);
       ASSERT_FALSE(text.empty()) << error;
       CameraIntrinsics back;
-      ASSERT_TRUE(ParseCameraFile(text, ".yaml", &back, &error)) << error << "\n" << text;
+      CameraFileInfo recorded;
+      ASSERT_TRUE(ParseCameraFile(text, ".yaml", &back, &error, &recorded)) << error << "\n"
+                                                                            << text;
+      EXPECT_EQ(recorded.image_size, cv::Size(752, 480));
       EXPECT_EQ(back.fx, camera.fx);
       EXPECT_EQ(back.fy, camera.fy);
       EXPECT_EQ(back.cx, camera.cx);

@@ -25,14 +25,6 @@
 
 namespace chromatag {
 
-// False with *error naming the file and what was wrong or missing.
-bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error);
-
-// The same from the file's text and extension (".yaml", ".json", ".xml");
-// *why says what was wrong, without the file's name.
-bool ParseCameraFile(const std::string& text, const std::string& extension,
-                     CameraIntrinsics* camera, std::string* why);
-
 enum class CameraFileFormat {
   kOpenCv,  // cv::FileStorage YAML, as OpenCV's calibration samples write it.
   kRos,     // ROS camera_info YAML (camera_calibration's ost.yaml).
@@ -48,6 +40,17 @@ struct CameraFileInfo {
   std::string camera_name = "camera";  // ROS camera_name; Kalibr's rostopic is /<name>/image_raw.
   double rms_px = -1.0;                // Reprojection rms of the calibration; < 0: not written.
 };
+
+// False with *error naming the file and what was wrong or missing. *info,
+// when given, gets the image size the file records ((0, 0) if none; the
+// other fields keep their defaults).
+bool LoadCameraFile(const std::string& path, CameraIntrinsics* camera, std::string* error,
+                    CameraFileInfo* info = nullptr);
+
+// The same from the file's text and extension (".yaml", ".json", ".xml");
+// *why says what was wrong, without the file's name.
+bool ParseCameraFile(const std::string& text, const std::string& extension,
+                     CameraIntrinsics* camera, std::string* why, CameraFileInfo* info = nullptr);
 
 // The file's text; empty with *error when the format cannot hold the camera
 // (Kalibr's radtan has no k3 to k6; ROS's equidistant and Kalibr's have
