@@ -290,7 +290,9 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   const auto detector = Detector::Create(detector_options, &error);
   if (!detector) return fail(error);
   std::vector<Source> sources;
-  if (!GatherSources(o.inputs, o.camera_indices, &sources, &error)) return fail(error);
+  std::vector<std::string> notes;
+  if (!GatherSources(o.inputs, o.camera_indices, &sources, &error, &notes)) return fail(error);
+  for (const std::string& note : notes) std::cerr << "calibrate-camera: " << note << "\n";
   const bool live =
       std::any_of(sources.begin(), sources.end(), [](const Source& s) { return s.live(); });
 

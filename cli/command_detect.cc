@@ -421,7 +421,11 @@ class Run {
       }
       task.frame = cv::imread(source.name, cv::IMREAD_COLOR);
       if (task.frame.empty()) {
-        outcome.err = "chromatag detect: cannot read image '" + source.name + "', skipped\n";
+        outcome.err = "chromatag detect: cannot read image '" + source.name + "'" +
+                      (IsImage(source.name) ? ""
+                                            : " (images: PNG, JPEG, TIFF, BMP, WebP, PPM, PGM; a "
+                                              "PDF or SVG sheet is checked by chromatag verify)") +
+                      ", skipped\n";
         outcome.failed = true;
         return outcome;
       }
@@ -637,7 +641,10 @@ int RunDetect(const DetectOptions& options) {
   if (options.show && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
     return fail("--show needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set)");
   std::vector<Source> sources;
-  if (!GatherSources(options.inputs, options.camera_indices, &sources, &error)) return fail(error);
+  std::vector<std::string> notes;
+  if (!GatherSources(options.inputs, options.camera_indices, &sources, &error, &notes))
+    return fail(error);
+  for (const std::string& note : notes) Fail("detect", note, kExitOk);
   if (!options.overlay_dir.empty()) {
     std::error_code ec;
     fs::create_directories(options.overlay_dir, ec);
@@ -666,6 +673,7 @@ void RegisterDetect(CLI::App& app, Action* action) {
       ->add_option("--family", options->family,
                    "Tag family: 16h5, 36h11 or all (both; no measurable cost, docs/live.md)")
       ->capture_default_str()
+      ->transform(FamilyPrefix())
       ->check(CLI::IsMember({"16h5", "36h11", "all"}));
   command->add_flag("--json", options->json,
                     "One JSON object per frame per line (live frames with a timestamp)");

@@ -89,6 +89,7 @@ void RegisterFamilies(CLI::App& app, Action* action) {
   CLI::App* command = app.add_subcommand(
       "families", "Show the tag families: kept and rejected IDs, cells, Hamming distances");
   command->add_option("--family", options->family, "Only this family")
+      ->transform(FamilyPrefix())
       ->check(CLI::IsMember(TagFamily::Names()));
   command->add_flag("--json", options->json, "Print JSON instead of a table");
   command->callback([options, action] { *action = [options] { return RunFamilies(*options); }; });

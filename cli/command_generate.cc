@@ -52,6 +52,7 @@ void RegisterGenerate(CLI::App& app, Action* action) {
       "generate", "Write print-ready tags at exact physical size (PDF, SVG or PNG) with a sidecar");
   c->add_option("--family", o->request.family, "Tag family")
       ->capture_default_str()
+      ->transform(FamilyPrefix())
       ->check(CLI::IsMember(TagFamily::Names()));
   auto* ids = c->add_option("--ids", o->request.ids, "Tag IDs, e.g. 0-9,12,20-27");
   c->add_flag("--all", o->request.all, "Every kept ID of the family")->excludes(ids);

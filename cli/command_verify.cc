@@ -402,6 +402,7 @@ void RegisterVerify(CLI::App& app, Action* action) {
       "verify", "Check that every tag of a generated sheet (or a whole family) decodes");
   c->add_option("sheet", o->sheet, "A sheet written by 'generate' (.pdf, .svg, .png)");
   c->add_option("--family", o->family, "With --all: check this whole family")
+      ->transform(FamilyPrefix())
       ->check(CLI::IsMember(TagFamily::Names()));
   c->add_flag("--all", o->all, "Render every kept ID of --family and audit the family");
   c->add_flag("--stress", o->stress,

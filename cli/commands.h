@@ -27,6 +27,17 @@ inline std::string Lower(std::string text) {
   return text;
 }
 
+// A --family value as AprilTag names it ("tag16h5", "tag36h11") becomes this
+// toolkit's name ("16h5", "36h11"); put before the option's check.
+inline CLI::Validator FamilyPrefix() {
+  return CLI::Validator(
+      [](std::string& name) {
+        if (name.rfind("tag", 0) == 0) name = name.substr(3);
+        return std::string();
+      },
+      "");
+}
+
 // A subcommand's action, run after parsing; returns an exit code.
 using Action = std::function<int()>;
 

@@ -34,7 +34,8 @@ bool IsImage(const fs::path& path) {
 }
 
 bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int>& camera_indices,
-                   std::vector<Source>* sources, std::string* error) {
+                   std::vector<Source>* sources, std::string* error,
+                   std::vector<std::string>* notes) {
   std::vector<std::string> missing;
   for (const std::string& input : inputs) {
     std::error_code ec;
@@ -42,13 +43,22 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
     if (input.find("://") != std::string::npos) {
       sources->push_back(MakeSource(SourceKind::kStream, input));
     } else if (input.rfind("/dev/video", 0) == 0) {
-      sources->push_back(MakeSource(SourceKind::kCamera, input));
+      if (!fs::exists(path, ec)) {
+        missing.push_back(input);
+      } else {
+        sources->push_back(MakeSource(SourceKind::kCamera, input));
+      }
     } else if (fs::is_directory(path, ec)) {
       std::vector<fs::path> files;
       for (const auto& entry : fs::directory_iterator(path, ec)) {
-        if (entry.is_regular_file() && (IsImage(entry.path()) || IsVideo(entry.path())))
+        if (entry.is_directory(ec) && notes) {
+          notes->push_back("'" + entry.path().string() + "' is a folder inside '" + input +
+                           "', not read: give it as an input to read it");
+        } else if (entry.is_regular_file() && (IsImage(entry.path()) || IsVideo(entry.path()))) {
           files.push_back(entry.path());
+        }
       }
+      if (notes) std::sort(notes->begin(), notes->end());
       std::sort(files.begin(), files.end());
       for (const fs::path& file : files)
         sources->push_back(
@@ -65,6 +75,10 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
     }
   }
   for (int index : camera_indices) {
+    if (index < 0) {
+      *error = "--camera-index " + std::to_string(index) + ": a camera index is 0 or more";
+      return false;
+    }
     Source camera = MakeSource(SourceKind::kCamera, "camera " + std::to_string(index));
     camera.camera_index = index;
     sources->push_back(camera);

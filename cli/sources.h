@@ -24,10 +24,13 @@ struct Source {
 };
 
 // The sources named on the command line (a folder gives its images and
-// videos, sorted), then the camera indices; false with *error for inputs
-// that do not exist or are not regular files, or for no input at all.
+// videos, sorted; its subfolders are named in *notes, not read), then the
+// camera indices; false with *error for inputs that do not exist (a
+// /dev/videoN too) or are not regular files, a negative camera index, or no
+// input at all.
 bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int>& camera_indices,
-                   std::vector<Source>* sources, std::string* error);
+                   std::vector<Source>* sources, std::string* error,
+                   std::vector<std::string>* notes = nullptr);
 
 }  // namespace chromatag::cli
 

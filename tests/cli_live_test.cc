@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -222,6 +223,33 @@ INSTANTIATE_TEST_SUITE_P(Signals, CliLiveSignalTest,
                          ::testing::Values(std::vector<int>{SIGINT},
                                            std::vector<int>{SIGINT, SIGINT},
                                            std::vector<int>{SIGTERM}));
+
+// Inputs say what they are: a missing camera device and a negative camera
+// index are exit 2 like any missing input; a folder's subfolders are named,
+// not silently passed over; a file that is not an image says which are;
+// AprilTag's family names are accepted.
+TEST(CliLiveTest, InputsSayWhatTheyAre) {
+  const std::string dir = FreshDir("inputs");
+  MakeClip(dir, "clip.avi", 3);
+  fs::create_directories(dir + "/sub");
+  std::ofstream(dir + "/sheet.pdf") << "%PDF-1.4\n";
+  const auto device = Chromatag({"detect", "/dev/video97"});
+  EXPECT_EQ(device.exit_code, 2);
+  EXPECT_NE(device.err.find("no such file or folder: '/dev/video97'"), std::string::npos)
+      << device.err;
+  const auto index = Chromatag({"detect", "--camera-index", "-1"});
+  EXPECT_EQ(index.exit_code, 2);
+  EXPECT_NE(index.err.find("a camera index is 0 or more"), std::string::npos) << index.err;
+  const auto folder = Chromatag({"detect", "--family", "tag16h5", dir});
+  EXPECT_EQ(folder.exit_code, 0) << folder.err;
+  EXPECT_NE(folder.err.find("'" + dir + "/sub' is a folder inside '" + dir + "', not read"),
+            std::string::npos)
+      << folder.err;
+  const auto pdf = Chromatag({"detect", dir + "/sheet.pdf"});
+  EXPECT_EQ(pdf.exit_code, 1);
+  EXPECT_NE(pdf.err.find("a PDF or SVG sheet is checked by chromatag verify"), std::string::npos)
+      << pdf.err;
+}
 
 TEST(CliLiveTest, BadLiveUsageIsExitTwo) {
   const auto show = testing::RunCommand(
