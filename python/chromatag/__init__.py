@@ -31,6 +31,31 @@ from ._chromatag import (  # noqa: F401
 )
 
 
+__all__ = [
+    "Board",
+    "BoardPose",
+    "BoardTag",
+    "Detection",
+    "Detector",
+    "Error",
+    "Pose",
+    "SheetVerdict",
+    "TagVerdict",
+    "__version__",
+    "detect",
+    "draw_board_pose",
+    "draw_detections",
+    "families",
+    "family",
+    "generate",
+    "palette",
+    "palettes",
+    "render_tag",
+    "verify",
+    "verify_print",
+]
+
+
 def detect(image, order="bgr", **options):
     """One-off detection with a Detector built from ``options``; build a Detector
     once and reuse it for a stream of frames."""

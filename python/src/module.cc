@@ -51,7 +51,13 @@ PixelOrder OrderFrom(const std::string& order) {
 // A numpy image as a cv::Mat. 8-bit, H x W x 3 (or x 4, whose alpha is
 // dropped); shares the array's memory when it is C-contiguous, copies it
 // otherwise. *keep holds what the Mat points into.
-cv::Mat ColourImage(const py::array& image, py::object* keep) {
+cv::Mat ColourImage(const py::object& object, py::object* keep) {
+  // None is what cv2.imread gives for a file it could not read.
+  if (object.is_none()) throw Error("the image is None (did cv2.imread fail to read the file?)");
+  if (!py::isinstance<py::array>(object))
+    throw Error("the image must be a numpy array (H x W x 3, uint8), not " +
+                std::string(py::str(py::type::of(object).attr("__name__"))));
+  const py::array image = py::reinterpret_borrow<py::array>(object);
   if (!py::isinstance<py::array_t<uint8_t>>(image) || image.dtype().kind() != 'u' ||
       image.itemsize() != 1) {
     throw Error("the image must be 8-bit (dtype uint8), not " +
@@ -207,7 +213,7 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
   return {std::move(detector)};
 }
 
-py::object Detect(const PyDetector& self, const py::array& image, const std::string& order,
+py::object Detect(const PyDetector& self, const py::object& image, const std::string& order,
                   bool return_rejected) {
   py::object keep;
   const cv::Mat mat = ColourImage(image, &keep);
@@ -273,7 +279,7 @@ BoardTag MakeBoardTag(const std::string& family, int id, double size, const py::
   return tag;
 }
 
-py::tuple DetectBoard(const PyDetector& self, const py::array& image, const Board& board,
+py::tuple DetectBoard(const PyDetector& self, const py::object& image, const Board& board,
                       const std::string& order) {
   const DetectorOptions& options = self.detector->options();
   if (!options.camera)
@@ -477,6 +483,73 @@ py::dict PaletteInfo(const std::string& name) {
   return out;
 }
 
+// A Detection as the CLI's JSON names it.
+py::dict DetectionDict(const PyDetection& detection) {
+  const Detection& d = detection.d;
+  const auto points = [](const std::array<cv::Point2d, 4>& corners) {
+    py::list out;
+    for (const cv::Point2d& p : corners) out.append(py::make_tuple(p.x, p.y));
+    return out;
+  };
+  py::dict out;
+  out["family"] = d.family->name();
+  out["id"] = d.id;
+  out["hamming"] = d.hamming;
+  out["margin"] = d.decision_margin;
+  out["corners"] = points(d.corners);
+  out["green_corners"] = points(d.green_corners);
+  out["red_corners"] = points(d.red_corners);
+  if (d.has_pose) {
+    py::dict pose;
+    pose["rvec"] = py::make_tuple(d.pose.rvec[0], d.pose.rvec[1], d.pose.rvec[2]);
+    pose["tvec"] = py::make_tuple(d.pose.tvec[0], d.pose.tvec[1], d.pose.tvec[2]);
+    pose["rms_error_px"] = d.pose.rms_error_px;
+    pose["ambiguity"] = d.pose.ambiguity;
+    out["pose"] = pose;
+  }
+  return out;
+}
+
+// Every field of a Detection, for pickling: the family by name.
+py::tuple DetectionState(const Detection& d) {
+  std::vector<double> numbers;
+  for (const auto* ring : {&d.corners, &d.green_corners, &d.red_corners})
+    for (const cv::Point2d& p : *ring) numbers.insert(numbers.end(), {p.x, p.y});
+  for (int i = 0; i < 9; ++i) numbers.push_back(d.image_from_tag.val[i]);
+  for (int i = 0; i < 3; ++i) numbers.insert(numbers.end(), {d.pose.rvec[i], d.pose.tvec[i]});
+  numbers.insert(numbers.end(), {d.pose.rms_error_px, d.pose.ambiguity, d.decision_margin});
+  return py::make_tuple(d.family->name(), d.id, d.hamming, d.has_pose, numbers);
+}
+
+Detection DetectionFromState(const py::tuple& state) {
+  if (state.size() != 5) throw Error("not a pickled chromatag.Detection");
+  Detection d;
+  const auto family = TagFamily::Load(state[0].cast<std::string>());
+  if (!family) throw Error("not a pickled chromatag.Detection (unknown family)");
+  d.family = family.get();
+  d.id = state[1].cast<int>();
+  d.hamming = state[2].cast<int>();
+  d.has_pose = state[3].cast<bool>();
+  const auto numbers = state[4].cast<std::vector<double>>();
+  if (numbers.size() != 24 + 9 + 6 + 3) throw Error("not a pickled chromatag.Detection");
+  size_t k = 0;
+  for (auto* ring : {&d.corners, &d.green_corners, &d.red_corners}) {
+    for (cv::Point2d& p : *ring) {
+      p.x = numbers[k++];
+      p.y = numbers[k++];
+    }
+  }
+  for (int i = 0; i < 9; ++i) d.image_from_tag.val[i] = numbers[k++];
+  for (int i = 0; i < 3; ++i) {
+    d.pose.rvec[i] = numbers[k++];
+    d.pose.tvec[i] = numbers[k++];
+  }
+  d.pose.rms_error_px = numbers[k++];
+  d.pose.ambiguity = numbers[k++];
+  d.decision_margin = numbers[k++];
+  return d;
+}
+
 }  // namespace
 }  // namespace chromatag::python
 
@@ -541,9 +614,35 @@ PYBIND11_MODULE(_chromatag, m) {
                                if (!d.d.has_pose) return py::none();
                                return py::cast(d.d.pose);
                              })
+      .def_property_readonly(
+          "green_corners", [](const PyDetection& d) { return Points(d.d.green_corners.data(), 4); },
+          "4 x 2, pixels: the green/black border's corners, in the order of corners")
+      .def_property_readonly(
+          "red_corners", [](const PyDetection& d) { return Points(d.d.red_corners.data(), 4); },
+          "4 x 2, pixels: the red/green border's corners, in the order of corners")
+      .def("as_dict", &DetectionDict,
+           "The detection as `chromatag detect --json` writes it: family, id, hamming, margin,\n"
+           "corners, green_corners, red_corners (lists of [x, y]) and pose (rvec, tvec,\n"
+           "rms_error_px, ambiguity) when there is one.")
+      .def("__eq__",
+           [](const PyDetection& a, const py::object& other) {
+             if (!py::isinstance<PyDetection>(other)) return false;
+             return DetectionDict(a).equal(DetectionDict(other.cast<const PyDetection&>()));
+           })
+      .def("__hash__",
+           [](const PyDetection& d) {
+             return py::hash(
+                 py::make_tuple(d.d.family->name(), d.d.id, d.d.corners[0].x, d.d.corners[0].y));
+           })
+      .def(
+          py::pickle([](const PyDetection& d) { return DetectionState(d.d); },
+                     [](const py::tuple& state) { return PyDetection{DetectionFromState(state)}; }))
       .def("__repr__", [](const PyDetection& d) {
+        char centre[64];
+        const cv::Vec3d c = d.d.image_from_tag * cv::Vec3d(0.5, 0.5, 1);
+        std::snprintf(centre, sizeof centre, "(%.1f, %.1f)", c[0] / c[2], c[1] / c[2]);
         return "Detection(family='" + d.d.family->name() + "', id=" + std::to_string(d.d.id) +
-               ", hamming=" + std::to_string(d.d.hamming) + ")";
+               ", hamming=" + std::to_string(d.d.hamming) + ", center=" + centre + ")";
       });
 
   py::class_<PyDetector>(

@@ -1,6 +1,7 @@
 """The Python module against the library's own tags and sheets."""
 import json
 import os
+import pickle
 import threading
 
 import numpy as np
@@ -97,6 +98,34 @@ def test_pose_from_camera_and_tag_size():
     before = frame.copy()
     assert chromatag.draw_detections(frame, [tag], detector) is frame
     assert (frame != before).any(axis=2).sum() > 200
+
+
+def test_detection_compares_pickles_and_reads_as_the_cli_json():
+    frame, _ = scene(cell_px=12)
+    k = np.array([[500.0, 0, 240], [0, 500.0, 200], [0, 0, 1]])
+    tag = chromatag.Detector(camera_matrix=k, tag_size=0.06).detect(frame)[0]
+    again = chromatag.Detector(camera_matrix=k, tag_size=0.06).detect(frame)[0]
+    assert tag == again and hash(tag) == hash(again) and tag != "tag"
+    copy = pickle.loads(pickle.dumps(tag))
+    assert copy == tag and copy.as_dict() == tag.as_dict()
+    np.testing.assert_array_equal(copy.homography, tag.homography)
+    d = tag.as_dict()
+    assert set(d) == {"family", "id", "hamming", "margin", "corners", "green_corners",
+                      "red_corners", "pose"}
+    assert set(d["pose"]) == {"rvec", "tvec", "rms_error_px", "ambiguity"}
+    assert d["margin"] == tag.decision_margin
+    np.testing.assert_allclose(np.array(d["green_corners"]), tag.green_corners)
+    # The green ring lies one cell (12 px) inside the black square.
+    np.testing.assert_allclose(tag.green_corners[0] - tag.corners[0], [12, 12], atol=0.5)
+    assert "id=3" in repr(tag) and "center=" in repr(tag)
+
+
+def test_what_is_not_an_image_is_named():
+    detector = chromatag.Detector()
+    with pytest.raises(chromatag.Error, match="cv2.imread"):
+        detector.detect(None)
+    with pytest.raises(chromatag.Error, match="numpy array"):
+        detector.detect([[1, 2, 3]])
 
 
 def test_camera_from_a_file_and_the_fisheye_model(tmp_path):
@@ -333,3 +362,9 @@ def test_measure_bundle_recovers_the_tags_poses(tmp_path):
         assert tag.size == sizes[tag.id]
         assert np.linalg.norm(tag.position - t) < 0.001
         assert np.degrees(np.linalg.norm(cv2.Rodrigues(tag.rotation.T @ r)[0])) < 0.5
+
+
+def test_public_names_are_listed_and_documented():
+    assert all(hasattr(chromatag, name) for name in chromatag.__all__)
+    assert {"Detector", "Detection", "detect", "Error"} <= set(chromatag.__all__)
+    assert chromatag.Detection.green_corners.__doc__ and chromatag.Detection.as_dict.__doc__
