@@ -77,18 +77,34 @@ std::atomic<bool> g_stop_now{false};
 std::atomic<int> g_signal{0};
 
 void OnSignal(int signal) {
-  if (g_stop) g_stop_now = true;
-  g_stop = true;
   g_signal = signal;
+  if (g_stop.exchange(true)) {
+    g_stop_now = true;
+    // A third signal ends the process at once, whatever it is stuck in.
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+  }
+}
+
+// Ends the process by `signal` itself, its handler reset, after the summary:
+// a shell then knows the job was interrupted (a loop over files stops too).
+[[noreturn]] void DieBy(int signal) {
+  std::fflush(stdout);
+  std::fflush(stderr);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+  std::_Exit(128 + signal);
 }
 
 // What one frame (or one source that could not be read) gives.
 struct Task {
   size_t source = 0;
   int frame_index = 0;
-  cv::Mat frame;         // Decoded by the reader (videos, cameras, streams) or empty (images).
-  double timestamp = 0;  // Seconds since the epoch when a live frame arrived.
-  std::string error;     // A source that could not be read: passed on in order.
+  cv::Mat frame;  // Decoded by the reader (videos, cameras, streams) or empty (images).
+  // Live: seconds since the epoch when the frame arrived; a video file: the
+  // frame's place in it, seconds.
+  double timestamp = 0;
+  std::string error;  // A source that could not be read: passed on in order.
 };
 
 struct Outcome {
@@ -167,6 +183,7 @@ class Run {
         if (!done_.count(next)) break;
         outcome = std::move(done_[next]);
         done_.erase(next);
+        if (outcome.dropped) --dropped_pending_;
       }
       space_.notify_all();
       if (outcome.dropped) {
@@ -206,15 +223,15 @@ class Run {
                    seconds > 0 ? static_cast<double>(frames) / seconds : 0.0, jobs_,
                    jobs_ == 1 ? "" : "s", ended.c_str());
       std::fflush(stderr);
-      return g_signal ? 128 + g_signal : failed ? kExitFailure : kExitOk;
+      return failed ? kExitFailure : kExitOk;
     };
     if (g_stop_now) {
       // A second signal: the reader may be stuck in a stalled stream and the
       // workers in a frame; the printed lines are whole, the summary says
       // how many, and the process ends here. Overlays are written through
       // temporary files, so none is left half-written.
-      const int code = summary();
-      std::_Exit(code);
+      summary();
+      DieBy(g_signal);
     }
     reader.join();
     {
@@ -242,11 +259,14 @@ class Run {
         Outcome dropped;
         dropped.dropped = true;
         done_[it->first] = std::move(dropped);
+        ++dropped_pending_;
         it = tasks_.erase(it);
       }
       done_changed_.notify_all();
     }
-    while (queued_ - printed() >= capacity_ && !g_stop_now) space_.wait_for(lock, kPoll);
+    // Dropped frames hold no image: they do not take room.
+    while (queued_ - printed() - dropped_pending_ >= capacity_ && !g_stop_now)
+      space_.wait_for(lock, kPoll);
     tasks_.push_back({queued_++, std::move(task)});
     lock.unlock();
     work_ready_.notify_one();
@@ -316,6 +336,7 @@ class Run {
   size_t printed() const { return queued_ - tasks_.size() - done_.size() - working_; }
 
   void Read() {
+    started_ = std::chrono::steady_clock::now();
     for (size_t i = 0; i < sources_.size() && !g_stop && !LimitReached(); ++i) {
       const Source& source = sources_[i];
       if (source.kind == SourceKind::kImage) {
@@ -361,7 +382,7 @@ class Run {
         ++frames_read_;
         Queue({i, index++, std::move(frame), timestamp, {}});
       }
-      if (index == 0 && !g_stop)
+      if (index == 0 && !g_stop && !limit_reached_)
         Queue({i, 0, {}, 0, "no frames in '" + source.name + "', skipped"});
     }
     std::lock_guard<std::mutex> lock(mutex_);
@@ -573,7 +594,7 @@ class Run {
   const size_t capacity_;
   std::atomic<size_t> total_{0};
   // The reader's: frames read so far, and whether a limit ended the reading.
-  const std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point started_;  // When reading starts.
   int64_t frames_read_ = 0;
   std::atomic<bool> limit_reached_{false};
   std::string limit_;  // Written by the reader before it sets read_all_.
@@ -583,6 +604,7 @@ class Run {
   std::deque<std::pair<size_t, Task>> tasks_;  // (sequence number, task), in order.
   std::map<size_t, Outcome> done_;             // Finished, waiting to be printed in order.
   size_t queued_ = 0;
+  size_t dropped_pending_ = 0;  // Dropped frames in done_, not yet passed by the printer.
   size_t working_ = 0;
   bool read_all_ = false;
   bool closed_ = false;
@@ -658,6 +680,7 @@ int RunDetect(const DetectOptions& options) {
                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   Run run(options, *detector, board, std::move(sources), jobs, camera_info.image_size);
   const int code = run.Execute();
+  if (g_signal) DieBy(g_signal);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   return code;
@@ -676,7 +699,7 @@ void RegisterDetect(CLI::App& app, Action* action) {
       ->transform(FamilyPrefix())
       ->check(CLI::IsMember({"16h5", "36h11", "all"}));
   command->add_flag("--json", options->json,
-                    "One JSON object per frame per line (live frames with a timestamp)");
+                    "One JSON object per frame per line (video and live frames with a timestamp)");
   command->add_option("--overlay", options->overlay_dir,
                       "Write each frame with the detections drawn into this folder "
                       "(<file>_<ext>[_<frame>].png)");
@@ -699,11 +722,13 @@ void RegisterDetect(CLI::App& app, Action* action) {
                     "Show the frames with the detections in a window (q quits)");
   command
       ->add_option("--max-frames", options->max_frames,
-                   "End after this many frames (images and video frames, over all inputs)")
+                   "End after this many frames read (images and video frames over all inputs, "
+                   "dropped live frames included)")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
   command
       ->add_option("--duration", options->duration_s,
-                   "End the reading after this many seconds (frames under way are finished)")
+                   "End the reading this many seconds after it starts (frames under way are "
+                   "finished)")
       ->check(CLI::Range(1e-3, 1e9));
   command->add_flag("--every-frame", options->every_frame,
                     "Cameras and streams: detect in every frame, however late, instead of "

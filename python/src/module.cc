@@ -21,6 +21,7 @@
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
+#include "chromatag/detector/pose.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/families/version.h"
@@ -214,7 +215,28 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
 }
 
 py::object Detect(const PyDetector& self, const py::object& image, const std::string& order,
-                  bool return_rejected) {
+                  bool return_rejected, bool estimate_tag_pose, const py::object& camera_params,
+                  const py::object& tag_size) {
+  // pupil-apriltags' call shape: the camera and tag size for this call.
+  CameraIntrinsics camera;
+  double size = 0.0;
+  if (estimate_tag_pose) {
+    if (camera_params.is_none() || tag_size.is_none())
+      throw Error("estimate_tag_pose needs camera_params=(fx, fy, cx, cy) and tag_size (metres)");
+    const auto k = camera_params.cast<std::vector<double>>();
+    if (k.size() != 4) throw Error("camera_params must be (fx, fy, cx, cy)");
+    camera.fx = k[0];
+    camera.fy = k[1];
+    camera.cx = k[2];
+    camera.cy = k[3];
+    size = tag_size.cast<double>();
+    std::string error;
+    if (!camera.IsValid(&error)) throw Error("camera_params: " + error);
+    if (!(size > 0) || !std::isfinite(size))
+      throw Error("tag_size must be a positive length, metres");
+  } else if (!camera_params.is_none() || !tag_size.is_none()) {
+    throw Error("camera_params and tag_size are for estimate_tag_pose=True");
+  }
   py::object keep;
   const cv::Mat mat = ColourImage(image, &keep);
   const PixelOrder pixel_order = OrderFrom(order);
@@ -222,6 +244,9 @@ py::object Detect(const PyDetector& self, const py::object& image, const std::st
   {
     py::gil_scoped_release release;
     self.detector->Detect(mat, pixel_order, &result);
+    if (estimate_tag_pose) {
+      for (Detection& d : result.detections) d.has_pose = EstimateTagPose(d, camera, size, &d.pose);
+    }
   }
   py::list detections;
   for (Detection& d : result.detections) detections.append(PyDetection{std::move(d)});
@@ -488,7 +513,7 @@ py::dict DetectionDict(const PyDetection& detection) {
   const Detection& d = detection.d;
   const auto points = [](const std::array<cv::Point2d, 4>& corners) {
     py::list out;
-    for (const cv::Point2d& p : corners) out.append(py::make_tuple(p.x, p.y));
+    for (const cv::Point2d& p : corners) out.append(py::cast(std::vector<double>{p.x, p.y}));
     return out;
   };
   py::dict out;
@@ -501,8 +526,8 @@ py::dict DetectionDict(const PyDetection& detection) {
   out["red_corners"] = points(d.red_corners);
   if (d.has_pose) {
     py::dict pose;
-    pose["rvec"] = py::make_tuple(d.pose.rvec[0], d.pose.rvec[1], d.pose.rvec[2]);
-    pose["tvec"] = py::make_tuple(d.pose.tvec[0], d.pose.tvec[1], d.pose.tvec[2]);
+    pose["rvec"] = py::cast(std::vector<double>{d.pose.rvec[0], d.pose.rvec[1], d.pose.rvec[2]});
+    pose["tvec"] = py::cast(std::vector<double>{d.pose.tvec[0], d.pose.tvec[1], d.pose.tvec[2]});
     pose["rms_error_px"] = d.pose.rms_error_px;
     pose["ambiguity"] = d.pose.ambiguity;
     out["pose"] = pose;
@@ -522,16 +547,25 @@ py::tuple DetectionState(const Detection& d) {
 }
 
 Detection DetectionFromState(const py::tuple& state) {
-  if (state.size() != 5) throw Error("not a pickled chromatag.Detection");
+  const char* bad = "not a pickled chromatag.Detection";
+  if (state.size() != 5) throw Error(bad);
   Detection d;
-  const auto family = TagFamily::Load(state[0].cast<std::string>());
-  if (!family) throw Error("not a pickled chromatag.Detection (unknown family)");
-  d.family = family.get();
-  d.id = state[1].cast<int>();
-  d.hamming = state[2].cast<int>();
-  d.has_pose = state[3].cast<bool>();
-  const auto numbers = state[4].cast<std::vector<double>>();
-  if (numbers.size() != 24 + 9 + 6 + 3) throw Error("not a pickled chromatag.Detection");
+  std::vector<double> numbers;
+  try {
+    const auto family = TagFamily::Load(state[0].cast<std::string>());
+    if (!family) throw Error(std::string(bad) + " (unknown family)");
+    d.family = family.get();
+    d.id = state[1].cast<int>();
+    d.hamming = state[2].cast<int>();
+    d.has_pose = state[3].cast<bool>();
+    numbers = state[4].cast<std::vector<double>>();
+  } catch (const py::cast_error&) {
+    throw Error(bad);
+  }
+  if (d.id < 0 || d.id >= d.family->num_apriltag_ids() || d.hamming < 0 ||
+      numbers.size() != 24 + 9 + 6 + 3 ||
+      !std::all_of(numbers.begin(), numbers.end(), [](double x) { return std::isfinite(x); }))
+    throw Error(bad);
   size_t k = 0;
   for (auto* ring : {&d.corners, &d.green_corners, &d.red_corners}) {
     for (cv::Point2d& p : *ring) {
@@ -625,9 +659,11 @@ PYBIND11_MODULE(_chromatag, m) {
            "corners, green_corners, red_corners (lists of [x, y]) and pose (rvec, tvec,\n"
            "rms_error_px, ambiguity) when there is one.")
       .def("__eq__",
-           [](const PyDetection& a, const py::object& other) {
-             if (!py::isinstance<PyDetection>(other)) return false;
-             return DetectionDict(a).equal(DetectionDict(other.cast<const PyDetection&>()));
+           [](const PyDetection& a, const py::object& other) -> py::object {
+             if (!py::isinstance<PyDetection>(other))
+               return py::reinterpret_borrow<py::object>(Py_NotImplemented);
+             return py::bool_(
+                 DetectionState(a.d).equal(DetectionState(other.cast<const PyDetection&>().d)));
            })
       .def("__hash__",
            [](const PyDetection& d) {
@@ -661,10 +697,14 @@ PYBIND11_MODULE(_chromatag, m) {
            }),
            py::arg("families") = std::vector<std::string>{"16h5", "36h11"})
       .def("detect", &Detect, py::arg("image"), py::arg("order") = "bgr",
-           py::arg("return_rejected") = false,
+           py::arg("return_rejected") = false, py::arg("estimate_tag_pose") = false,
+           py::arg("camera_params") = py::none(), py::arg("tag_size") = py::none(),
            "Detections in an H x W x 3 uint8 image (BGR as cv2.imread gives, or order='rgb').\n"
            "With return_rejected=True (and report_rejected=True in the options), also the\n"
-           "candidates that were rejected, with their stage and reason.")
+           "candidates that were rejected, with their stage and reason. As pupil-apriltags:\n"
+           "estimate_tag_pose=True with camera_params=(fx, fy, cx, cy) and tag_size (metres,\n"
+           "the black square's side) gives each detection a pose for this call (no\n"
+           "distortion; build the Detector with a camera for that).")
       .def("detect_board", &DetectBoard, py::arg("image"), py::arg("board"),
            py::arg("order") = "bgr",
            "(detections, pose): the detections in the image and the board's pose from all its\n"

@@ -118,6 +118,26 @@ def test_detection_compares_pickles_and_reads_as_the_cli_json():
     # The green ring lies one cell (12 px) inside the black square.
     np.testing.assert_allclose(tag.green_corners[0] - tag.corners[0], [12, 12], atol=0.5)
     assert "id=3" in repr(tag) and "center=" in repr(tag)
+    # Lists, not tuples: equal to what json.loads gives for the CLI's line.
+    assert json.loads(json.dumps(d)) == d
+    with pytest.raises(chromatag.Error, match="not a pickled"):
+        chromatag.Detection.__new__(chromatag.Detection).__setstate__(("16h5", 99, 0, False, []))
+
+
+def test_pupil_apriltags_call_shape():
+    frame, _ = scene(cell_px=12)
+    f = 500.0
+    k = np.array([[f, 0, 240], [0, f, 200], [0, 0, 1]])
+    built = chromatag.Detector(camera_matrix=k, tag_size=0.06).detect(frame)[0]
+    detector = chromatag.Detector()
+    per_call = detector.detect(frame, estimate_tag_pose=True, camera_params=(f, f, 240, 200),
+                               tag_size=0.06)[0]
+    np.testing.assert_allclose(per_call.pose.tvec, built.pose.tvec, rtol=1e-9)
+    assert detector.detect(frame)[0].pose is None  # Only for that call.
+    with pytest.raises(chromatag.Error, match="estimate_tag_pose needs"):
+        detector.detect(frame, estimate_tag_pose=True)
+    with pytest.raises(chromatag.Error, match="for estimate_tag_pose=True"):
+        detector.detect(frame, tag_size=0.06)
 
 
 def test_what_is_not_an_image_is_named():
