@@ -39,15 +39,7 @@ using testing::PrintedPage;
 constexpr double kPi = 3.14159265358979323846;
 const cv::Size kSize(752, 480);
 
-CameraIntrinsics TrueCamera() {
-  CameraIntrinsics camera;
-  camera.fx = 600;
-  camera.fy = 603;
-  camera.cx = 370.5;
-  camera.cy = 244.25;
-  camera.distortion = {-0.25, 0.08, 0.001, -0.0005, 0.0};
-  return camera;
-}
+CameraIntrinsics TrueCamera() { return testing::BarrelCamera(); }
 
 struct PrintedBoard {
   PrintedPage page;

@@ -38,12 +38,7 @@ int main(int argc, char** argv) {
   }
   page.px_per_mm = page.bgr.cols / record->page.width_mm;
   page.origin_mm = record->board_origin_mm;
-  CameraIntrinsics camera;
-  camera.fx = 600;
-  camera.fy = 603;
-  camera.cx = 370.5;
-  camera.cy = 244.25;
-  camera.distortion = {-0.25, 0.08, 0.001, -0.0005, 0.0};
+  const CameraIntrinsics camera = testing::BarrelCamera();
   cv::Vec3d centre(0, 0, 0);
   for (const BoardTag& tag : board->tags) centre += tag.translation / double(board->tags.size());
   std::filesystem::create_directories(dir + "/views");

@@ -12,6 +12,16 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
+CameraIntrinsics BarrelCamera() {
+  CameraIntrinsics camera;
+  camera.fx = 600;
+  camera.fy = 603;
+  camera.cx = 370.5;
+  camera.cy = 244.25;
+  camera.distortion = {-0.25, 0.08, 0.001, -0.0005, 0.0};
+  return camera;
+}
+
 cv::Mat PhotographPage(const PrintedPage& page, const CameraIntrinsics& camera, cv::Size size,
                        const cv::Vec3d& rvec, const cv::Vec3d& tvec, const SceneOptions& effects,
                        const cv::Scalar& background) {

@@ -25,6 +25,12 @@ struct PrintedPage {
   std::array<double, 2> origin_mm{0.0, 0.0};
 };
 
+// The camera of the calibration tests and of docs/camera-calibration.md's
+// example: 752 x 480, fx 600, fy 603, the principal point off the image's
+// centre at (370.5, 244.25), strong barrel distortion (k1 -0.25, k2 0.08)
+// and a little tangential (p1 0.001, p2 -0.0005).
+CameraIntrinsics BarrelCamera();
+
 // The page as `camera` sees it with camera_from_board (rvec, tvec), metres,
 // in a `size` frame; `background` where the page is not. `effects` is the
 // camera after the lens (its width, height and background are not used).
