@@ -2,7 +2,7 @@
 // corners and pose, and draw them.
 //
 //   detect_tags photo.jpg [--tag-size 0.04] [--out drawn.png]
-//   detect_tags --camera 0 [--tag-size 0.04]       (a live window; q quits)
+//   detect_tags --camera-index 0 [--tag-size 0.04] (a live window; q quits)
 //
 // Exits 0 when the (last) frame held a tag, 1 when it held none or could not
 // be read, 2 on bad arguments.
@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   double tag_size = 0.04;  // Side of the black square, metres.
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--camera" && i + 1 < argc) {
+    if (arg == "--camera-index" && i + 1 < argc) {
       camera = std::atoi(argv[++i]);
     } else if (arg == "--tag-size" && i + 1 < argc) {
       tag_size = std::atof(argv[++i]);
@@ -52,12 +52,14 @@ int main(int argc, char** argv) {
     } else if (!arg.empty() && arg[0] != '-') {
       input = arg;
     } else {
-      std::fprintf(stderr, "usage: %s IMAGE [--tag-size M] [--out PNG] | --camera N\n", argv[0]);
+      std::fprintf(stderr, "usage: %s IMAGE [--tag-size M] [--out PNG] | --camera-index N\n",
+                   argv[0]);
       return 2;
     }
   }
   if (input.empty() && camera < 0) {
-    std::fprintf(stderr, "usage: %s IMAGE [--tag-size M] [--out PNG] | --camera N\n", argv[0]);
+    std::fprintf(stderr, "usage: %s IMAGE [--tag-size M] [--out PNG] | --camera-index N\n",
+                 argv[0]);
     return 2;
   }
 
