@@ -106,6 +106,31 @@ TEST(CameraFileTest, XmlNamesItsModel) {
   EXPECT_EQ(camera.model, LensModel::kPinhole);
 }
 
+// The recorded image size from JSON and XML too; a size that is not two
+// positive integers is no size.
+TEST(CameraFileTest, ReadsTheRecordedImageSize) {
+  CameraIntrinsics camera;
+  CameraFileInfo info;
+  std::string error;
+  ASSERT_TRUE(ParseCameraFile(
+      R"({"image_width": 640, "image_height": 480, "camera_matrix": [500, 0, 320, 0, 500, 240, 0, 0, 1]})",
+      ".json", &camera, &error, &info))
+      << error;
+  EXPECT_EQ(info.image_size, cv::Size(640, 480));
+  ASSERT_TRUE(ParseCameraFile(
+      "<?xml version=\"1.0\"?><opencv_storage><image_width>1920</image_width>"
+      "<image_height>1080</image_height><camera_matrix><data>900 0 960 0 900 540 0 0 1</data>"
+      "</camera_matrix></opencv_storage>",
+      ".xml", &camera, &error, &info))
+      << error;
+  EXPECT_EQ(info.image_size, cv::Size(1920, 1080));
+  ASSERT_TRUE(ParseCameraFile(
+      "image_width: -3\nimage_height: 2.5\ncamera_matrix: [1, 0, 1, 0, 1, 1, 0, 0, 1]\n", ".yaml",
+      &camera, &error, &info))
+      << error;
+  EXPECT_TRUE(info.image_size.empty());
+}
+
 TEST(CameraFileTest, RefusesAnUnknownLensModel) {
   CameraIntrinsics camera;
   std::string error;
