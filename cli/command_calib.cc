@@ -2,15 +2,13 @@
 // docs/calibration.md): input checking, library calls and output only.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/calib/calibrate.h"
 #include "chromatag/calib/camera_file.h"
+#include "chromatag/detector/read_image.h"
 #include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/cairo_util.h"
@@ -141,14 +139,8 @@ int RunCalibrate(const CalibrateArgs& args) {
   if (!options.IsValid(&error)) return Fail(kName, error);
   std::vector<PhotoInput> photos;
   for (const std::string& path : args.photos) {
-    // Checked first: OpenCV would print its own warning for a missing file.
-    const bool readable = static_cast<bool>(std::ifstream(path));
-    cv::Mat image = readable ? cv::imread(path, cv::IMREAD_COLOR) : cv::Mat();
-    if (image.empty()) {
-      return Fail(kName, "cannot read photo '" + path +
-                             "' (JPEG, PNG, TIFF or another format OpenCV "
-                             "reads)");
-    }
+    cv::Mat image = ReadImage(path, &error);
+    if (image.empty()) return Fail(kName, error);
     photos.push_back({path, image});
   }
   // Unusable photos fail the job (exit 1) and nothing is written.

@@ -8,7 +8,6 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 #include <optional>
 
@@ -19,7 +18,7 @@
 #include "chromatag/calib/view_selection.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
-#include "chromatag/families/input_file.h"
+#include "chromatag/detector/read_image.h"
 #include "chromatag/generator/file_util.h"
 #include "commands.h"
 #include "sources.h"
@@ -63,7 +62,7 @@ class ViewCollector {
     for (const Source& source : sources) {
       if (g_stop) break;
       if (source.kind == SourceKind::kImage) {
-        ReadImage(source.name);
+        ReadFile(source.name);
       } else {
         ReadVideo(source);
       }
@@ -106,16 +105,10 @@ class ViewCollector {
   }
 
   // Every image given is used: the user chose it.
-  void ReadImage(const std::string& path) {
-    int width = 0, height = 0;
-    if (ImageHeaderSize(path, &width, &height) &&
-        static_cast<double>(width) * height > kMaxImagePixels) {
-      Skip("'" + path + "' is " + std::to_string(width) + " x " + std::to_string(height) +
-           " pixels, over the limit of " + std::to_string(kMaxImagePixels >> 20) + " Mpx");
-      return;
-    }
-    const cv::Mat frame = cv::imread(path, cv::IMREAD_COLOR);
-    if (frame.empty()) return Skip("cannot read image '" + path + "'");
+  void ReadFile(const std::string& path) {
+    std::string error;
+    const cv::Mat frame = ReadImage(path, &error);
+    if (frame.empty()) return Skip(error);
     DetectionResult result;
     detector_.Detect(frame, PixelOrder::kBgr, &result);
     Add(path, result.detections, frame.size());

@@ -15,7 +15,6 @@
 #include <cstring>
 #include <deque>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -32,8 +31,8 @@
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
+#include "chromatag/detector/read_image.h"
 #include "chromatag/families/family.h"
-#include "chromatag/families/input_file.h"
 #include "chromatag/generator/file_util.h"
 #include "chromatag/generator/units.h"
 #include "commands.h"
@@ -431,22 +430,10 @@ class Run {
       return outcome;
     }
     if (source.kind == SourceKind::kImage) {
-      int width = 0, height = 0;
-      if (ImageHeaderSize(source.name, &width, &height) &&
-          static_cast<double>(width) * height > kMaxImagePixels) {
-        outcome.err = "chromatag detect: '" + source.name + "' is " + std::to_string(width) +
-                      " x " + std::to_string(height) + " pixels, over the limit of " +
-                      std::to_string(kMaxImagePixels >> 20) + " Mpx, skipped\n";
-        outcome.failed = true;
-        return outcome;
-      }
-      task.frame = cv::imread(source.name, cv::IMREAD_COLOR);
+      std::string error;
+      task.frame = ReadImage(source.name, &error);
       if (task.frame.empty()) {
-        outcome.err = "chromatag detect: cannot read image '" + source.name + "'" +
-                      (IsImage(source.name) ? ""
-                                            : " (images: PNG, JPEG, TIFF, BMP, WebP, PPM, PGM; a "
-                                              "PDF or SVG sheet is checked by chromatag verify)") +
-                      ", skipped\n";
+        outcome.err = "chromatag detect: " + error + ", skipped\n";
         outcome.failed = true;
         return outcome;
       }

@@ -20,6 +20,7 @@
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
+#include "chromatag/detector/read_image.h"
 
 int main(int argc, char** argv) {
   std::string image_path, board_path, out;
@@ -50,9 +51,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 1;
   }
-  cv::Mat frame = cv::imread(image_path, cv::IMREAD_COLOR);
+  cv::Mat frame = chromatag::ReadImage(image_path, &error);
   if (frame.empty()) {
-    std::fprintf(stderr, "cannot read image %s\n", image_path.c_str());
+    std::fprintf(stderr, "%s\n", error.c_str());
     return 1;
   }
 

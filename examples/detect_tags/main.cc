@@ -19,6 +19,7 @@
 
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
+#include "chromatag/detector/read_image.h"
 
 namespace {
 
@@ -71,9 +72,10 @@ int main(int argc, char** argv) {
       return 1;
     }
   } else {
-    frame = cv::imread(input, cv::IMREAD_COLOR);
+    std::string error;
+    frame = chromatag::ReadImage(input, &error);
     if (frame.empty()) {
-      std::fprintf(stderr, "cannot read image %s\n", input.c_str());
+      std::fprintf(stderr, "%s\n", error.c_str());
       return 1;
     }
   }
