@@ -64,8 +64,11 @@ function(chromatag_add_library)
   if(ARG_INTERNAL)
     return()
   endif()
-  # Installed as ChromaTag::<NAME> (cmake/ChromaTagPackage.cmake).
-  install(TARGETS ${target} EXPORT ChromaTagTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  # Installed as ChromaTag::<NAME>, one export file per library, so that a
+  # program asking for one component loads only what it needs
+  # (cmake/ChromaTagPackage.cmake).
+  install(TARGETS ${target} EXPORT ChromaTag-${ARG_NAME}-targets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
   install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
           FILES_MATCHING PATTERN "*.h")
   set_property(GLOBAL APPEND PROPERTY CHROMATAG_LIBRARIES ${target})
