@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# `pip install .` as a Python user runs it, on a copy of the source tree (a
+# fresh clone's files: the build writes into its tree): a virtual
+# environment that sees Debian's numpy and OpenCV, pip with Debian's
+# setuptools and no download, then the installed module imported from the
+# environment and run on a tag the CLI generated.
+# Usage: pip_install_test.sh SOURCE_DIR PYTHON CLI
+set -euo pipefail
+source=$1
+python=$2
+cli=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+mkdir "$work/src"
+if git -C "$source" rev-parse --git-dir >/dev/null 2>&1; then
+  git -C "$source" ls-files -z --cached --others --exclude-standard |
+    (cd "$source" && xargs -0 tar -cf - --no-recursion) | tar -xf - -C "$work/src"
+else
+  tar -C "$source" --exclude='./build*' -cf - . | tar -xf - -C "$work/src"
+fi
+test ! -e "$work/src/build"
+
+"$python" -m venv --system-site-packages "$work/venv"
+# --no-index: nothing may be downloaded.
+CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-2} \
+  "$work/venv/bin/pip" install --no-index --no-build-isolation "$work/src" >"$work/pip.txt" 2>&1 ||
+  { tail -40 "$work/pip.txt"; exit 1; }
+grep "Successfully installed chromatag-" "$work/pip.txt"
+
+"$cli" generate --ids 3 --one-per-page --dpi 150 -o "$work/tag.png" >/dev/null
+cd "$work"  # Not the source tree: the module must come from the environment.
+"$work/venv/bin/python" - "$work/tag.png" "$work/venv" "$source" <<'PY'
+import os, sys
+import cv2
+import chromatag
+
+image, venv, source = sys.argv[1:]
+assert chromatag.__file__.startswith(venv), chromatag.__file__
+here = os.path.dirname(chromatag.__file__)
+assert os.path.exists(os.path.join(here, "py.typed")), os.listdir(here)
+found = [(d.family, d.id) for d in chromatag.Detector().detect(cv2.imread(image))]
+assert found == [("16h5", 3)], found
+# The package's version is the CMake project's.
+from importlib.metadata import version
+cmake = open(os.path.join(source, "CMakeLists.txt")).read()
+assert f"VERSION {version('chromatag')} " in cmake, version("chromatag")
+assert chromatag.__version__ == version("chromatag"), chromatag.__version__
+print("pip_install_test: chromatag", version("chromatag"), "installed into a venv found", found)
+PY
