@@ -38,7 +38,8 @@ import chromatag
 image, venv, source = sys.argv[1:]
 assert chromatag.__file__.startswith(venv), chromatag.__file__
 here = os.path.dirname(chromatag.__file__)
-assert os.path.exists(os.path.join(here, "py.typed")), os.listdir(here)
+for name in ("py.typed", "__init__.pyi"):
+    assert os.path.exists(os.path.join(here, name)), os.listdir(here)
 found = [(d.family, d.id) for d in chromatag.Detector().detect(cv2.imread(image))]
 assert found == [("16h5", 3)], found
 # The package's version is the CMake project's.

@@ -593,6 +593,9 @@ PYBIND11_MODULE(_chromatag, m) {
   m.doc() = "ChromaTag coloured fiducial markers: detect, draw, render, generate and verify";
   m.attr("__version__") = kVersion;
   static py::exception<Error> error(m, "Error", PyExc_ValueError);
+  error.attr("__doc__") =
+      "A bad argument, an unreadable or broken file, or a request that cannot be met; the\n"
+      "message says what was wrong and what is allowed. A subclass of ValueError.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -608,12 +611,15 @@ PYBIND11_MODULE(_chromatag, m) {
       .def_property_readonly(
           "tvec", [](const TagPose& p) { return Vector(p.tvec.val, 3); },
           "the tag's centre in the camera frame")
-      .def_property_readonly("rotation",
-                             [](const TagPose& p) {
-                               cv::Matx33d r;
-                               cv::Rodrigues(p.rvec, r);
-                               return Matrix33(r);
-                             })
+      .def_property_readonly(
+          "rotation",
+          [](const TagPose& p) {
+            cv::Matx33d r;
+            cv::Rodrigues(p.rvec, r);
+            return Matrix33(r);
+          },
+          "3 x 3 rotation matrix of camera_from_tag (rvec as a matrix); the tag frame: x\n"
+          "right, y up, z out of the tag, origin at its centre")
       .def_readonly("rms_error_px", &TagPose::rms_error_px,
                     "root mean square reprojection error over the twelve ring corners, pixels")
       .def_readonly("ambiguity", &TagPose::ambiguity,
@@ -624,30 +630,45 @@ PYBIND11_MODULE(_chromatag, m) {
                std::to_string(p.tvec[2]) + "])";
       });
 
-  py::class_<PyDetection>(m, "Detection")
-      .def_property_readonly("family", [](const PyDetection& d) { return d.d.family->name(); })
-      .def_property_readonly("id", [](const PyDetection& d) { return d.d.id; })
+  py::class_<PyDetection>(
+      m, "Detection",
+      "One tag found in an image: its family and ID, how sure the decoding is,\n"
+      "its corners and, from a Detector with a camera and tag size, its pose.\n"
+      "Compared by value, hashable, picklable; as_dict() gives the CLI's JSON.")
+      .def_property_readonly(
+          "family", [](const PyDetection& d) { return d.d.family->name(); },
+          "the family's name: '16h5' or '36h11'")
+      .def_property_readonly(
+          "id", [](const PyDetection& d) { return d.d.id; }, "the tag's ID in its family")
       .def_property_readonly(
           "hamming", [](const PyDetection& d) { return d.d.hamming; }, "bits corrected")
-      .def_property_readonly("decision_margin",
-                             [](const PyDetection& d) { return d.d.decision_margin; })
+      .def_property_readonly(
+          "decision_margin", [](const PyDetection& d) { return d.d.decision_margin; },
+          "how clearly the two shades split: the smaller gap between the two b* clusters over\n"
+          "their pooled spread, for both colours (dimensionless; the CLI's JSON calls it\n"
+          "'margin'). Low values mean a doubtful read")
       .def_property_readonly(
           "corners", [](const PyDetection& d) { return Points(d.d.corners.data(), 4); },
           "4 x 2, pixels: the black square's top-left, top-right, bottom-right, bottom-left "
           "corners of the upright tag")
-      .def_property_readonly("center",
-                             [](const PyDetection& d) {
-                               const cv::Vec3d c = d.d.image_from_tag * cv::Vec3d(0.5, 0.5, 1);
-                               return py::make_tuple(c[0] / c[2], c[1] / c[2]);
-                             })
+      .def_property_readonly(
+          "center",
+          [](const PyDetection& d) {
+            const cv::Vec3d c = d.d.image_from_tag * cv::Vec3d(0.5, 0.5, 1);
+            return py::make_tuple(c[0] / c[2], c[1] / c[2]);
+          },
+          "(x, y), pixels: the tag's centre through its homography")
       .def_property_readonly(
           "homography", [](const PyDetection& d) { return Matrix33(d.d.image_from_tag); },
           "image from tag: the unit square [0,1]^2 of the black square to pixels")
-      .def_property_readonly("pose",
-                             [](const PyDetection& d) -> py::object {
-                               if (!d.d.has_pose) return py::none();
-                               return py::cast(d.d.pose);
-                             })
+      .def_property_readonly(
+          "pose",
+          [](const PyDetection& d) -> py::object {
+            if (!d.d.has_pose) return py::none();
+            return py::cast(d.d.pose);
+          },
+          "a Pose when the Detector has a camera and tag size (or detect() was given them),\n"
+          "else None")
       .def_property_readonly(
           "green_corners", [](const PyDetection& d) { return Points(d.d.green_corners.data(), 4); },
           "4 x 2, pixels: the green/black border's corners, in the order of corners")
@@ -681,6 +702,81 @@ PYBIND11_MODULE(_chromatag, m) {
                ", hamming=" + std::to_string(d.d.hamming) + ", center=" + centre + ")";
       });
 
+  py::class_<BoardTag>(m, "BoardTag",
+                       "BoardTag(family, id, size, position, rotation=None)\n\n"
+                       "One tag of a board: the side of its black square (metres), its centre\n"
+                       "in the board frame and its rotation body_from_tag (3 x 3; None: the\n"
+                       "board's axes). The tag frame: x right, y up, z out of the tag.")
+      .def(py::init(&MakeBoardTag), py::arg("family"), py::arg("id"), py::arg("size"),
+           py::arg("position"), py::arg("rotation") = py::none())
+      .def_readonly("family", &BoardTag::family, "the tag's family: '16h5' or '36h11'")
+      .def_readonly("id", &BoardTag::id, "the tag's ID in its family")
+      .def_readonly("size", &BoardTag::size, "side of the black square, metres")
+      .def_property_readonly(
+          "position", [](const BoardTag& t) { return Vector(t.translation.val, 3); },
+          "the tag's centre in the board frame, metres")
+      .def_property_readonly(
+          "rotation", [](const BoardTag& t) { return Matrix33(t.rotation); }, "body_from_tag")
+      .def("__repr__", [](const BoardTag& t) {
+        return "BoardTag(family='" + t.family + "', id=" + std::to_string(t.id) +
+               ", size=" + std::to_string(t.size) + ")";
+      });
+
+  py::class_<Board>(m, "Board",
+                    "Board(name, tags): tags fixed to one body (a printed board, a bundle).\n"
+                    "Board.from_file reads a sheet's sidecar or a bundle YAML (docs/pose.md).")
+      .def(py::init(&MakeBoard), py::arg("name"), py::arg("tags"))
+      .def_static(
+          "from_file",
+          [](const std::string& path) {
+            std::string error;
+            auto board = ReadBoardFile(path, &error);
+            if (!board) throw Error(error);
+            return *board;
+          },
+          py::arg("path"),
+          "A board file: a sheet's sidecar (.json, e.g. from generate --board) or a bundle\n"
+          "YAML (.yaml, apriltag_ros's tag_bundles shape; 'file.yaml#name' picks a bundle).")
+      .def_readonly("name", &Board::name, "the board's name (its file's, or the bundle's)")
+      .def_readonly("palette", &Board::palette,
+                    "the palette its sheet was printed with, when its file records one")
+      .def_readonly("tags", &Board::tags, "its tags, a list of BoardTag")
+      .def("__len__", [](const Board& b) { return b.tags.size(); })
+      .def("__repr__", [](const Board& b) {
+        return "Board(name='" + b.name + "', tags=" + std::to_string(b.tags.size()) + ")";
+      });
+
+  py::class_<PyBoardPose>(m, "BoardPose", "A board's pose in the camera frame (metres)")
+      .def_property_readonly(
+          "rvec", [](const PyBoardPose& p) { return Vector(p.pose.rvec.val, 3); },
+          "Rodrigues rotation of camera_from_board")
+      .def_property_readonly(
+          "tvec", [](const PyBoardPose& p) { return Vector(p.pose.tvec.val, 3); },
+          "the board frame's origin in the camera frame")
+      .def_property_readonly(
+          "rotation",
+          [](const PyBoardPose& p) {
+            cv::Matx33d r;
+            cv::Rodrigues(p.pose.rvec, r);
+            return Matrix33(r);
+          },
+          "3 x 3 rotation matrix of camera_from_board (rvec as a matrix)")
+      .def_readonly("tags_used", &PyBoardPose::tags_used, "IDs of the tags the pose fits")
+      .def_readonly("tags_rejected", &PyBoardPose::tags_rejected,
+                    "IDs of the detections left out: seen where the other tags say they are not "
+                    "(a misread ID, a misplaced tag, a second copy)")
+      .def_property_readonly(
+          "rms_error_px", [](const PyBoardPose& p) { return p.pose.rms_error_px; },
+          "root mean square reprojection error over the used tags' ring corners, pixels")
+      .def_property_readonly(
+          "ambiguity", [](const PyBoardPose& p) { return p.pose.ambiguity; },
+          "the pose's error over the best other solution's: near 0 settled, near 1 ambiguous")
+      .def("__repr__", [](const PyBoardPose& p) {
+        return "BoardPose(tvec=[" + std::to_string(p.pose.tvec[0]) + ", " +
+               std::to_string(p.pose.tvec[1]) + ", " + std::to_string(p.pose.tvec[2]) +
+               "], tags_used=" + std::to_string(p.tags_used.size()) + ")";
+      });
+
   py::class_<PyDetector>(
       m, "Detector",
       "Detector(families=('16h5', '36h11'), *, config=None, camera_matrix=None,\n"
@@ -710,80 +806,9 @@ PYBIND11_MODULE(_chromatag, m) {
            "(detections, pose): the detections in the image and the board's pose from all its\n"
            "tags among them (a BoardPose), or None when none of its tags is seen. Needs a\n"
            "Detector built with camera_matrix.")
-      .def_property_readonly("families",
-                             [](const PyDetector& d) { return d.detector->options().families; });
-
-  py::class_<BoardTag>(m, "BoardTag",
-                       "BoardTag(family, id, size, position, rotation=None)\n\n"
-                       "One tag of a board: the side of its black square (metres), its centre\n"
-                       "in the board frame and its rotation body_from_tag (3 x 3; None: the\n"
-                       "board's axes). The tag frame: x right, y up, z out of the tag.")
-      .def(py::init(&MakeBoardTag), py::arg("family"), py::arg("id"), py::arg("size"),
-           py::arg("position"), py::arg("rotation") = py::none())
-      .def_readonly("family", &BoardTag::family)
-      .def_readonly("id", &BoardTag::id)
-      .def_readonly("size", &BoardTag::size, "side of the black square, metres")
       .def_property_readonly(
-          "position", [](const BoardTag& t) { return Vector(t.translation.val, 3); },
-          "the tag's centre in the board frame, metres")
-      .def_property_readonly(
-          "rotation", [](const BoardTag& t) { return Matrix33(t.rotation); }, "body_from_tag")
-      .def("__repr__", [](const BoardTag& t) {
-        return "BoardTag(family='" + t.family + "', id=" + std::to_string(t.id) +
-               ", size=" + std::to_string(t.size) + ")";
-      });
-
-  py::class_<Board>(m, "Board",
-                    "Board(name, tags): tags fixed to one body (a printed board, a bundle).\n"
-                    "Board.from_file reads a sheet's sidecar or a bundle YAML (docs/pose.md).")
-      .def(py::init(&MakeBoard), py::arg("name"), py::arg("tags"))
-      .def_static(
-          "from_file",
-          [](const std::string& path) {
-            std::string error;
-            auto board = ReadBoardFile(path, &error);
-            if (!board) throw Error(error);
-            return *board;
-          },
-          py::arg("path"),
-          "A board file: a sheet's sidecar (.json, e.g. from generate --board) or a bundle\n"
-          "YAML (.yaml, apriltag_ros's tag_bundles shape; 'file.yaml#name' picks a bundle).")
-      .def_readonly("name", &Board::name)
-      .def_readonly("palette", &Board::palette)
-      .def_readonly("tags", &Board::tags)
-      .def("__len__", [](const Board& b) { return b.tags.size(); })
-      .def("__repr__", [](const Board& b) {
-        return "Board(name='" + b.name + "', tags=" + std::to_string(b.tags.size()) + ")";
-      });
-
-  py::class_<PyBoardPose>(m, "BoardPose", "A board's pose in the camera frame (metres)")
-      .def_property_readonly(
-          "rvec", [](const PyBoardPose& p) { return Vector(p.pose.rvec.val, 3); },
-          "Rodrigues rotation of camera_from_board")
-      .def_property_readonly(
-          "tvec", [](const PyBoardPose& p) { return Vector(p.pose.tvec.val, 3); },
-          "the board frame's origin in the camera frame")
-      .def_property_readonly("rotation",
-                             [](const PyBoardPose& p) {
-                               cv::Matx33d r;
-                               cv::Rodrigues(p.pose.rvec, r);
-                               return Matrix33(r);
-                             })
-      .def_readonly("tags_used", &PyBoardPose::tags_used, "IDs of the tags the pose fits")
-      .def_readonly("tags_rejected", &PyBoardPose::tags_rejected,
-                    "IDs of the detections left out: seen where the other tags say they are not "
-                    "(a misread ID, a misplaced tag, a second copy)")
-      .def_property_readonly(
-          "rms_error_px", [](const PyBoardPose& p) { return p.pose.rms_error_px; },
-          "root mean square reprojection error over the used tags' ring corners, pixels")
-      .def_property_readonly(
-          "ambiguity", [](const PyBoardPose& p) { return p.pose.ambiguity; },
-          "the pose's error over the best other solution's: near 0 settled, near 1 ambiguous")
-      .def("__repr__", [](const PyBoardPose& p) {
-        return "BoardPose(tvec=[" + std::to_string(p.pose.tvec[0]) + ", " +
-               std::to_string(p.pose.tvec[1]) + ", " + std::to_string(p.pose.tvec[2]) +
-               "], tags_used=" + std::to_string(p.tags_used.size()) + ")";
-      });
+          "families", [](const PyDetector& d) { return d.detector->options().families; },
+          "the families this detector looks for, e.g. ['16h5', '36h11']");
 
   m.def("draw_detections", &DrawOn, py::arg("image"), py::arg("detections"),
         py::arg("detector") = nullptr,
@@ -810,27 +835,43 @@ PYBIND11_MODULE(_chromatag, m) {
         "the largest that fits. board: 'COLSxROWS' lays the tags out as a board whose sidecar\n"
         "is its board file (Board.from_file). Returns the paths written.");
 
-  py::class_<TagVerdict>(m, "TagVerdict")
-      .def_property_readonly("id", [](const TagVerdict& v) { return v.expected.id; })
-      .def_property_readonly("page", [](const TagVerdict& v) { return v.expected.page; })
-      .def_readonly("found_id", &TagVerdict::found_id)
-      .def_readonly("times_found", &TagVerdict::times_found)
-      .def_readonly("hamming", &TagVerdict::hamming)
-      .def_readonly("margin", &TagVerdict::margin)
-      .def_readonly("position_error_mm", &TagVerdict::position_error_mm)
-      .def_readonly("passed", &TagVerdict::passed)
-      .def_readonly("problem", &TagVerdict::problem);
-  py::class_<SheetVerdict>(m, "SheetVerdict")
-      .def_readonly("passed", &SheetVerdict::passed)
-      .def_readonly("tags_passed", &SheetVerdict::tags_passed)
-      .def_readonly("tags", &SheetVerdict::tags)
-      .def_readonly("file_problems", &SheetVerdict::file_problems)
-      .def_property_readonly("unexpected", [](const SheetVerdict& v) {
-        py::list out;
-        for (const auto& u : v.unexpected)
-          out.append(py::make_tuple(u.page, u.family, u.id, u.center_mm[0], u.center_mm[1]));
-        return out;
-      });
+  py::class_<TagVerdict>(
+      m, "TagVerdict",
+      "verify()'s verdict on one tag of the sheet's sidecar: was it found once,\n"
+      "with its ID, where the sidecar places it")
+      .def_property_readonly(
+          "id", [](const TagVerdict& v) { return v.expected.id; }, "the ID the sidecar expects")
+      .def_property_readonly(
+          "page", [](const TagVerdict& v) { return v.expected.page; }, "the page it is on, from 0")
+      .def_readonly("found_id", &TagVerdict::found_id,
+                    "the ID detected at its place (the first, if several); -1 if none")
+      .def_readonly("times_found", &TagVerdict::times_found,
+                    "how many detections fall at its place (1 when it passes)")
+      .def_readonly("hamming", &TagVerdict::hamming, "bits corrected when it was decoded")
+      .def_readonly("margin", &TagVerdict::margin, "the detection's decision margin")
+      .def_readonly("position_error_mm", &TagVerdict::position_error_mm,
+                    "the worst corner's distance from where the sidecar puts it, mm")
+      .def_readonly("passed", &TagVerdict::passed, "whether this tag passes")
+      .def_readonly("problem", &TagVerdict::problem,
+                    "empty when it passes; otherwise what is wrong");
+  py::class_<SheetVerdict>(m, "SheetVerdict",
+                           "verify()'s verdict on a sheet: every tag of its sidecar, detections\n"
+                           "where it has none, and problems with the files themselves")
+      .def_readonly("passed", &SheetVerdict::passed,
+                    "whether every tag passes, nothing unexpected is found and the files match")
+      .def_readonly("tags_passed", &SheetVerdict::tags_passed, "how many tags pass")
+      .def_readonly("tags", &SheetVerdict::tags, "a TagVerdict per tag of the sidecar")
+      .def_readonly("file_problems", &SheetVerdict::file_problems,
+                    "files changed since they were generated (their SHA-256 differs)")
+      .def_property_readonly(
+          "unexpected",
+          [](const SheetVerdict& v) {
+            py::list out;
+            for (const auto& u : v.unexpected)
+              out.append(py::make_tuple(u.page, u.family, u.id, u.center_mm[0], u.center_mm[1]));
+            return out;
+          },
+          "detections where the sidecar has no tag: (page, family, id, x_mm, y_mm) tuples");
   m.def("verify", &Verify, py::arg("sheet"), py::kw_only(), py::arg("dpi") = 200.0,
         py::arg("tolerance") = "0.5mm",
         "Rasterises a generated sheet, detects every tag and checks it against the sidecar, as\n"
