@@ -131,7 +131,7 @@ void PrintSummary(const CalibrationResult& result, const std::vector<std::string
 int RunCalibrate(const CalibrateArgs& args) {
   constexpr const char* kName = "calibrate";
   std::string error;
-  const auto layout = ReadCalibSidecar(args.sheet, &error);
+  const auto layout = ReadCalibSheet(args.sheet, &error);
   if (!layout) return Fail(kName, error);
   CalibrateOptions options;
   options.thresholds.safety_factor = args.safety;
@@ -223,7 +223,9 @@ void RegisterCalib(CLI::App& app, Action* action) {
       "printer LUT and a report");
   cal->add_option("photos", c->photos, "Photos of the printed sheet (one per lighting)")
       ->required();
-  cal->add_option("--sheet", c->sheet, "The sheet's sidecar JSON from 'chromatag calib-sheet'")
+  cal->add_option("--sheet", c->sheet,
+                  "The sheet from 'chromatag calib-sheet' (.pdf, .png; its sidecar beside it) or "
+                  "its sidecar .json")
       ->required();
   cal->add_option("-o,--output", c->output, "Output folder (created if missing)")->required();
   cal->add_option("--safety", c->safety, "Safety factor between margins and thresholds, 1-10")

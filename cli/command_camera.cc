@@ -337,8 +337,8 @@ void RegisterCalibrateCamera(CLI::App& app, Action* action) {
       "Camera intrinsics from images, videos or a live camera of a ChromaTag board "
       "(docs/camera-calibration.md)");
   c->add_option("--board", o->board_file,
-                "The board: a sheet's sidecar (generate --board, calib-sheet) or a bundle YAML "
-                "(FILE[#NAME]); planar")
+                "The board: a sheet from generate --board or calib-sheet (or its sidecar .json), "
+                "or a bundle YAML (FILE[#NAME]); planar")
       ->required();
   c->add_option("-o,--output", o->output, "Camera file to write (.yaml)")->required();
   c->add_option("--format", o->format,

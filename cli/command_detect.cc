@@ -697,7 +697,7 @@ void RegisterDetect(CLI::App& app, Action* action) {
                       "Side of the black square, e.g. 40mm, for pose");
   command->add_option("--board", options->board_file,
                       "Report the pose of this board or bundle per frame (with --camera): a "
-                      "sheet's sidecar (.json) or a bundle YAML (FILE[#NAME]); docs/pose.md");
+                      "sheet (or its sidecar .json) or a bundle YAML (FILE[#NAME]); docs/pose.md");
   command->add_option("--config", options->config,
                       "Detector config JSON (thresholds from 'chromatag calibrate')");
   command->add_flag("--rejected", options->rejected,

@@ -400,7 +400,8 @@ void RegisterVerify(CLI::App& app, Action* action) {
   auto o = std::make_shared<VerifyCommandOptions>();
   CLI::App* c = app.add_subcommand(
       "verify", "Check that every tag of a generated sheet (or a whole family) decodes");
-  c->add_option("sheet", o->sheet, "A sheet written by 'generate' (.pdf, .svg, .png)");
+  c->add_option("sheet", o->sheet,
+                "A sheet written by 'generate' (.pdf, .svg, .png), or give it with --sheet");
   c->add_option("--family", o->family, "With --all: check this whole family")
       ->transform(FamilyPrefix())
       ->check(CLI::IsMember(TagFamily::Names()));
@@ -421,8 +422,9 @@ void RegisterVerify(CLI::App& app, Action* action) {
                 "Scans or photos of the printed sheet's pages: check the print itself")
       ->group(kPrintGroup)
       ->expected(1, -1);
-  c->add_option("--sheet", o->sheet, "The sheet that was printed (or its sidecar .json)")
-      ->group(kPrintGroup);
+  c->add_option("--sheet", o->sheet,
+                "The sheet (.pdf, .svg, .png; its sidecar beside it), or with --print its "
+                "sidecar .json");
   c->add_flag("--scan", o->scan,
               "The images are flatbed scans: check the printed size (resolution from the file)")
       ->group(kPrintGroup);

@@ -64,7 +64,8 @@ class CalibCliTest : public ::testing::Test {
   static CommandResult Calibrate(const std::vector<std::string>& photos, const std::string& out) {
     std::vector<std::string> args = {"calibrate"};
     args.insert(args.end(), photos.begin(), photos.end());
-    args.insert(args.end(), {"--sheet", dir_ + "/calib.pdf.json", "-o", out});
+    // The sheet as calib-sheet wrote it; its sidecar is read from beside it.
+    args.insert(args.end(), {"--sheet", dir_ + "/calib.pdf", "-o", out});
     return RunCommand(kCli, args);
   }
 
@@ -210,9 +211,24 @@ TEST_F(CalibCliTest, BadPhotosFailCleanly) {
   const CommandResult missing = Calibrate({dir_ + "/missing.jpg"}, dir_ + "/bad-out");
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_EQ(testing::CountLines(missing.err), 1) << missing.err;
+  // A sheet beside a sidecar that lists another file, and a sheet changed
+  // since calib-sheet wrote it: the patches' colours would not be its own.
+  fs::copy_file(dir_ + "/calib.pdf", dir_ + "/other.pdf");
+  fs::copy_file(dir_ + "/calib.pdf.json", dir_ + "/other.pdf.json");
   const CommandResult wrong_sidecar = RunCommand(
-      kCli, {"calibrate", good_photo, "--sheet", dir_ + "/calib.pdf", "-o", dir_ + "/bad-out"});
+      kCli, {"calibrate", good_photo, "--sheet", dir_ + "/other.pdf", "-o", dir_ + "/bad-out"});
   EXPECT_EQ(wrong_sidecar.exit_code, 2);
+  EXPECT_NE(wrong_sidecar.err.find("does not describe"), std::string::npos) << wrong_sidecar.err;
+  const std::string sheet = Read(dir_ + "/calib.pdf");
+  std::ofstream(dir_ + "/changed.pdf", std::ios::binary) << sheet << "%";
+  std::string sidecar = Read(dir_ + "/calib.pdf.json");
+  sidecar.replace(sidecar.find("\"calib.pdf\""), 11, "\"changed.pdf\"");
+  std::ofstream(dir_ + "/changed.pdf.json", std::ios::binary) << sidecar;
+  const CommandResult changed = RunCommand(
+      kCli, {"calibrate", good_photo, "--sheet", dir_ + "/changed.pdf", "-o", dir_ + "/bad-out"});
+  EXPECT_EQ(changed.exit_code, 2);
+  EXPECT_NE(changed.err.find("was changed after it was generated"), std::string::npos)
+      << changed.err;
   EXPECT_FALSE(fs::exists(dir_ + "/bad-out"));
 }
 

@@ -203,10 +203,15 @@ std::optional<Board> ReadBoardFile(const std::string& spec, std::string* error) 
   }
   const std::string ext = Lower(std::filesystem::path(path).extension().string());
   std::string why;
-  if (ext == ".json") {
-    // A colour calibration sheet's sidecar names its schema near the top.
-    const auto text = ReadInputFile(path, "board file", kMaxJsonFileBytes, error);
+  const bool sheet = ext == ".pdf" || ext == ".svg" || ext == ".png";
+  if (ext == ".json" || sheet) {
+    // A sheet file stands for the sidecar beside it.
+    std::string sidecar = path;
+    const auto text = sheet ? ReadSidecarOfSheet(path, "board sheet", &sidecar, error)
+                            : ReadInputFile(path, "board file", kMaxJsonFileBytes, error);
     if (!text) return std::nullopt;
+    path = sidecar;
+    // A colour calibration sheet's sidecar names its schema near the top.
     if (text->find(std::string("\"") + kCalibSheetSchema + "\"") != std::string::npos) {
       const auto layout = ParseCalibSidecar(*text, &why);
       std::optional<Board> board = layout ? BoardFromCalibSheet(*layout, &why) : std::nullopt;
@@ -232,8 +237,8 @@ std::optional<Board> ReadBoardFile(const std::string& spec, std::string* error) 
   if (ext != ".yaml" && ext != ".yml") {
     if (error) {
       *error = "board file '" + path +
-               "' must be a sheet's sidecar (.json, from chromatag generate) or a bundle YAML "
-               "(.yaml, .yml)";
+               "' must be a sheet from chromatag generate or calib-sheet (.pdf, .svg, .png, with "
+               "its sidecar beside it), its sidecar (.json) or a bundle YAML (.yaml, .yml)";
     }
     return std::nullopt;
   }

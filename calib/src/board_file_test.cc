@@ -108,7 +108,7 @@ TEST(BoardFileTest, RefusesBrokenBundlesSayingWhat) {
   EXPECT_NE(error.find("cannot read board file '/nonexistent/board.yaml'"), std::string::npos)
       << error;
   EXPECT_FALSE(ReadBoardFile("board.txt", &error));
-  EXPECT_NE(error.find("must be a sheet's sidecar (.json"), std::string::npos) << error;
+  EXPECT_NE(error.find("its sidecar (.json) or a bundle YAML"), std::string::npos) << error;
 }
 
 // A sheet's sidecar: every tag at its place on the page, in metres, y up
@@ -125,6 +125,12 @@ TEST(BoardFileTest, ASheetIsABoardOfOnePage) {
   const auto board = ReadBoardFile(SidecarPath(path), &error);
   ASSERT_TRUE(board) << error;
   EXPECT_EQ(board->name, "board_sheet.pdf");
+  // The sheet file stands for its sidecar, and gives the same board.
+  const auto from_sheet = ReadBoardFile(path, &error);
+  ASSERT_TRUE(from_sheet) << error;
+  EXPECT_EQ(from_sheet->name, board->name);
+  ASSERT_EQ(from_sheet->tags.size(), 4u);
+  EXPECT_EQ(from_sheet->tags[3].translation, board->tags[3].translation);
   EXPECT_EQ(board->palette, "default");
   ASSERT_EQ(board->tags.size(), 4u);
   for (size_t i = 0; i < 4; ++i) {

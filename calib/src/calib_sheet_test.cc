@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -123,6 +125,41 @@ TEST(CalibSheetTest, SidecarErrorsSayWhatIsWrong) {
   EXPECT_NE(error.find("not a calibration sheet"), std::string::npos) << error;
   EXPECT_FALSE(ReadCalibSidecar("/nonexistent/calib.json", &error));
   EXPECT_NE(error.find("/nonexistent/calib.json"), std::string::npos);
+}
+
+// The sheet is given as the file or as its sidecar, as verify takes a sheet;
+// a sidecar that lists another file, or a sheet changed after it was
+// written, is refused, as is a sheet without its sidecar.
+TEST(CalibSheetTest, ASheetIsGivenAsItsFileOrItsSidecar) {
+  const auto layout = LayoutCalibSheet(DefaultOptions());
+  ASSERT_TRUE(layout);
+  const std::string dir = ::testing::TempDir() + "calib_sheet_given";
+  std::filesystem::create_directories(dir);
+  const auto files = RenderCalibSheet(*layout, CalibSheetFormat::kPdf, dir + "/calib.pdf");
+  auto write = [](const std::string& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary) << bytes;
+  };
+  for (const auto& file : files) write(file.path, file.contents);
+  std::string error;
+  for (const std::string& given : {dir + "/calib.pdf", dir + "/calib.pdf.json"}) {
+    const auto read = ReadCalibSheet(given, &error);
+    ASSERT_TRUE(read) << given << ": " << error;
+    EXPECT_EQ(read->sheet_id, layout->sheet_id);
+  }
+  write(dir + "/copy.pdf", files[0].contents);
+  EXPECT_FALSE(ReadCalibSheet(dir + "/copy.pdf", &error));
+  EXPECT_NE(error.find("copy.pdf.json': no such file"), std::string::npos) << error;
+  write(dir + "/copy.pdf.json", files[1].contents);
+  EXPECT_FALSE(ReadCalibSheet(dir + "/copy.pdf", &error));
+  EXPECT_NE(error.find("does not describe '" + dir + "/copy.pdf' (it lists 'calib.pdf')"),
+            std::string::npos)
+      << error;
+  write(dir + "/calib.pdf", files[0].contents + "\n");
+  EXPECT_FALSE(ReadCalibSheet(dir + "/calib.pdf", &error));
+  EXPECT_NE(error.find("was changed after it was generated"), std::string::npos) << error;
+  // The sidecar alone still reads: it holds everything calibrate needs.
+  EXPECT_TRUE(ReadCalibSheet(dir + "/calib.pdf.json", &error)) << error;
+  std::filesystem::remove_all(dir);
 }
 
 TEST(CalibSheetTest, RasterShowsThePatchesAndTheCornerTags) {

@@ -1,7 +1,10 @@
 // The calibration sheet's sidecar (calib_sidecar.h).
 #include "chromatag/calib/calib_sidecar.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -197,6 +200,64 @@ std::optional<CalibSheetLayout> ReadCalibSidecar(const std::string& path, std::s
   std::string why;
   auto layout = ParseCalibSidecar(*text, &why);
   if (!layout && error) *error = "calibration sheet sidecar '" + path + "': " + why;
+  return layout;
+}
+
+std::optional<std::string> ReadSidecarOfSheet(const std::string& sheet_path,
+                                              const std::string& kind, std::string* sidecar_path,
+                                              std::string* error) {
+  // A sheet PDF or SVG is tens of KiB; a 1200 dpi A3 PNG about 100 MiB.
+  const auto sheet = ReadInputFile(sheet_path, kind, std::uintmax_t{512} << 20, error);
+  if (!sheet) return std::nullopt;
+  const std::string sidecar = sheet_path + ".json";
+  if (sidecar_path) *sidecar_path = sidecar;
+  auto text = ReadInputFile(sidecar, kind + " sidecar", kMaxJsonFileBytes, error);
+  if (!text) {
+    if (error) *error += "; chromatag writes it beside the sheet";
+    return std::nullopt;
+  }
+  Json root;
+  if (JsonDeeperThan(*text, kMaxJsonDepth) ||
+      (root = Json::parse(*text, nullptr, false)).is_discarded() || !root.is_object()) {
+    if (error) *error = kind + " sidecar '" + sidecar + "': not valid JSON";
+    return std::nullopt;
+  }
+  const std::string name = BaseName(sheet_path);
+  std::string listed;
+  const Json files = root.value("files", Json::array());
+  for (const Json& file : files.is_array() ? files : Json::array()) {
+    if (!file.is_object() || !file.contains("path") || !file["path"].is_string()) continue;
+    if (file["path"].get<std::string>() != name) {
+      if (listed.empty()) listed = file["path"].get<std::string>();
+      continue;
+    }
+    if (!file.contains("sha256") || !file["sha256"].is_string() ||
+        file["sha256"].get<std::string>() != Sha256Hex(*sheet)) {
+      if (error)
+        *error = kind + " '" + sheet_path +
+                 "' was changed after it was generated: its SHA-256 differs from its sidecar's";
+      return std::nullopt;
+    }
+    return text;
+  }
+  if (error)
+    *error = "sidecar '" + sidecar + "' does not describe '" + sheet_path + "' (it lists " +
+             (listed.empty() ? "no file" : "'" + listed + "'") +
+             "); give the sheet its own sidecar, or the sidecar itself";
+  return std::nullopt;
+}
+
+std::optional<CalibSheetLayout> ReadCalibSheet(const std::string& path, std::string* error) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".json") return ReadCalibSidecar(path, error);
+  std::string sidecar;
+  const auto text = ReadSidecarOfSheet(path, "calibration sheet", &sidecar, error);
+  if (!text) return std::nullopt;
+  std::string why;
+  auto layout = ParseCalibSidecar(*text, &why);
+  if (!layout && error) *error = "calibration sheet sidecar '" + sidecar + "': " + why;
   return layout;
 }
 

@@ -38,9 +38,10 @@ std::optional<Board> BoardFromCalibSheet(const CalibSheetLayout& layout,
 std::optional<Board> ParseBundleYaml(const std::string& text, const std::string& name,
                                      std::string* error = nullptr);
 
-// Reads `spec`: a sidecar (.json) or a bundle YAML (.yaml, .yml), with
-// "#NAME" after the path to choose a bundle of several. *error names the
-// file and what is wrong with it.
+// Reads `spec`: a sheet file (.pdf, .svg, .png) with its sidecar beside it
+// (ReadSidecarOfSheet), a sidecar (.json) or a bundle YAML (.yaml, .yml),
+// with "#NAME" after the path to choose a bundle of several. *error names
+// the file and what is wrong with it.
 std::optional<Board> ReadBoardFile(const std::string& spec, std::string* error = nullptr);
 
 }  // namespace chromatag

@@ -32,6 +32,22 @@ std::optional<CalibSheetLayout> ParseCalibSidecar(const std::string& text,
 std::optional<CalibSheetLayout> ReadCalibSidecar(const std::string& path,
                                                  std::string* error = nullptr);
 
+// The text of the sidecar beside a sheet file (`sheet_path` + ".json", into
+// *sidecar_path), once it is known to describe that file: its "files" list
+// names the sheet and records the sheet's SHA-256. Any sheet the toolkit
+// writes (generate, calib-sheet) has one. `kind` names the sheet in errors.
+std::optional<std::string> ReadSidecarOfSheet(const std::string& sheet_path,
+                                              const std::string& kind, std::string* sidecar_path,
+                                              std::string* error);
+
+// A calibration sheet given as the user has it: its sidecar (.json), or the
+// sheet itself (.pdf, .png) with its sidecar beside it, as `verify` takes a
+// sheet. For a sheet file the sidecar must list it, and the file must be
+// unchanged since it was written (the SHA-256 the sidecar records): the
+// patches' intended colours come from the sidecar.
+std::optional<CalibSheetLayout> ReadCalibSheet(const std::string& path,
+                                               std::string* error = nullptr);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_CALIB_CALIB_SIDECAR_H_
