@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -126,8 +127,14 @@ nlohmann::json JsonOf(const std::string& name, const py::handle& value) {
               std::string(py::str(value.get_type().attr("__name__"))));
 }
 
+// How many tag-free frames of a Detector are also tried in the other
+// channel order, to warn about an RGB frame passed as BGR (or the reverse):
+// the check costs a second detection, so a stream pays it only at its start.
+constexpr int kOrderChecks = 16;
+
 struct PyDetector {
   std::shared_ptr<const Detector> detector;
+  std::shared_ptr<std::atomic<int>> order_checks = std::make_shared<std::atomic<int>>(kOrderChecks);
 };
 
 // A detection that owns its copy (the family is process-wide, see TagFamily::Load).
@@ -241,12 +248,29 @@ py::object Detect(const PyDetector& self, const py::object& image, const std::st
   const cv::Mat mat = ColourImage(image, &keep);
   const PixelOrder pixel_order = OrderFrom(order);
   DetectionResult result;
+  size_t swapped_found = 0;
   {
     py::gil_scoped_release release;
     self.detector->Detect(mat, pixel_order, &result);
     if (estimate_tag_pose) {
       for (Detection& d : result.detections) d.has_pose = EstimateTagPose(d, camera, size, &d.pose);
     }
+    if (result.detections.empty() && self.order_checks->load() > 0 &&
+        self.order_checks->fetch_sub(1) > 0) {
+      const PixelOrder other =
+          pixel_order == PixelOrder::kBgr ? PixelOrder::kRgb : PixelOrder::kBgr;
+      swapped_found = self.detector->Detect(mat, other).detections.size();
+      if (swapped_found > 0) self.order_checks->store(0);  // Said once per Detector.
+    }
+  }
+  if (swapped_found > 0) {
+    const std::string given = pixel_order == PixelOrder::kBgr ? "bgr" : "rgb";
+    const std::string other = pixel_order == PixelOrder::kBgr ? "rgb" : "bgr";
+    const std::string message =
+        "chromatag: no tag found with order='" + given + "', but " + std::to_string(swapped_found) +
+        " with order='" + other + "': this image's red and blue look swapped (cv2.imread gives " +
+        "BGR; PIL, imageio and most camera libraries give RGB). Pass order='" + other + "'.";
+    if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) != 0) throw py::error_already_set();
   }
   py::list detections;
   for (Detection& d : result.detections) detections.append(PyDetection{std::move(d)});

@@ -3,6 +3,7 @@ import json
 import os
 import pickle
 import threading
+import warnings
 
 import numpy as np
 import pytest
@@ -47,8 +48,39 @@ def test_both_families_by_default_and_rgb_order():
     assert [(d.family, d.id) for d in bgr] == [("36h11", 7)]
     np.testing.assert_allclose(rgb[0].corners, bgr[0].corners)
     # Read with the wrong order, red and blue swap and nothing is a tag.
-    assert detector.detect(frame, order="rgb") == []
+    with pytest.warns(UserWarning, match="order='bgr'"):
+        assert detector.detect(frame, order="rgb") == []
     assert chromatag.Detector("16h5").detect(frame) == []
+
+
+def test_a_frame_with_swapped_colours_is_said_once():
+    frame, _ = scene("16h5", 3)
+    rgb = np.ascontiguousarray(frame[:, :, ::-1])
+    detector = chromatag.Detector()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert detector.detect(rgb) == []  # The result is not changed, only named.
+        assert detector.detect(rgb) == []
+        assert len(detector.detect(rgb, order="rgb")) == 1
+        assert detector.detect(np.full_like(frame, 128)) == []
+    assert len(caught) == 1, [str(w.message) for w in caught]
+    message = str(caught[0].message)
+    assert "no tag found with order='bgr', but 1 with order='rgb'" in message
+    assert "Pass order='rgb'" in message
+    # A tag-free stream is checked only at its start: the 17th empty frame is
+    # detected once (the check would find the same nothing).
+    quiet = chromatag.Detector()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for _ in range(20):
+            quiet.detect(np.full_like(frame, 90))
+        assert quiet.detect(rgb) == []  # Past the checks: no second detection, no warning.
+    assert caught == []
+    # Warnings turned into errors raise from detect.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(UserWarning):
+            chromatag.Detector().detect(rgb)
 
 
 def test_views_and_four_channels_are_accepted():
