@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -48,6 +49,77 @@ bool Near(const cv::Vec3b& a, const Rgb8& b) {
 
 bool Near(const Rgb8& a, const Rgb8& b) {
   return std::abs(a.r - b.r) <= 2 && std::abs(a.g - b.g) <= 2 && std::abs(a.b - b.b) <= 2;
+}
+
+// One IFD entry of an EXIF block, one value: a RATIONAL (type 5) a / b or a
+// SHORT (type 3) a.
+struct IfdEntry {
+  uint16_t tag, type;
+  uint32_t a, b;
+};
+
+// IFD0's resolution entries: XResolution, YResolution and, unless 0,
+// ResolutionUnit.
+std::vector<IfdEntry> Resolution(uint32_t x_num, uint32_t x_den, uint32_t y_num, uint32_t y_den,
+                                 uint32_t unit) {
+  std::vector<IfdEntry> entries{{282, 5, x_num, x_den}, {283, 5, y_num, y_den}};
+  if (unit) entries.push_back({296, 3, unit, 0});
+  return entries;
+}
+
+// A JPEG APP1 segment holding EXIF as cameras write it: "Exif\0\0", a TIFF
+// header in either byte order, the IFDs chained (IFD0 first, then IFD1, the
+// thumbnail's), the rationals after them.
+std::string ExifApp1(const std::vector<std::vector<IfdEntry>>& ifds, bool little = true) {
+  auto u16 = [little](uint32_t v) {
+    const char lo = static_cast<char>(v), hi = static_cast<char>(v >> 8);
+    return little ? std::string{lo, hi} : std::string{hi, lo};
+  };
+  auto u32 = [&](uint32_t v) {
+    return little ? u16(v & 0xFFFF) + u16(v >> 16) : u16(v >> 16) + u16(v & 0xFFFF);
+  };
+  uint32_t data_at = 8;
+  for (const auto& ifd : ifds) data_at += 2 + 12 * static_cast<uint32_t>(ifd.size()) + 4;
+  std::string tiff = std::string(little ? "II" : "MM") + u16(42) + u32(8), data;
+  uint32_t next = 8;
+  for (size_t i = 0; i < ifds.size(); ++i) {
+    tiff += u16(static_cast<uint32_t>(ifds[i].size()));
+    for (const IfdEntry& e : ifds[i]) {
+      tiff += u16(e.tag) + u16(e.type) + u32(1);
+      if (e.type == 5) {
+        tiff += u32(data_at + static_cast<uint32_t>(data.size()));
+        data += u32(e.a) + u32(e.b);
+      } else {
+        tiff += u16(e.a) + u16(0);
+      }
+    }
+    next += 2 + 12 * static_cast<uint32_t>(ifds[i].size()) + 4;
+    tiff += u32(i + 1 < ifds.size() ? next : 0);
+  }
+  const std::string payload = std::string("Exif\0\0", 6) + tiff + data;
+  const size_t length = payload.size() + 2;
+  return std::string("\xFF\xE1", 2) + static_cast<char>(length >> 8) +
+         static_cast<char>(length & 0xFF) + payload;
+}
+
+// A JFIF APP0 segment: density x by y in `units` (0 aspect only, 1 dots per
+// inch, 2 per centimetre).
+std::string JfifApp0(int units, int x, int y) {
+  std::string app0("\xFF\xE0\x00\x10JFIF\x00\x01\x01", 11);
+  for (int v : {units, x >> 8, x & 0xFF, y >> 8, y & 0xFF, 0, 0}) app0 += static_cast<char>(v);
+  return app0;
+}
+
+// `image` as a JPEG whose segments before OpenCV's tables are `app0` then
+// `app1` (either "" for none), in place of OpenCV's JFIF APP0.
+std::string JpegWith(const cv::Mat& image, const std::string& app0, const std::string& app1) {
+  std::vector<uint8_t> encoded;
+  cv::imencode(".jpg", image, encoded, {cv::IMWRITE_JPEG_QUALITY, 95});
+  const std::string jpeg(encoded.begin(), encoded.end());
+  EXPECT_EQ(jpeg.compare(0, 4, "\xFF\xD8\xFF\xE0", 4), 0);
+  const size_t app0_end =
+      4 + (static_cast<unsigned char>(jpeg[4]) << 8 | static_cast<unsigned char>(jpeg[5]));
+  return jpeg.substr(0, 2) + app0 + app1 + jpeg.substr(app0_end);
 }
 
 // Where a page's corners land in a pinhole camera (square pixels, principal
@@ -425,6 +497,112 @@ TEST(ReadImageDpiTest, PngPhysJpegJfifAndTiff) {
   EXPECT_FALSE(ReadImageDpi(""));
 }
 
+TEST(ReadImageDpiTest, JpegExifInInchesWithoutJfif) {
+  // As cameras and most scanners write it: EXIF only. The file still decodes.
+  const cv::Mat white(8, 8, CV_8UC3, cv::Scalar(255, 255, 255));
+  const std::string jpeg = JpegWith(white, "", ExifApp1({Resolution(300, 1, 300, 1, 2)}));
+  const cv::Mat raw(1, static_cast<int>(jpeg.size()), CV_8U, const_cast<char*>(jpeg.data()));
+  EXPECT_EQ(cv::imdecode(raw, cv::IMREAD_COLOR).size(), white.size());
+  const auto dpi = ReadImageDpi(jpeg);
+  ASSERT_TRUE(dpi);
+  EXPECT_DOUBLE_EQ((*dpi)[0], 300.0);
+  EXPECT_DOUBLE_EQ((*dpi)[1], 300.0);
+  // Big-endian (Motorola), no ResolutionUnit (inch by default), x and y apart.
+  const auto be =
+      ReadImageDpi(JpegWith(white, "", ExifApp1({Resolution(600, 2, 1200, 2, 0)}, false)));
+  ASSERT_TRUE(be);
+  EXPECT_DOUBLE_EQ((*be)[0], 300.0);
+  EXPECT_DOUBLE_EQ((*be)[1], 600.0);
+}
+
+TEST(ReadImageDpiTest, JpegExifInCentimetres) {
+  const cv::Mat white(8, 8, CV_8UC3, cv::Scalar(255, 255, 255));
+  const auto dpi =
+      ReadImageDpi(JpegWith(white, "", ExifApp1({Resolution(11811, 100, 11811, 100, 3)})));
+  ASSERT_TRUE(dpi);
+  EXPECT_NEAR((*dpi)[0], 300.0, 0.01);
+  EXPECT_NEAR((*dpi)[1], 300.0, 0.01);
+}
+
+TEST(ReadImageDpiTest, JpegExifBeforeJfif) {
+  const cv::Mat white(8, 8, CV_8UC3, cv::Scalar(255, 255, 255));
+  const std::string exif600 = ExifApp1({Resolution(600, 1, 600, 1, 2)});
+  // JFIF aspect only (units 0, as OpenCV and many cameras write) and EXIF 600.
+  auto dpi = ReadImageDpi(JpegWith(white, JfifApp0(0, 1, 1), exif600));
+  ASSERT_TRUE(dpi);
+  EXPECT_DOUBLE_EQ((*dpi)[0], 600.0);
+  // Both record one and they differ: EXIF's, the device's, over JFIF's default.
+  dpi = ReadImageDpi(JpegWith(white, JfifApp0(1, 72, 72), exif600));
+  ASSERT_TRUE(dpi);
+  EXPECT_DOUBLE_EQ((*dpi)[0], 600.0);
+  // EXIF without a resolution, or with one in no unit (1): JFIF's.
+  const std::vector<IfdEntry> orientation{{274, 3, 1, 0}};
+  for (const std::string& exif :
+       {ExifApp1({orientation}), ExifApp1({Resolution(600, 1, 600, 1, 1)}),
+        ExifApp1({Resolution(600, 0, 600, 0, 2)})}) {
+    dpi = ReadImageDpi(JpegWith(white, JfifApp0(2, 118, 118), exif));
+    ASSERT_TRUE(dpi);
+    EXPECT_NEAR((*dpi)[0], 118 * 2.54, 1e-9);
+  }
+  // JFIF alone.
+  dpi = ReadImageDpi(JpegWith(white, JfifApp0(1, 200, 100), ""));
+  ASSERT_TRUE(dpi);
+  EXPECT_DOUBLE_EQ((*dpi)[0], 200.0);
+  EXPECT_DOUBLE_EQ((*dpi)[1], 100.0);
+}
+
+TEST(ReadImageDpiTest, JpegWithoutResolution) {
+  const cv::Mat white(8, 8, CV_8UC3, cv::Scalar(255, 255, 255));
+  EXPECT_FALSE(ReadImageDpi(JpegWith(white, "", "")));
+  EXPECT_FALSE(ReadImageDpi(JpegWith(white, JfifApp0(0, 1, 1), "")));
+  // EXIF with no resolution in IFD0 records none: not libexif's default of
+  // 72 dpi, nor the thumbnail's (IFD1).
+  const std::vector<IfdEntry> unit_only{{296, 3, 2, 0}};
+  EXPECT_FALSE(ReadImageDpi(JpegWith(white, "", ExifApp1({unit_only}))));
+  EXPECT_FALSE(ReadImageDpi(
+      JpegWith(white, JfifApp0(0, 1, 1), ExifApp1({unit_only, Resolution(72, 1, 72, 1, 2)}))));
+}
+
+TEST(ReadImageDpiTest, JpegCorruptExifIsIgnored) {
+  const cv::Mat white(8, 8, CV_8UC3, cv::Scalar(255, 255, 255));
+  const std::string jfif = JfifApp0(1, 300, 300), exif = ExifApp1({Resolution(600, 1, 600, 1, 2)});
+  auto dpi_x = [](const std::string& jpeg) {
+    const auto dpi = ReadImageDpi(jpeg);
+    return dpi ? (*dpi)[0] : 0.0;
+  };
+  ASSERT_EQ(dpi_x(JpegWith(white, jfif, exif)), 600.0);
+  // The segment's header and nothing usable after it; IFD0 beyond the
+  // block; the rationals beyond it; the segment longer than the file.
+  std::string no_tiff = exif.substr(0, 10) + "garbage";
+  no_tiff[3] = static_cast<char>(no_tiff.size() - 2);
+  std::string far_ifd = exif, far_values = exif;
+  far_ifd[14] = '\x7F';                 // IFD0's offset, little-endian, low byte.
+  far_values[10 + 8 + 2 + 8] = '\xF0';  // XResolution's value offset.
+  far_values[10 + 8 + 2 + 12 + 8] = '\xF0';
+  for (const std::string& bad : {no_tiff, far_ifd, far_values}) {
+    EXPECT_EQ(dpi_x(JpegWith(white, jfif, bad)), 300.0);
+    EXPECT_FALSE(ReadImageDpi(JpegWith(white, "", bad)));
+  }
+  const std::string whole = JpegWith(white, jfif, exif);
+  std::string long_segment = whole.substr(0, 20 + exif.size());
+  long_segment[20 + 3] = '\x7F';  // Claims more than the file holds.
+  EXPECT_EQ(dpi_x(long_segment), 300.0);
+  // Cut anywhere, or any byte of the EXIF block broken: JFIF's, EXIF's or
+  // none, never a crash.
+  for (size_t size = 0; size <= whole.size(); ++size) {
+    const double x = dpi_x(whole.substr(0, size));
+    EXPECT_TRUE(x == 0.0 || x == 300.0 || x == 600.0) << size << ": " << x;
+  }
+  for (size_t i = 24; i < 20 + exif.size(); ++i) {
+    for (char c : {'\x00', '\xFF'}) {
+      std::string broken = whole;
+      broken[i] = c;
+      const auto dpi = ReadImageDpi(broken);
+      EXPECT_TRUE(!dpi || (std::isfinite((*dpi)[0]) && (*dpi)[0] > 0)) << i;
+    }
+  }
+}
+
 TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
   using testing::RunChromatag;
   const std::string sheet = *dir_ + "/tags.pdf";
@@ -446,6 +624,13 @@ TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
       tiff, cv::imread(good),
       {cv::IMWRITE_TIFF_RESUNIT, 2, cv::IMWRITE_TIFF_XDPI, 300, cv::IMWRITE_TIFF_YDPI, 300}));
   r = RunChromatag({"verify", sheet, "--print", tiff, "--scan"});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("scan at 300 dpi, 12 of 12 tags found"), std::string::npos) << r.out;
+  // So does a JPEG in its EXIF alone (as cameras and most scanners write it).
+  const std::string jpeg = *dir_ + "/good.jpg";
+  std::ofstream(jpeg, std::ios::binary)
+      << JpegWith(cv::imread(good), "", ExifApp1({Resolution(300, 1, 300, 1, 2)}));
+  r = RunChromatag({"verify", sheet, "--print", jpeg, "--scan"});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("scan at 300 dpi, 12 of 12 tags found"), std::string::npos) << r.out;
   const std::string report = *dir_ + "/report.pdf";

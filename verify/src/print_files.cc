@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 
+#include <libexif/exif-data.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "chromatag/families/input_file.h"
@@ -59,6 +61,38 @@ std::optional<std::array<double, 2>> TiffDpi(const std::string& bytes) {
   return std::array<double, 2>{x * f, y * f};
 }
 
+// The resolution an EXIF block records (a JPEG's APP1 payload, from its
+// "Exif\0\0" header), read through libexif: IFD0's XResolution and
+// YResolution in its ResolutionUnit (2 inch, the default; 3 centimetre).
+// IFD1's are the thumbnail's.
+std::optional<std::array<double, 2>> ExifDpi(const unsigned char* data, size_t size) {
+  const std::unique_ptr<ExifData, void (*)(ExifData*)> exif(exif_data_new(), exif_data_unref);
+  if (!exif) return std::nullopt;
+  // Without FOLLOW_SPECIFICATION (on by default): it would fill in the
+  // mandatory tags a file lacks, XResolution 72 among them.
+  exif_data_unset_option(exif.get(), EXIF_DATA_OPTION_FOLLOW_SPECIFICATION);
+  exif_data_load_data(exif.get(), data, static_cast<unsigned int>(size));
+  const ExifByteOrder order = exif_data_get_byte_order(exif.get());
+  ExifContent* ifd0 = exif->ifd[EXIF_IFD_0];
+  if (!ifd0) return std::nullopt;
+  auto rational = [&](ExifTag tag) {
+    const ExifEntry* e = exif_content_get_entry(ifd0, tag);
+    if (!e || e->format != EXIF_FORMAT_RATIONAL || e->components != 1 || !e->data || e->size < 8)
+      return 0.0;
+    const ExifRational r = exif_get_rational(e->data, order);
+    return r.denominator == 0 ? 0.0 : static_cast<double>(r.numerator) / r.denominator;
+  };
+  const double x = rational(EXIF_TAG_X_RESOLUTION), y = rational(EXIF_TAG_Y_RESOLUTION);
+  unsigned unit = 2;
+  if (const ExifEntry* e = exif_content_get_entry(ifd0, EXIF_TAG_RESOLUTION_UNIT)) {
+    const bool ok = e->format == EXIF_FORMAT_SHORT && e->components == 1 && e->data && e->size >= 2;
+    unit = ok ? exif_get_short(e->data, order) : 0;
+  }
+  if (!(x > 0 && y > 0) || (unit != 2 && unit != 3)) return std::nullopt;
+  const double f = unit == 2 ? 1.0 : 2.54;
+  return std::array<double, 2>{x * f, y * f};
+}
+
 }  // namespace
 
 std::optional<SheetRecord> ReadPrintedSheet(const std::string& path, std::string* error) {
@@ -94,21 +128,35 @@ std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes) {
     return std::nullopt;
   }
   if (bytes.size() >= 4 && u8(0) == 0xFF && u8(1) == 0xD8) {
-    // Segments: FF marker, length (including itself); JFIF is an APP0.
+    // Segments: FF marker, length (including itself); JFIF is an APP0, EXIF
+    // an APP1, both before the scan (SOS).
+    std::optional<std::array<double, 2>> jfif;
+    bool jfif_seen = false, exif_seen = false;
     size_t at = 2;
-    while (at + 4 <= bytes.size() && u8(at) == 0xFF) {
+    while (at + 4 <= bytes.size() && u8(at) == 0xFF && !(jfif_seen && exif_seen)) {
       const uint32_t marker = u8(at + 1), length = be16(at + 2);
       if (marker == 0xDA || length < 2 || at + 2 + length > bytes.size()) break;
-      if (marker == 0xE0 && length >= 16 && bytes.compare(at + 4, 5, "JFIF\0", 5) == 0) {
+      if (marker == 0xE0 && !jfif_seen && length >= 16 &&
+          bytes.compare(at + 4, 5, "JFIF\0", 5) == 0) {
+        jfif_seen = true;
         const uint32_t units = u8(at + 11);
         const double x = be16(at + 12), y = be16(at + 14);
-        if (x <= 0 || y <= 0 || (units != 1 && units != 2)) return std::nullopt;
-        const double f = units == 1 ? 1.0 : 2.54;
-        return std::array<double, 2>{x * f, y * f};
+        if (x > 0 && y > 0 && (units == 1 || units == 2)) {
+          const double f = units == 1 ? 1.0 : 2.54;
+          jfif = std::array<double, 2>{x * f, y * f};
+        }
+      } else if (marker == 0xE1 && !exif_seen && length >= 8 &&
+                 bytes.compare(at + 4, 6, "Exif\0\0", 6) == 0) {
+        exif_seen = true;
+        // EXIF's resolution wins over JFIF's density: cameras and scanners
+        // set EXIF's, while JFIF's is often an encoder's default (72 dpi,
+        // or units 0: aspect only) that nobody updates.
+        const auto* payload = reinterpret_cast<const unsigned char*>(bytes.data()) + at + 4;
+        if (const auto dpi = ExifDpi(payload, length - 2)) return dpi;
       }
       at += 2 + length;
     }
-    return std::nullopt;
+    return jfif;
   }
   return TiffDpi(bytes);
 }

@@ -186,9 +186,11 @@ std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
                                             std::string* error = nullptr);
 
 // The resolution an image file records, pixels per inch (x, y): a PNG's
-// pHYs chunk in pixels per metre, a JPEG's JFIF density in dots per inch or
-// centimetre, a TIFF's XResolution and YResolution in inches or
-// centimetres. nullopt when it records none (or only an aspect ratio).
+// pHYs chunk in pixels per metre; a JPEG's EXIF XResolution and YResolution
+// (IFD0, through libexif) in inches or centimetres, else its JFIF density in
+// dots per inch or centimetre; a TIFF's XResolution and YResolution in
+// inches or centimetres. nullopt when it records none (or only an aspect
+// ratio).
 std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes);
 
 // The verdict as one JSON object (docs/verify.md): per image the page, the
