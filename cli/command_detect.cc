@@ -47,6 +47,10 @@ using Json = nlohmann::json;
 
 // How often waits look at the signal flags.
 constexpr std::chrono::milliseconds kPoll(50);
+// How long, after Ctrl-C, every frame read so far is printed and the reader
+// has still not come back (a stream that stalled in its open or a read),
+// before the run ends without it.
+constexpr std::chrono::milliseconds kReaderGrace(1000);
 
 struct DetectOptions {
   std::string family = "all";
@@ -172,13 +176,24 @@ class Run {
       std::cout << "file                            frame  family   id  h  margin  corner 0\n";
     size_t frames = 0, with_tags = 0, tags = 0, dropped = 0;
     bool failed = false;
+    bool reader_stuck = false;
+    std::chrono::steady_clock::time_point stop_seen;
     for (size_t next = 0; !g_stop_now; ++next) {
       Outcome outcome;
       {
         // Polled: a signal handler cannot wake a condition variable.
         std::unique_lock<std::mutex> lock(mutex_);
         const auto ready = [&] { return done_.count(next) || (read_all_ && next == queued_); };
-        while (!ready() && !g_stop_now) done_changed_.wait_for(lock, kPoll);
+        // Stopped, every frame read is printed, and the reader is still in
+        // a read (or an open) that does not return.
+        const auto stuck = [&] {
+          if (!g_stop) return false;
+          const auto now = std::chrono::steady_clock::now();
+          if (stop_seen == std::chrono::steady_clock::time_point()) stop_seen = now;
+          return next == queued_ && now - stop_seen >= kReaderGrace;
+        };
+        while (!ready() && !g_stop_now && !(reader_stuck = stuck()))
+          done_changed_.wait_for(lock, kPoll);
         if (!done_.count(next)) break;
         outcome = std::move(done_[next]);
         done_.erase(next);
@@ -224,13 +239,15 @@ class Run {
       std::fflush(stderr);
       return failed ? kExitFailure : kExitOk;
     };
-    if (g_stop_now) {
-      // A second signal: the reader may be stuck in a stalled stream and the
-      // workers in a frame; the printed lines are whole, the summary says
-      // how many, and the process ends here. Overlays are written through
-      // temporary files, so none is left half-written.
-      summary();
-      DieBy(g_signal);
+    if (g_stop_now || reader_stuck) {
+      // A second signal, or a reader stuck in a stalled stream after the
+      // first: the reader (and after a second signal the workers) cannot be
+      // waited for. The printed lines are whole, the summary says how many,
+      // and the process ends here. Overlays are written through temporary
+      // files, so none is left half-written.
+      const int code = summary();
+      if (g_signal) DieBy(g_signal);
+      std::_Exit(code);  // Stopped from the --show window.
     }
     reader.join();
     {

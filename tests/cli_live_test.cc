@@ -1,12 +1,17 @@
 // `chromatag detect` on videos and streams: frames in order on any number of
 // threads, overlay names that cannot collide, timestamps, frame and time
 // limits, and Ctrl-C or SIGTERM ending a run cleanly with its summary.
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +21,7 @@
 #include <opencv2/videoio.hpp>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "chromatag/generator/tag_renderer.h"
 #include "test_util.h"
@@ -222,6 +228,130 @@ TEST_P(CliLiveSignalTest, EndsALiveRunCleanly) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, CliLiveSignalTest,
+                         ::testing::Values(std::vector<int>{SIGINT},
+                                           std::vector<int>{SIGINT, SIGINT},
+                                           std::vector<int>{SIGTERM}));
+
+// A stream that stalls: a loopback TCP server sends JPEG frames (FFmpeg
+// reads them as a JPEG pipe), then keeps the connection open and sends
+// nothing, so the reader blocks in a read that does not return. Ctrl-C (once
+// or twice) and SIGTERM still end the run within seconds, with every line
+// whole and the summary.
+class StalledStream {
+ public:
+  explicit StalledStream(int frames) {
+    listener_ = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    EXPECT_EQ(bind(listener_, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+    socklen_t length = sizeof address;
+    getsockname(listener_, reinterpret_cast<sockaddr*>(&address), &length);
+    port_ = ntohs(address.sin_port);
+    EXPECT_EQ(listen(listener_, 1), 0);
+    // Noise makes each JPEG large, so that FFmpeg's probe (5 MB) ends.
+    const auto family = TagFamily::Load("16h5");
+    const RgbImage tag =
+        RasterizeTag(*family, 3, TagColors::FromPalette(*BuiltinPalette("default")), 8);
+    cv::Mat rgb(tag.height, tag.width, CV_8UC3, const_cast<uint8_t*>(tag.pixels.data())), frame;
+    cv::Mat noise(480, 640, CV_8UC3);
+    cv::randu(noise, cv::Scalar::all(60), cv::Scalar::all(200));
+    cv::cvtColor(rgb, frame, cv::COLOR_RGB2BGR);
+    frame.copyTo(noise(cv::Rect(40, 30, frame.cols, frame.rows)));
+    cv::imencode(".jpg", noise, jpeg_);
+    server_ = std::thread([this, frames] {
+      client_ = accept(listener_, nullptr, nullptr);
+      for (int i = 0; i < frames && client_ >= 0; ++i)
+        if (send(client_, jpeg_.data(), jpeg_.size(), MSG_NOSIGNAL) < 0) break;
+      sent_ = true;
+    });
+  }
+  ~StalledStream() {
+    shutdown(listener_, SHUT_RDWR);
+    close(listener_);
+    server_.join();
+    if (client_ >= 0) close(client_);
+  }
+  std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port_); }
+  bool sent() const { return sent_; }
+
+ private:
+  int listener_ = -1;
+  std::atomic<int> client_{-1};
+  int port_ = 0;
+  std::vector<uchar> jpeg_;
+  std::atomic<bool> sent_{false};
+  std::thread server_;
+};
+
+class CliStalledStreamTest : public ::testing::TestWithParam<std::vector<int>> {};
+
+TEST_P(CliStalledStreamTest, EndsWhenTheStreamStalls) {
+  const std::vector<int> signals = GetParam();
+  const std::string dir =
+      FreshDir("stalled" + std::to_string(signals.size()) + std::to_string(signals[0]));
+  StalledStream stream(60);
+  int out_pipe[2];
+  ASSERT_EQ(pipe(out_pipe), 0);
+  const std::string err_path = dir + "/stderr.txt";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(out_pipe[1], STDOUT_FILENO);
+    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(err, STDERR_FILENO);
+    close(out_pipe[0]);
+    const std::string url = stream.url();
+    execl(CHROMATAG_CLI_PATH, CHROMATAG_CLI_PATH, "detect", "--json", url.c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(out_pipe[1]);
+  fcntl(out_pipe[0], F_SETFL, O_NONBLOCK);
+  std::string out;
+  char buffer[65536];
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::steady_clock::now() - start; };
+  std::chrono::steady_clock::duration signalled_at{}, quiet_since{};
+  bool signalled = false;
+  int status = 0;
+  pid_t ended = 0;
+  while ((ended = waitpid(pid, &status, WNOHANG)) == 0 && elapsed() < std::chrono::seconds(60)) {
+    for (ssize_t n; (n = read(out_pipe[0], buffer, sizeof buffer)) > 0;)
+      out.append(buffer, static_cast<size_t>(n));
+    // Every frame sent, some printed, and the stream silent for a second:
+    // the reader is blocked in its read.
+    if (!signalled && stream.sent() && out.find('\n') != std::string::npos) {
+      if (quiet_since == std::chrono::steady_clock::duration{}) quiet_since = elapsed();
+      if (elapsed() - quiet_since > std::chrono::seconds(1)) {
+        for (int signal : signals) kill(pid, signal);
+        signalled = true;
+        signalled_at = elapsed();
+      }
+    }
+    usleep(20000);
+  }
+  if (ended == 0) {
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    FAIL() << "detect was still running 60 s after it started (signalled: " << signalled << ")";
+  }
+  for (ssize_t n; (n = read(out_pipe[0], buffer, sizeof buffer)) > 0;)
+    out.append(buffer, static_cast<size_t>(n));
+  close(out_pipe[0]);
+  ASSERT_TRUE(signalled) << testing::ReadFile(err_path);
+  // Within the reader's grace (1 s) and a margin, not FFmpeg's own timeouts.
+  EXPECT_LT(elapsed() - signalled_at, std::chrono::seconds(5));
+  ASSERT_TRUE(WIFSIGNALED(status)) << "exit " << WEXITSTATUS(status);
+  EXPECT_EQ(WTERMSIG(status), signals.back());
+  const auto lines = JsonLines(out);  // Throws on a half-written line.
+  EXPECT_GE(lines.size(), 1u);
+  const std::string err = testing::ReadFile(err_path);
+  EXPECT_NE(err.find("(interrupted)"), std::string::npos) << err;
+  EXPECT_NE(err.find("detect: " + std::to_string(lines.size()) + " frame"), std::string::npos)
+      << err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, CliStalledStreamTest,
                          ::testing::Values(std::vector<int>{SIGINT},
                                            std::vector<int>{SIGINT, SIGINT},
                                            std::vector<int>{SIGTERM}));
