@@ -12,7 +12,7 @@
 # self-contained extension. The price is that a consumer links our
 # dependencies too: ChromaTagConfig.cmake finds those of the components asked
 # for (find_dependency, and pkg-config for Cairo, OpenColorIO, GLib, libpng,
-# yaml-cpp, poppler and librsvg, which ship no CMake package) and the exported
+# yaml-cpp, poppler, librsvg and libexif, which ship no CMake package) and the exported
 # targets name them.
 include(CMakePackageConfigHelpers)
 
@@ -84,6 +84,6 @@ chromatag_pkg_config(chromatag-calib "ChromaTag colour and camera calibration"
                      "chromatag-generator chromatag-detector yaml-cpp OpenColorIO cairo"
                      "-lchromatag_calib -lceres" "")
 chromatag_pkg_config(chromatag-verify "ChromaTag round-trip and print checks"
-                     "chromatag-calib poppler-cpp librsvg-2.0 cairo" "-lchromatag_verify" "")
+                     "chromatag-calib poppler-cpp librsvg-2.0 cairo libexif" "-lchromatag_verify" "")
 chromatag_pkg_config(chromatag "ChromaTag coloured fiducial markers: every library"
                      "chromatag-verify" "" "")

@@ -51,6 +51,34 @@ fi
 if "$work/first/first_program" "$work/missing.png" 2>"$work/first_err.txt"; then exit 1; fi
 grep -q "cannot read image '$work/missing.png': no such file" "$work/first_err.txt"
 
+# The verify component: the whole dependency chain (Ceres, Cairo, poppler,
+# librsvg, libexif) found by the package and by pkg-config, and a generated
+# sheet checked through it.
+mkdir -p "$work/verify_program"
+cat >"$work/verify_program/main.cc" <<'CC'
+#include <cstdio>
+#include <string>
+
+#include "chromatag/verify/sheet_check.h"
+
+int main(int argc, char** argv) {
+  std::string error;
+  const auto verdict = chromatag::VerifySheetFile(argv[1], chromatag::VerifyOptions(), &error);
+  if (!verdict) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 2;
+  }
+  std::printf("%d of %zu tags pass\n", verdict->tags_passed, verdict->tags.size());
+  return verdict->passed ? 0 : 1;
+}
+CC
+printf 'cmake_minimum_required(VERSION 3.22)\nproject(v LANGUAGES CXX)\nfind_package(ChromaTag 0.1 REQUIRED COMPONENTS verify)\nadd_executable(v main.cc)\ntarget_compile_features(v PRIVATE cxx_std_17)\ntarget_link_libraries(v PRIVATE ChromaTag::verify)\n' \
+  >"$work/verify_program/CMakeLists.txt"
+cmake -S "$work/verify_program" -B "$work/verify_build" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake --build "$work/verify_build" >/dev/null
+"$work/verify_build/v" "$work/tag.png" | grep -q "^1 of 1 tags pass"
+
 # An unknown component is an error naming the known ones.
 mkdir -p "$work/unknown"
 printf 'cmake_minimum_required(VERSION 3.22)\nproject(u LANGUAGES CXX)\nfind_package(ChromaTag REQUIRED COMPONENTS detectr)\n' \
@@ -79,6 +107,10 @@ if pkg-config --libs chromatag-detector | grep -Ei "ceres|cairo|poppler|rsvg|Ope
   echo "install_test: chromatag-detector.pc links more than the detector needs" >&2
   exit 1
 fi
+# shellcheck disable=SC2046
+g++ -std=c++17 -O1 -o "$work/verify_pc" "$work/verify_program/main.cc" \
+  $(pkg-config --cflags --libs chromatag-verify)
+"$work/verify_pc" "$work/tag.png" | grep -q "^1 of 1 tags pass"
 # The example's camera and window are its own needs, added to the detector's.
 # shellcheck disable=SC2046
 g++ -std=c++17 -O1 -o "$work/detect_tags_pc" "$source/examples/detect_tags/main.cc" \
