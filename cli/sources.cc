@@ -40,7 +40,9 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
   for (const std::string& input : inputs) {
     std::error_code ec;
     const fs::path path(input);
-    if (input.find("://") != std::string::npos) {
+    if (input.rfind("file://", 0) == 0 && !fs::exists(fs::path(input.substr(7)), ec)) {
+      missing.push_back(input);  // A local file named as a URL is an input like any other.
+    } else if (input.find("://") != std::string::npos) {
       sources->push_back(MakeSource(SourceKind::kStream, input));
     } else if (input.rfind("/dev/video", 0) == 0) {
       if (!fs::exists(path, ec)) {

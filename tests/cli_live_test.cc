@@ -369,6 +369,11 @@ TEST(CliLiveTest, InputsSayWhatTheyAre) {
   EXPECT_EQ(device.exit_code, 2);
   EXPECT_NE(device.err.find("no such file or folder: '/dev/video97'"), std::string::npos)
       << device.err;
+  const auto url = Chromatag({"detect", "file://" + dir + "/missing.avi"});
+  EXPECT_EQ(url.exit_code, 2);
+  EXPECT_NE(url.err.find("no such file or folder: 'file://" + dir + "/missing.avi'"),
+            std::string::npos)
+      << url.err;
   const auto index = Chromatag({"detect", "--camera-index", "-1"});
   EXPECT_EQ(index.exit_code, 2);
   EXPECT_NE(index.err.find("a camera index is 0 or more"), std::string::npos) << index.err;

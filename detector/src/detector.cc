@@ -184,6 +184,10 @@ std::unique_ptr<Detector> Detector::Create(const DetectorOptions& options, std::
     entry.swapped_codes = internal::SwappedCodes(*entry.family);
     impl->families.push_back(std::move(entry));
   }
+  // options() names the families as the library does ("16h5" for "tag16h5"),
+  // once each.
+  impl->options.families.clear();
+  for (const auto& entry : impl->families) impl->options.families.push_back(entry.family->name());
   impl->table = &ColorTable::Get();
   return std::unique_ptr<Detector>(new Detector(std::move(impl)));
 }

@@ -23,6 +23,15 @@ TEST(DetectorTest, RefusesInvalidOptionsNamingTheField) {
   EXPECT_NE(error.find("0, 4, 5 or 8"), std::string::npos) << error;
 }
 
+// AprilTag's names are accepted; options() reports the library's, once each.
+TEST(DetectorTest, FamiliesAreNamedOnceTheLibrarysWay) {
+  DetectorOptions options;
+  options.families = {"tag36h11", "16h5", "36h11"};
+  const auto detector = Detector::Create(options);
+  ASSERT_TRUE(detector);
+  EXPECT_EQ(detector->options().families, (std::vector<std::string>{"36h11", "16h5"}));
+}
+
 TEST(DetectorTest, AnythingButEightBitThreeChannelGivesAnEmptyResult) {
   auto detector = Detector::Create(DetectorOptions{});
   ASSERT_TRUE(detector);

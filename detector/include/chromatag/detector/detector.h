@@ -36,6 +36,8 @@ class Detector {
   void Detect(const cv::Mat& image, PixelOrder order, DetectionResult* result) const;
   DetectionResult Detect(const cv::Mat& image, PixelOrder order = PixelOrder::kBgr) const;
 
+  // The options it was created with; `families` named as the library names
+  // them ("16h5" for "tag16h5"), each once.
   const DetectorOptions& options() const;
 
  private:
