@@ -759,8 +759,9 @@ PYBIND11_MODULE(_chromatag, m) {
             return *board;
           },
           py::arg("path"),
-          "A board file: a sheet's sidecar (.json, e.g. from generate --board) or a bundle\n"
-          "YAML (.yaml, apriltag_ros's tag_bundles shape; 'file.yaml#name' picks a bundle).")
+          "A board file: a sheet from generate --board or calib-sheet (.pdf, .svg, .png, its\n"
+          "sidecar beside it), its sidecar (.json), or a bundle YAML (.yaml, apriltag_ros's\n"
+          "tag_bundles shape; 'file.yaml#name' picks a bundle).")
       .def_readonly("name", &Board::name, "the board's name (its file's, or the bundle's)")
       .def_readonly("palette", &Board::palette,
                     "the palette its sheet was printed with, when its file records one")
