@@ -204,3 +204,13 @@ def test_a_real_detection_has_the_types_the_stubs_promise():
     assert isinstance(d.as_dict(), dict)
     detections, rejected = detector.detect(frame, "bgr", True)
     assert isinstance(detections, list) and isinstance(rejected, list)
+
+
+def test_help_lists_every_class_with_its_documentation():
+    import pydoc
+
+    text = pydoc.render_doc(chromatag, renderer=pydoc.plaintext)
+    for name in ("Board", "BoardPose", "BoardTag", "Detection", "Detector", "Error", "Pose",
+                 "SheetVerdict", "TagVerdict"):
+        assert f"class {name}" in text, name
+    assert "how clearly the two shades split" in text  # Detection.decision_margin's docstring.
