@@ -176,7 +176,7 @@ class Run {
       std::cout << "file                            frame  family   id  h  margin  corner 0\n";
     size_t frames = 0, with_tags = 0, tags = 0, dropped = 0;
     bool failed = false;
-    bool reader_stuck = false;
+    bool reader_stuck = false, duration_over = false;
     std::chrono::steady_clock::time_point stop_seen;
     for (size_t next = 0; !g_stop_now; ++next) {
       Outcome outcome;
@@ -184,13 +184,19 @@ class Run {
         // Polled: a signal handler cannot wake a condition variable.
         std::unique_lock<std::mutex> lock(mutex_);
         const auto ready = [&] { return done_.count(next) || (read_all_ && next == queued_); };
-        // Stopped, every frame read is printed, and the reader is still in
-        // a read (or an open) that does not return.
+        // Stopped (a signal, or --duration over), every frame read printed
+        // for kReaderGrace, and the reader still in a read (or an open) that
+        // does not return. Nothing is queued after that (abandoned_).
         const auto stuck = [&] {
-          if (!g_stop) return false;
           const auto now = std::chrono::steady_clock::now();
+          duration_over = options_.duration_s > 0 &&
+                          std::chrono::duration<double>(now - start).count() >= options_.duration_s;
+          if (!(g_stop || duration_over) || next != queued_) {
+            stop_seen = std::chrono::steady_clock::time_point();
+            return false;
+          }
           if (stop_seen == std::chrono::steady_clock::time_point()) stop_seen = now;
-          return next == queued_ && now - stop_seen >= kReaderGrace;
+          return abandoned_ = now - stop_seen >= kReaderGrace;
         };
         while (!ready() && !g_stop_now && !(reader_stuck = stuck()))
           done_changed_.wait_for(lock, kPoll);
@@ -228,7 +234,10 @@ class Run {
       std::cout.flush();
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::string ended = g_signal ? " (interrupted)" : limit_reached_ ? " (" + limit_ + ")" : "";
+      std::string ended = g_signal                        ? " (interrupted)"
+                          : limit_reached_                ? " (" + limit_ + ")"
+                          : reader_stuck && duration_over ? " (--duration, the stream stalled)"
+                                                          : "";
       if (dropped) ended += ", " + std::to_string(dropped) + " stale live frames dropped";
       std::fprintf(stderr,
                    "detect: %zu frame%s, %zu with tags, %zu tag%s in %.2f s: %.1f frames/s on %d "
@@ -266,6 +275,7 @@ class Run {
   // --every-frame.
   void Queue(Task task) {
     std::unique_lock<std::mutex> lock(mutex_);
+    if (abandoned_) return;  // The run has ended without the reader.
     if (sources_[task.source].live() && !options_.every_frame) {
       for (auto it = tasks_.begin(); it != tasks_.end();) {
         if (it->second.source != task.source || !it->second.error.empty()) {
@@ -612,6 +622,7 @@ class Run {
   size_t working_ = 0;
   bool read_all_ = false;
   bool closed_ = false;
+  bool abandoned_ = false;  // The printer stopped waiting for a stuck reader.
 };
 
 int RunDetect(const DetectOptions& options) {

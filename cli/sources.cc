@@ -40,8 +40,10 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
   for (const std::string& input : inputs) {
     std::error_code ec;
     const fs::path path(input);
-    if (input.rfind("file://", 0) == 0 && !fs::exists(fs::path(input.substr(7)), ec)) {
-      missing.push_back(input);  // A local file named as a URL is an input like any other.
+    if (input.rfind("file:", 0) == 0 && !fs::exists(fs::path(input.substr(5)), ec)) {
+      // A local file named as a URL (read as a stream, as FFmpeg reads it:
+      // the path after "file:") must exist, as every input must.
+      missing.push_back(input);
     } else if (input.find("://") != std::string::npos) {
       sources->push_back(MakeSource(SourceKind::kStream, input));
     } else if (input.rfind("/dev/video", 0) == 0) {

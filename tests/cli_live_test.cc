@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -177,6 +178,81 @@ TEST(CliLiveTest, FrameAndTimeLimitsEndARun) {
   EXPECT_EQ(zero.exit_code, 2);
 }
 
+// `chromatag detect --json URL`, sent `signals` once `ready(stdout so far)`
+// says so; what it printed, how it ended and how long after the signals.
+struct SignalledRun {
+  std::string out, err;
+  int status = 0;
+  bool signalled = false, ended = false;
+  std::chrono::steady_clock::duration after_signals{}, total{};
+};
+
+SignalledRun RunAndSignal(const std::string& dir, const std::vector<std::string>& args,
+                          const std::vector<int>& signals,
+                          const std::function<bool(const std::string&)>& ready) {
+  SignalledRun run;
+  std::vector<const char*> argv = {CHROMATAG_CLI_PATH, "detect", "--json"};
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  argv.push_back(nullptr);
+  const std::string err_path = dir + "/stderr.txt";
+  int out_pipe[2];
+  EXPECT_EQ(pipe(out_pipe), 0);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(out_pipe[1], STDOUT_FILENO);
+    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(err, STDERR_FILENO);
+    close(out_pipe[0]);
+    execv(CHROMATAG_CLI_PATH, const_cast<char* const*>(argv.data()));
+    _exit(127);
+  }
+  close(out_pipe[1]);
+  fcntl(out_pipe[0], F_SETFL, O_NONBLOCK);
+  char buffer[65536];
+  const auto drain = [&] {
+    for (ssize_t n; (n = read(out_pipe[0], buffer, sizeof buffer)) > 0;)
+      run.out.append(buffer, static_cast<size_t>(n));
+  };
+  const auto start = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point signalled_at;
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
+    if (waitpid(pid, &run.status, WNOHANG) == pid) {
+      run.ended = true;
+      break;
+    }
+    drain();
+    if (!run.signalled && ready(run.out)) {
+      for (int signal : signals) kill(pid, signal);
+      run.signalled = true;
+      signalled_at = std::chrono::steady_clock::now();
+    }
+    usleep(10000);
+  }
+  if (!run.ended) {
+    kill(pid, SIGKILL);
+    waitpid(pid, &run.status, 0);
+  }
+  drain();
+  close(out_pipe[0]);
+  run.after_signals = std::chrono::steady_clock::now() - signalled_at;
+  run.total = std::chrono::steady_clock::now() - start;
+  run.err = testing::ReadFile(err_path);
+  return run;
+}
+
+// Ended by the last signal, every line whole, and the summary counting them.
+void ExpectEndedCleanly(const SignalledRun& run, const std::vector<int>& signals) {
+  ASSERT_TRUE(run.ended) << "still running 60 s after it started; " << run.err;
+  ASSERT_TRUE(run.signalled) << run.err;
+  ASSERT_TRUE(WIFSIGNALED(run.status)) << "exit " << WEXITSTATUS(run.status) << ": " << run.err;
+  EXPECT_EQ(WTERMSIG(run.status), signals.back());
+  const auto lines = JsonLines(run.out);  // Throws on a half-written line.
+  EXPECT_GE(lines.size(), 1u);
+  EXPECT_NE(run.err.find("(interrupted)"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("detect: " + std::to_string(lines.size()) + " frame"), std::string::npos)
+      << run.err;
+}
+
 // A live run ended by Ctrl-C, by Ctrl-C twice (the second without waiting
 // for frames under way) or by SIGTERM: every line written is whole, the
 // summary counts them and says it was interrupted, and the process ends by
@@ -188,43 +264,11 @@ TEST_P(CliLiveSignalTest, EndsALiveRunCleanly) {
   const std::string dir =
       FreshDir("signal" + std::to_string(signals.size()) + std::to_string(signals[0]));
   const std::string clip = MakeClip(dir, "long.avi", 3000);
-  int out_pipe[2];
-  ASSERT_EQ(pipe(out_pipe), 0);
-  const std::string err_path = dir + "/stderr.txt";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    dup2(out_pipe[1], STDOUT_FILENO);
-    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(err, STDERR_FILENO);
-    close(out_pipe[0]);
-    const std::string url = "file://" + clip;
-    execl(CHROMATAG_CLI_PATH, CHROMATAG_CLI_PATH, "detect", "--json", "-j", "1", url.c_str(),
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  close(out_pipe[1]);
-  std::string out;
-  char buffer[4096];
-  bool signalled = false;
-  for (ssize_t n; (n = read(out_pipe[0], buffer, sizeof buffer)) > 0;) {
-    out.append(buffer, static_cast<size_t>(n));
-    if (!signalled && out.find('\n') != std::string::npos) {
-      for (int signal : signals) kill(pid, signal);
-      signalled = true;
-    }
-  }
-  close(out_pipe[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "exit " << WEXITSTATUS(status);
-  EXPECT_EQ(WTERMSIG(status), signals.back());
-  const auto lines = JsonLines(out);  // Throws on a half-written line.
-  EXPECT_GE(lines.size(), 1u);
-  EXPECT_LT(lines.size(), 3000u);
-  const std::string err = testing::ReadFile(err_path);
-  EXPECT_NE(err.find("(interrupted)"), std::string::npos) << err;
-  EXPECT_NE(err.find("detect: " + std::to_string(lines.size()) + " frame"), std::string::npos)
-      << err;
+  const SignalledRun run =
+      RunAndSignal(dir, {"-j", "1", "file://" + clip}, signals,
+                   [](const std::string& out) { return out.find('\n') != std::string::npos; });
+  ExpectEndedCleanly(run, signals);
+  EXPECT_LT(JsonLines(run.out).size(), 3000u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, CliLiveSignalTest,
@@ -291,64 +335,41 @@ TEST_P(CliStalledStreamTest, EndsWhenTheStreamStalls) {
   const std::string dir =
       FreshDir("stalled" + std::to_string(signals.size()) + std::to_string(signals[0]));
   StalledStream stream(60);
-  int out_pipe[2];
-  ASSERT_EQ(pipe(out_pipe), 0);
-  const std::string err_path = dir + "/stderr.txt";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    dup2(out_pipe[1], STDOUT_FILENO);
-    const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(err, STDERR_FILENO);
-    close(out_pipe[0]);
-    const std::string url = stream.url();
-    execl(CHROMATAG_CLI_PATH, CHROMATAG_CLI_PATH, "detect", "--json", url.c_str(),
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  close(out_pipe[1]);
-  fcntl(out_pipe[0], F_SETFL, O_NONBLOCK);
-  std::string out;
-  char buffer[65536];
-  const auto start = std::chrono::steady_clock::now();
-  const auto elapsed = [&] { return std::chrono::steady_clock::now() - start; };
-  std::chrono::steady_clock::duration signalled_at{}, quiet_since{};
-  bool signalled = false;
-  int status = 0;
-  pid_t ended = 0;
-  while ((ended = waitpid(pid, &status, WNOHANG)) == 0 && elapsed() < std::chrono::seconds(60)) {
-    for (ssize_t n; (n = read(out_pipe[0], buffer, sizeof buffer)) > 0;)
-      out.append(buffer, static_cast<size_t>(n));
-    // Every frame sent, some printed, and the stream silent for a second:
-    // the reader is blocked in its read.
-    if (!signalled && stream.sent() && out.find('\n') != std::string::npos) {
-      if (quiet_since == std::chrono::steady_clock::duration{}) quiet_since = elapsed();
-      if (elapsed() - quiet_since > std::chrono::seconds(1)) {
-        for (int signal : signals) kill(pid, signal);
-        signalled = true;
-        signalled_at = elapsed();
-      }
+  // Signalled once every frame is sent, some are printed, and the output
+  // has been silent for a second: the reader is blocked in its read.
+  size_t last_size = 0;
+  auto quiet_since = std::chrono::steady_clock::now();
+  const SignalledRun run = RunAndSignal(dir, {stream.url()}, signals, [&](const std::string& out) {
+    const auto now = std::chrono::steady_clock::now();
+    if (out.size() != last_size) {
+      last_size = out.size();
+      quiet_since = now;
     }
-    usleep(20000);
+    return stream.sent() && out.find('\n') != std::string::npos &&
+           now - quiet_since > std::chrono::seconds(1);
+  });
+  ExpectEndedCleanly(run, signals);
+  // Within the reader's grace (1 s) and a margin, not FFmpeg's own timeouts;
+  // after one signal, not before the grace: the reader was stuck.
+  EXPECT_LT(run.after_signals, std::chrono::seconds(5));
+  if (signals.size() == 1) {
+    EXPECT_GE(run.after_signals, std::chrono::milliseconds(900));
   }
-  if (ended == 0) {
-    kill(pid, SIGKILL);
-    waitpid(pid, &status, 0);
-    FAIL() << "detect was still running 60 s after it started (signalled: " << signalled << ")";
-  }
-  for (ssize_t n; (n = read(out_pipe[0], buffer, sizeof buffer)) > 0;)
-    out.append(buffer, static_cast<size_t>(n));
-  close(out_pipe[0]);
-  ASSERT_TRUE(signalled) << testing::ReadFile(err_path);
-  // Within the reader's grace (1 s) and a margin, not FFmpeg's own timeouts.
-  EXPECT_LT(elapsed() - signalled_at, std::chrono::seconds(5));
-  ASSERT_TRUE(WIFSIGNALED(status)) << "exit " << WEXITSTATUS(status);
-  EXPECT_EQ(WTERMSIG(status), signals.back());
-  const auto lines = JsonLines(out);  // Throws on a half-written line.
-  EXPECT_GE(lines.size(), 1u);
-  const std::string err = testing::ReadFile(err_path);
-  EXPECT_NE(err.find("(interrupted)"), std::string::npos) << err;
-  EXPECT_NE(err.find("detect: " + std::to_string(lines.size()) + " frame"), std::string::npos)
-      << err;
+}
+
+// --duration ends a run whose stream has stalled, too: the reader never
+// comes back to look at the clock.
+TEST(CliLiveTest, DurationEndsAStalledStream) {
+  const std::string dir = FreshDir("stalled_duration");
+  StalledStream stream(60);
+  const SignalledRun run = RunAndSignal(dir, {"--duration", "3", stream.url()}, {},
+                                        [](const std::string&) { return false; });
+  ASSERT_TRUE(run.ended) << run.err;
+  ASSERT_TRUE(WIFEXITED(run.status)) << run.err;
+  EXPECT_EQ(WEXITSTATUS(run.status), 0) << run.err;
+  EXPECT_GE(JsonLines(run.out).size(), 1u);
+  EXPECT_NE(run.err.find("(--duration, the stream stalled)"), std::string::npos) << run.err;
+  EXPECT_LT(run.total, std::chrono::seconds(10));
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, CliStalledStreamTest,
