@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
@@ -32,6 +35,13 @@ cv::Mat ReadImage(const std::string& path, std::string* error) {
   if (!fs::exists(status)) return Fail(error, "cannot read image '" + path + "': no such file");
   if (!fs::is_regular_file(status)) {
     return Fail(error, "cannot read image '" + path + "': not a regular file");
+  }
+  // Opened here first: OpenCV would print its own warning for a file it
+  // cannot open, and call it undecodable.
+  if (std::FILE* file = std::fopen(path.c_str(), "rb")) {
+    std::fclose(file);
+  } else {
+    return Fail(error, "cannot read image '" + path + "': " + std::strerror(errno));
   }
   int width = 0, height = 0;
   if (ImageHeaderSize(path, &width, &height) &&

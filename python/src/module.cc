@@ -129,12 +129,17 @@ nlohmann::json JsonOf(const std::string& name, const py::handle& value) {
 
 // How many tag-free frames of a Detector are also tried in the other
 // channel order, to warn about an RGB frame passed as BGR (or the reverse):
-// the check costs a second detection, so a stream pays it only at its start.
+// the check costs a second detection, so only a Detector's first 16 frames
+// without a tag pay it.
 constexpr int kOrderChecks = 16;
 
 struct PyDetector {
+  struct OrderCheck {
+    std::atomic<int> left{kOrderChecks};
+    std::atomic<bool> warned{false};  // Said once per Detector, across threads.
+  };
   std::shared_ptr<const Detector> detector;
-  std::shared_ptr<std::atomic<int>> order_checks = std::make_shared<std::atomic<int>>(kOrderChecks);
+  std::shared_ptr<OrderCheck> order_check = std::make_shared<OrderCheck>();
 };
 
 // A detection that owns its copy (the family is process-wide, see TagFamily::Load).
@@ -255,12 +260,15 @@ py::object Detect(const PyDetector& self, const py::object& image, const std::st
     if (estimate_tag_pose) {
       for (Detection& d : result.detections) d.has_pose = EstimateTagPose(d, camera, size, &d.pose);
     }
-    if (result.detections.empty() && self.order_checks->load() > 0 &&
-        self.order_checks->fetch_sub(1) > 0) {
+    PyDetector::OrderCheck& check = *self.order_check;
+    if (result.detections.empty() && check.left.load() > 0 && check.left.fetch_sub(1) > 0) {
       const PixelOrder other =
           pixel_order == PixelOrder::kBgr ? PixelOrder::kRgb : PixelOrder::kBgr;
       swapped_found = self.detector->Detect(mat, other).detections.size();
-      if (swapped_found > 0) self.order_checks->store(0);  // Said once per Detector.
+      if (swapped_found > 0) {
+        check.left = 0;
+        if (check.warned.exchange(true)) swapped_found = 0;
+      }
     }
   }
   if (swapped_found > 0) {
