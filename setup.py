@@ -8,6 +8,7 @@ module that must run on other machines), CMAKE_BUILD_PARALLEL_LEVEL sets the
 number of compile jobs.
 """
 import os
+import re
 import shlex
 import shutil
 import subprocess
@@ -18,6 +19,15 @@ from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 SOURCE_DIR = Path(__file__).resolve().parent
+
+
+def cmake_version():
+    """The version CMakeLists.txt gives the project, the package's too."""
+    text = (SOURCE_DIR / "CMakeLists.txt").read_text()
+    match = re.search(r"project\(ChromaTag VERSION ([0-9.]+)", text)
+    if not match:
+        sys.exit("setup.py: no 'project(ChromaTag VERSION ...)' in CMakeLists.txt")
+    return match.group(1)
 
 
 class CMakeExtension(Extension):
@@ -40,9 +50,16 @@ class CMakeBuild(build_ext):
         if shutil.which("ninja"):
             configure += ["-G", "Ninja"]
         configure += shlex.split(os.environ.get("CMAKE_ARGS", ""))
+        # A cache from a configure with other arguments (another generator,
+        # an option since dropped from CMAKE_ARGS) would be reused silently,
+        # or refused: start that build afresh.
+        stamp = build_dir / "chromatag-configure.txt"
+        if build_dir.exists() and (not stamp.exists() or stamp.read_text() != "\n".join(configure)):
+            shutil.rmtree(build_dir)
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 1))
         try:
             subprocess.run(configure, check=True)
+            stamp.write_text("\n".join(configure))
             subprocess.run(["cmake", "--build", str(build_dir), "--target", "chromatag_python",
                             "--parallel", jobs], check=True)
         except FileNotFoundError:
@@ -59,5 +76,6 @@ class CMakeBuild(build_ext):
 
 
 # Under the CMake build folder, not beside it: setuptools would take build/.
-setup(ext_modules=[CMakeExtension("chromatag._chromatag")], cmdclass={"build_ext": CMakeBuild},
+setup(version=cmake_version(), ext_modules=[CMakeExtension("chromatag._chromatag")],
+      cmdclass={"build_ext": CMakeBuild},
       options={"build": {"build_base": "build/pip"}})

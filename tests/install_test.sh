@@ -89,6 +89,27 @@ if cmake -S "$work/unknown" -B "$work/unknown/build" -DCMAKE_PREFIX_PATH="$prefi
   exit 1
 fi
 grep -q "no component 'detectr'" "$work/unknown.txt"
+# What a detector-only find_package defines: none of the other libraries'
+# dependencies (their pkg-config searches are quiet, so the configure output
+# alone would not show them). An unknown optional component is passed over.
+mkdir -p "$work/probe"
+cat >"$work/probe/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.22)
+project(probe LANGUAGES CXX)
+find_package(ChromaTag REQUIRED COMPONENTS detector OPTIONAL_COMPONENTS someday)
+foreach(target IN ITEMS Ceres::ceres PkgConfig::CAIRO PkgConfig::OCIO PkgConfig::POPPLER_CPP
+                        PkgConfig::RSVG PkgConfig::EXIF PkgConfig::YAML_CPP ChromaTag::calib
+                        ChromaTag::generator)
+  if(TARGET ${target})
+    message(FATAL_ERROR "a detector-only find_package defined ${target}")
+  endif()
+endforeach()
+if(NOT TARGET ChromaTag::detector OR NOT TARGET ChromaTag::families OR ChromaTag_someday_FOUND)
+  message(FATAL_ERROR "ChromaTag::detector and ::families expected, and no 'someday'")
+endif()
+CMAKE
+cmake -S "$work/probe" -B "$work/probe/build" -DCMAKE_PREFIX_PATH="$prefix" >"$work/probe.txt" 2>&1 ||
+  { cat "$work/probe.txt"; exit 1; }
 
 cmake -S "$source/examples/detect_tags" -B "$work/example" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$prefix" >/dev/null

@@ -14,8 +14,12 @@ trap 'rm -rf "$work"' EXIT
 
 mkdir "$work/src"
 if git -C "$source" rev-parse --git-dir >/dev/null 2>&1; then
-  git -C "$source" ls-files -z --cached --others --exclude-standard |
-    (cd "$source" && xargs -0 tar -cf - --no-recursion) | tar -xf - -C "$work/src"
+  # Tracked and new files as they are in the tree (a tracked file deleted
+  # from it is left out).
+  git -C "$source" ls-files -z --cached --others --exclude-standard --deduplicate |
+    while IFS= read -r -d '' file; do
+      if [[ -e "$source/$file" ]]; then printf '%s\0' "$file"; fi
+    done | tar -C "$source" --null --no-recursion -T - -cf - | tar -xf - -C "$work/src"
 else
   tar -C "$source" --exclude='./build*' -cf - . | tar -xf - -C "$work/src"
 fi
