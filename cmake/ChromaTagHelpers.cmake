@@ -27,7 +27,7 @@ function(chromatag_target_defaults target)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
   # float-cast-overflow: not part of GCC's "undefined" (clang's has it), and
-  # the casts of out-of-range numbers are what issue 12 found.
+  # the casts of out-of-range numbers must be caught too.
   if(CHROMATAG_SANITIZE)
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined,float-cast-overflow
                                              -fno-omit-frame-pointer -fno-sanitize-recover=all)
