@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <climits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +25,7 @@
 #include "chromatag/detector/draw.h"
 #include "chromatag/detector/pose.h"
 #include "chromatag/families/family.h"
+#include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/families/version.h"
 #include "chromatag/generator/sheet.h"
@@ -76,7 +78,17 @@ cv::Mat ColourImage(const py::object& object, py::object* keep) {
                 std::string(py::str(py::tuple(py::cast(
                     std::vector<py::ssize_t>(image.shape(), image.shape() + image.ndim()))))));
   }
+  // The budget before any copy (a broadcast view can claim gigabytes), and
+  // sizes a cv::Mat can hold.
+  const double pixels = static_cast<double>(image.shape(0)) * static_cast<double>(image.shape(1));
+  if (pixels > static_cast<double>(kMaxImagePixels) || image.shape(0) > INT_MAX ||
+      image.shape(1) > INT_MAX) {
+    throw Error("the image is " + std::to_string(image.shape(1)) + " x " +
+                std::to_string(image.shape(0)) + " pixels, over the limit of " +
+                std::to_string(kMaxImagePixels >> 20) + " Mpx");
+  }
   auto contiguous = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>::ensure(image);
+  if (!contiguous) throw py::error_already_set();  // numpy's own error, e.g. MemoryError.
   *keep = contiguous;
   const int rows = static_cast<int>(contiguous.shape(0));
   const int cols = static_cast<int>(contiguous.shape(1));
@@ -113,9 +125,28 @@ py::array_t<double> Matrix33(const cv::Matx33d& m) {
 }
 
 // The JSON value of a keyword argument, for ParseDetectorConfig.
+// What a value is, for messages: its type and a short repr.
+std::string Describe(const py::handle& value) {
+  std::string repr = py::str(py::repr(value));
+  if (repr.size() > 40) repr = repr.substr(0, 37) + "...";
+  return std::string(py::str(value.get_type().attr("__name__"))) + " " + repr;
+}
+
+// `value` as T, or chromatag.Error naming the argument and what it must be
+// (pybind11 would raise a bare RuntimeError, "Unable to cast Python instance").
+template <typename T>
+T Arg(const py::handle& value, const std::string& name, const std::string& what) {
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    throw Error(name + " must be " + what + ", not " + Describe(value));
+  }
+}
+
 nlohmann::json JsonOf(const std::string& name, const py::handle& value) {
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
-  if (py::isinstance<py::int_>(value)) return value.cast<long long>();
+  if (py::isinstance<py::int_>(value))
+    return Arg<long long>(value, "option " + name, "a number that fits in 64 bits");
   if (py::isinstance<py::float_>(value)) return value.cast<double>();
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();
   if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
@@ -172,9 +203,9 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
     } else if (name == "camera_file") {
       camera_file = py::str(item.second);
     } else if (name == "tag_size") {
-      tag_size = item.second.cast<double>();
+      tag_size = Arg<double>(item.second, "tag_size", "a number (metres)");
     } else if (name == "report_rejected") {
-      options.report_rejected = item.second.cast<bool>();
+      options.report_rejected = Arg<bool>(item.second, "report_rejected", "True or False");
     } else if (name == "config") {
       config = py::str(item.second);
     } else {
@@ -235,13 +266,13 @@ py::object Detect(const PyDetector& self, const py::object& image, const std::st
   if (estimate_tag_pose) {
     if (camera_params.is_none() || tag_size.is_none())
       throw Error("estimate_tag_pose needs camera_params=(fx, fy, cx, cy) and tag_size (metres)");
-    const auto k = camera_params.cast<std::vector<double>>();
+    const auto k = Arg<std::vector<double>>(camera_params, "camera_params", "(fx, fy, cx, cy)");
     if (k.size() != 4) throw Error("camera_params must be (fx, fy, cx, cy)");
     camera.fx = k[0];
     camera.fy = k[1];
     camera.cx = k[2];
     camera.cy = k[3];
-    size = tag_size.cast<double>();
+    size = Arg<double>(tag_size, "tag_size", "a number (metres)");
     std::string error;
     if (!camera.IsValid(&error)) throw Error("camera_params: " + error);
     if (!(size > 0) || !std::isfinite(size))
@@ -311,7 +342,8 @@ struct PyBoardPose {
 Board MakeBoard(const std::string& name, const py::iterable& tags) {
   Board board;
   board.name = name;
-  for (const py::handle& item : tags) board.tags.push_back(item.cast<BoardTag>());
+  for (const py::handle& item : tags)
+    board.tags.push_back(Arg<BoardTag>(item, "a Board's tags", "BoardTag objects"));
   std::string error;
   if (!board.IsValid(&error)) throw Error(error);
   return board;
@@ -436,10 +468,11 @@ std::vector<std::string> Generate(const std::string& output, const std::string& 
   } else if (py::isinstance<py::str>(ids)) {
     request.ids = ids.cast<std::string>();
   } else if (py::isinstance<py::int_>(ids)) {
-    request.ids = std::to_string(ids.cast<int>());
+    request.ids = std::to_string(Arg<int>(ids, "ids", "tag IDs (small integers)"));
   } else {
     for (const py::handle& id : ids)
-      request.ids += (request.ids.empty() ? "" : ",") + std::to_string(id.cast<int>());
+      request.ids += (request.ids.empty() ? "" : ",") +
+                     std::to_string(Arg<int>(id, "ids", "tag IDs (small integers)"));
     if (request.ids.empty()) throw Error("ids is empty: give some IDs, or None for every kept ID");
   }
   request.size = size;

@@ -420,3 +420,30 @@ def test_public_names_are_listed_and_documented():
     assert all(hasattr(chromatag, name) for name in chromatag.__all__)
     assert {"Detector", "Detection", "detect", "Error"} <= set(chromatag.__all__)
     assert chromatag.Detection.green_corners.__doc__ and chromatag.Detection.as_dict.__doc__
+
+
+def test_hostile_arrays_and_arguments_are_named_errors():
+    zero = np.zeros((1, 1, 3), np.uint8)
+    detector = chromatag.Detector()
+    # Broadcast views claiming gigabytes: refused before any copy, by size.
+    for shape, says in (((50000, 50000, 3), "50000 x 50000 pixels, over the limit of 256 Mpx"),
+                        ((2147483653, 1, 3), "1 x 2147483653 pixels"),
+                        ((0, 2147483653, 3), "2147483653 x 0 pixels")):
+        with pytest.raises(chromatag.Error, match=says):
+            detector.detect(np.broadcast_to(zero, shape))
+    # A view within the budget is still read (copied once).
+    assert detector.detect(np.broadcast_to(zero, (64, 64, 3))) == []
+    cases = [
+        (lambda: chromatag.Detector(tag_size="40mm"), "tag_size must be a number .metres., not str '40mm'"),
+        (lambda: chromatag.Detector(step=2**70), "option step must be a number that fits in 64 bits"),
+        (lambda: chromatag.generate("/nonexistent/x.pdf", ids=[2**40]), "ids must be tag IDs"),
+        (lambda: chromatag.generate("/nonexistent/x.pdf", ids=2**40), "ids must be tag IDs"),
+        (lambda: detector.detect(zero, estimate_tag_pose=True, camera_params="abc", tag_size=0.1),
+         r"camera_params must be \(fx, fy, cx, cy\), not str 'abc'"),
+        (lambda: detector.detect(zero, estimate_tag_pose=True, camera_params=(1, 1, 0, 0),
+                                 tag_size="big"), "tag_size must be a number"),
+        (lambda: chromatag.Board("b", [1, 2]), "a Board's tags must be BoardTag objects, not int 1"),
+    ]
+    for call, says in cases:
+        with pytest.raises(chromatag.Error, match=says):
+            call()
