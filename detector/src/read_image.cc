@@ -2,9 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
@@ -29,44 +26,36 @@ cv::Mat Fail(std::string* error, const std::string& message) {
 }  // namespace
 
 cv::Mat ReadImage(const std::string& path, std::string* error) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) return Fail(error, "cannot read image '" + path + "': no such file");
-  if (!fs::is_regular_file(status)) {
-    return Fail(error, "cannot read image '" + path + "': not a regular file");
+  const auto bytes = ReadInputFile(path, "image", kMaxImageFileBytes, error);
+  if (!bytes) return cv::Mat();
+  return DecodeImage(*bytes, path, error);
+}
+
+cv::Mat DecodeImage(const std::string& bytes, const std::string& name, std::string* error) {
+  const std::string cannot = "cannot read image '" + name + "': ";
+  ImageSize size;
+  if (!ImageBytesSize(bytes, &size)) {
+    const std::string ext = LowerExtension(name);
+    if (ext == ".pdf" || ext == ".svg" || bytes.rfind("%PDF", 0) == 0) {
+      return Fail(error, cannot + "a PDF or SVG sheet is checked by chromatag verify; images are " +
+                             kSizedImageFormats);
+    }
+    return Fail(error, cannot + "not a " + std::string(kSizedImageFormats) +
+                           " file (the size is read from the header before decoding)");
   }
-  // Opened here first: OpenCV would print its own warning for a file it
-  // cannot open, and call it undecodable.
-  if (std::FILE* file = std::fopen(path.c_str(), "rb")) {
-    std::fclose(file);
-  } else {
-    return Fail(error, "cannot read image '" + path + "': " + std::strerror(errno));
-  }
-  int width = 0, height = 0;
-  if (ImageHeaderSize(path, &width, &height) &&
-      static_cast<double>(width) * height > static_cast<double>(kMaxImagePixels)) {
-    return Fail(error, "cannot read image '" + path + "': " + std::to_string(width) + " x " +
-                           std::to_string(height) + " pixels, over the limit of " +
-                           std::to_string(kMaxImagePixels >> 20) + " Mpx");
-  }
+  const std::string problem = ImageSizeProblem(size);
+  if (!problem.empty()) return Fail(error, cannot + problem);
   // OpenCV's own exceptions (an allocation it cannot make) become the message.
   cv::Mat image;
   try {
-    image = cv::imread(path, cv::IMREAD_COLOR);
+    const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data()));
+    image = cv::imdecode(raw, cv::IMREAD_COLOR);
   } catch (const cv::Exception& e) {
-    return Fail(error, "cannot read image '" + path + "': " + e.msg);
+    return Fail(error, cannot + e.msg);
   }
-  if (!image.empty()) return image;
-  const std::string ext = LowerExtension(path);
-  if (ext == ".pdf" || ext == ".svg") {
-    return Fail(error, "cannot read image '" + path +
-                           "': a PDF or SVG sheet is checked by chromatag verify; images are PNG, "
-                           "JPEG, TIFF, BMP, WebP, PPM or PGM");
-  }
-  return Fail(error,
-              "cannot read image '" + path +
-                  "': not an image OpenCV can decode (PNG, JPEG, TIFF, BMP, WebP, PPM, PGM)");
+  if (image.empty())
+    return Fail(error, cannot + "its data cannot be decoded (damaged or cut short)");
+  return image;
 }
 
 }  // namespace chromatag

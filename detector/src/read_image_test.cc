@@ -66,7 +66,7 @@ TEST_F(ReadImageTest, SaysWhyAFileCannotBeRead) {
       {"missing.png", "': no such file"},
       {"", "': not a regular file"},  // The folder itself.
       {"pipe.png", "': not a regular file"},
-      {"notes.png", "': not an image OpenCV can decode (PNG, JPEG"},
+      {"notes.png", "': not a PNG, JPEG, TIFF, BMP, WebP, PPM/PGM/PAM/PFM file"},
       {"sheet.pdf", "': a PDF or SVG sheet is checked by chromatag verify"},
       {"huge.png", "': 40000 x 40000 pixels, over the limit of 256 Mpx"},
   };

@@ -1,10 +1,14 @@
 #include "chromatag/families/input_file.h"
 
 #include <algorithm>
+#include <cctype>
 #include <climits>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 namespace chromatag {
 
@@ -90,38 +94,222 @@ bool JsonDeeperThan(const std::string& json_text, int max_depth) {
   return false;
 }
 
-bool ImageHeaderSize(const std::string& path, int* width, int* height) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char head[26] = {};
-  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return false;
-  auto be32 = [](const unsigned char* p) {
-    return static_cast<int64_t>(p[0]) << 24 | p[1] << 16 | p[2] << 8 | p[3];
-  };
-  if (std::memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0 && std::memcmp(head + 12, "IHDR", 4) == 0) {
-    const int64_t w = be32(head + 16), h = be32(head + 20);
-    *width = static_cast<int>(std::min<int64_t>(w, INT32_MAX));
-    *height = static_cast<int>(std::min<int64_t>(h, INT32_MAX));
-    return true;
-  }
-  if (head[0] != 0xff || head[1] != 0xd8) return false;
-  // JPEG: walk the markers to the first start of frame (SOF0-SOF15 but the
-  // DHT, JPG and DAC markers C4, C8, CC).
-  in.seekg(2);
-  for (int markers = 0; markers < 1000; ++markers) {
-    unsigned char m[4];
-    if (!in.read(reinterpret_cast<char*>(m), 4) || m[0] != 0xff) return false;
-    const int length = m[2] << 8 | m[3];
-    if (m[1] >= 0xc0 && m[1] <= 0xcf && m[1] != 0xc4 && m[1] != 0xc8 && m[1] != 0xcc) {
-      unsigned char sof[5];
-      if (!in.read(reinterpret_cast<char*>(sof), 5)) return false;
-      *height = sof[1] << 8 | sof[2];
-      *width = sof[3] << 8 | sof[4];
+namespace {
+
+// Reads `n` bytes at `offset` of an image file or buffer; false past its end.
+using ReadAt = std::function<bool(uint64_t offset, size_t n, unsigned char* out)>;
+
+uint32_t Be16(const unsigned char* p) { return uint32_t{p[0]} << 8 | p[1]; }
+uint32_t Le16(const unsigned char* p) { return uint32_t{p[1]} << 8 | p[0]; }
+uint32_t Be32(const unsigned char* p) { return Be16(p) << 16 | Be16(p + 2); }
+uint32_t Le32(const unsigned char* p) { return Le16(p + 2) << 16 | Le16(p); }
+uint64_t Le64(const unsigned char* p) { return uint64_t{Le32(p + 4)} << 32 | Le32(p); }
+uint64_t Be64(const unsigned char* p) { return uint64_t{Be32(p)} << 32 | Be32(p + 4); }
+
+// JPEG: the markers after SOI, each after any number of 0xFF fill bytes, up
+// to the first start of frame (SOF0-SOF15 but DHT C4, JPG C8 and DAC CC).
+// Bounded by the file: every step moves forward.
+bool JpegSize(const ReadAt& read, ImageSize* size) {
+  uint64_t at = 2;
+  unsigned char b[9];
+  for (;;) {
+    if (!read(at, 1, b) || b[0] != 0xff) return false;
+    do {
+      if (!read(++at, 1, b)) return false;
+    } while (b[0] == 0xff);
+    const unsigned marker = b[0];
+    ++at;
+    if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) continue;     // No length.
+    if (marker == 0xd9 || marker == 0xda || !read(at, 2, b)) return false;  // No frame.
+    const uint32_t length = Be16(b);
+    if (length < 2) return false;
+    if (marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc) {
+      if (!read(at + 2, 5, b)) return false;
+      size->height = Be16(b + 1);
+      size->width = Be16(b + 3);
       return true;
     }
-    if (length < 2) return false;
-    in.seekg(length - 2, std::ios::cur);
+    at += length;
   }
+}
+
+// TIFF and BigTIFF, either byte order: ImageWidth (256) and ImageLength
+// (257) of the first image file directory (the page OpenCV reads).
+bool TiffSize(const ReadAt& read, const unsigned char* head, ImageSize* size) {
+  const bool little = head[0] == 'I';
+  auto u16 = [&](const unsigned char* p) { return little ? Le16(p) : Be16(p); };
+  auto u32 = [&](const unsigned char* p) { return little ? Le32(p) : Be32(p); };
+  auto u64 = [&](const unsigned char* p) { return little ? Le64(p) : Be64(p); };
+  const uint32_t version = u16(head + 2);
+  if (version != 42 && version != 43) return false;
+  const bool big = version == 43;
+  unsigned char b[20];
+  uint64_t ifd = 0, entries = 0;
+  if (big) {
+    if (!read(8, 8, b)) return false;
+    ifd = u64(b);
+    if (!read(ifd, 8, b)) return false;
+    entries = u64(b);
+  } else {
+    ifd = u32(head + 4);
+    if (!read(ifd, 2, b)) return false;
+    entries = u16(b);
+  }
+  const size_t entry_size = big ? 20 : 12;
+  const uint64_t first = ifd + (big ? 8 : 2);
+  bool have_width = false, have_height = false;
+  for (uint64_t e = 0; e < entries && e < 4096 && !(have_width && have_height); ++e) {
+    if (!read(first + e * entry_size, entry_size, b)) return false;
+    const uint32_t tag = u16(b), type = u16(b + 2);
+    const unsigned char* value = b + (big ? 12 : 8);
+    uint64_t v = 0;
+    if (type == 3) {
+      v = u16(value);  // SHORT
+    } else if (type == 4) {
+      v = u32(value);  // LONG
+    } else if (type == 16) {
+      v = u64(value);  // LONG8 (BigTIFF)
+    } else {
+      continue;
+    }
+    if (tag == 256) {
+      size->width = v;
+      have_width = true;
+    } else if (tag == 257) {
+      size->height = v;
+      have_height = true;
+    }
+  }
+  return have_width && have_height;
+}
+
+// PNM (P1-P6), PFM (PF, Pf): width and height after the magic, separated by
+// whitespace and '#' comments; PAM (P7): its WIDTH and HEIGHT lines.
+bool PnmSize(const ReadAt& read, ImageSize* size) {
+  unsigned char head[1024] = {};
+  size_t n = 0;
+  while (n < sizeof head && read(n, 1, head + n)) ++n;
+  const std::string text(reinterpret_cast<char*>(head), n);
+  if (text[1] == '7') {
+    const auto number = [&](const char* key, uint64_t* out) {
+      const size_t at = text.find(key);
+      if (at == std::string::npos) return false;
+      char* end = nullptr;
+      const unsigned long long v = std::strtoull(text.c_str() + at + std::strlen(key), &end, 10);
+      if (end == text.c_str() + at + std::strlen(key)) return false;
+      *out = v;
+      return true;
+    };
+    return number("\nWIDTH ", &size->width) && number("\nHEIGHT ", &size->height);
+  }
+  size_t at = 2;
+  uint64_t values[2];
+  for (uint64_t& value : values) {
+    for (;;) {
+      while (at < n && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+      if (at < n && text[at] == '#') {
+        while (at < n && text[at] != '\n') ++at;
+        continue;
+      }
+      break;
+    }
+    if (at >= n || !std::isdigit(static_cast<unsigned char>(text[at]))) return false;
+    value = 0;
+    for (; at < n && std::isdigit(static_cast<unsigned char>(text[at])); ++at) {
+      value = value * 10 + static_cast<uint64_t>(text[at] - '0');
+      if (value > (uint64_t{1} << 40)) return false;
+    }
+  }
+  size->width = values[0];
+  size->height = values[1];
+  return true;
+}
+
+bool HeaderSize(const ReadAt& read, ImageSize* size) {
+  unsigned char head[32] = {};
+  size_t n = 0;
+  while (n < sizeof head && read(n, 1, head + n)) ++n;
+  if (n >= 24 && std::memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0 &&
+      std::memcmp(head + 12, "IHDR", 4) == 0) {
+    size->width = Be32(head + 16);
+    size->height = Be32(head + 20);
+    return true;
+  }
+  if (n >= 3 && head[0] == 0xff && head[1] == 0xd8 && head[2] == 0xff) return JpegSize(read, size);
+  if (n >= 8 && (std::memcmp(head, "II", 2) == 0 || std::memcmp(head, "MM", 2) == 0))
+    return TiffSize(read, head, size);
+  if (n >= 26 && head[0] == 'B' && head[1] == 'M') {
+    const uint32_t header = Le32(head + 14);
+    if (header == 12) {  // BITMAPCOREHEADER: 16-bit sizes.
+      size->width = Le16(head + 18);
+      size->height = Le16(head + 20);
+    } else {  // Signed 32-bit; a negative height is a top-down bitmap.
+      const auto w = static_cast<int32_t>(Le32(head + 18)),
+                 h = static_cast<int32_t>(Le32(head + 22));
+      size->width = static_cast<uint64_t>(std::abs(static_cast<int64_t>(w)));
+      size->height = static_cast<uint64_t>(std::abs(static_cast<int64_t>(h)));
+    }
+    return true;
+  }
+  if (n >= 30 && std::memcmp(head, "RIFF", 4) == 0 && std::memcmp(head + 8, "WEBP", 4) == 0) {
+    if (std::memcmp(head + 12, "VP8X", 4) == 0) {  // Canvas size minus one, 24 bits each.
+      size->width = (Le32(head + 24) & 0xffffff) + 1;
+      size->height = (Le32(head + 27) & 0xffffff) + 1;  // Bytes 27-29 (n >= 30).
+
+      return true;
+    }
+    if (std::memcmp(head + 12, "VP8L", 4) == 0 && head[20] == 0x2f) {  // 14 bits each, minus one.
+      const uint32_t bits = Le32(head + 21);
+      size->width = (bits & 0x3fff) + 1;
+      size->height = ((bits >> 14) & 0x3fff) + 1;
+      return true;
+    }
+    if (std::memcmp(head + 12, "VP8 ", 4) == 0 && head[23] == 0x9d && head[24] == 0x01 &&
+        head[25] == 0x2a) {  // A key frame's 14-bit sizes.
+      size->width = Le16(head + 26) & 0x3fff;
+      size->height = Le16(head + 28) & 0x3fff;
+      return true;
+    }
+    return false;
+  }
+  if (n >= 3 && head[0] == 'P' &&
+      ((head[1] >= '1' && head[1] <= '7') || head[1] == 'F' || head[1] == 'f'))
+    return PnmSize(read, size);
   return false;
+}
+
+}  // namespace
+
+bool ImageHeaderSize(const std::string& path, ImageSize* size) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  const ReadAt read = [&](uint64_t offset, size_t n, unsigned char* out) {
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(offset));
+    return static_cast<bool>(
+        in.read(reinterpret_cast<char*>(out), static_cast<std::streamsize>(n)));
+  };
+  return HeaderSize(read, size);
+}
+
+bool ImageBytesSize(const std::string& bytes, ImageSize* size) {
+  const ReadAt read = [&](uint64_t offset, size_t n, unsigned char* out) {
+    if (offset > bytes.size() || bytes.size() - offset < n) return false;
+    std::memcpy(out, bytes.data() + offset, n);
+    return true;
+  };
+  return HeaderSize(read, size);
+}
+
+std::string ImageSizeProblem(const ImageSize& size) {
+  if (size.width == 0 || size.height == 0) return "its header gives a size of 0";
+  if (size.width > INT_MAX || size.height > INT_MAX ||
+      static_cast<double>(size.width) * static_cast<double>(size.height) >
+          static_cast<double>(kMaxImagePixels)) {
+    return std::to_string(size.width) + " x " + std::to_string(size.height) +
+           " pixels, over the limit of " + std::to_string(kMaxImagePixels >> 20) + " Mpx";
+  }
+  return "";
 }
 
 }  // namespace chromatag

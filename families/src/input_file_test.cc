@@ -4,6 +4,8 @@
 #include <sys/stat.h>
 
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 namespace chromatag {
 namespace {
@@ -44,6 +46,128 @@ TEST(InputFileTest, Utf8) {
   EXPECT_FALSE(IsValidUtf8("\xc3"));          // Cut short.
   EXPECT_FALSE(IsValidUtf8("\xc0\xaf"));      // Overlong '/'.
   EXPECT_FALSE(IsValidUtf8("\xed\xa0\x80"));  // A surrogate.
+}
+
+std::string Encode(const std::string& ext, const cv::Mat& image) {
+  std::vector<uchar> bytes;
+  EXPECT_TRUE(cv::imencode(ext, image, bytes)) << ext;
+  return std::string(bytes.begin(), bytes.end());
+}
+
+ImageSize SizeOf(const std::string& bytes, bool* ok) {
+  ImageSize size;
+  *ok = ImageBytesSize(bytes, &size);
+  return size;
+}
+
+// Every format OpenCV writes here is sized from its header alone, as the
+// file itself and as bytes in memory.
+TEST(ImageHeaderSizeTest, ReadsEveryFormatsHeader) {
+  const cv::Mat colour(37, 53, CV_8UC3, cv::Scalar(10, 200, 30));
+  const cv::Mat grey(37, 53, CV_8UC1, cv::Scalar(90));
+  const std::vector<std::pair<std::string, cv::Mat>> cases = {
+      {".png", colour}, {".jpg", colour}, {".tif", colour}, {".bmp", colour}, {".webp", colour},
+      {".ppm", colour}, {".pgm", grey},   {".pbm", grey},   {".pam", colour}};
+  for (const auto& [ext, image] : cases) {
+    bool ok = false;
+    const std::string bytes = Encode(ext, image);
+    const ImageSize size = SizeOf(bytes, &ok);
+    ASSERT_TRUE(ok) << ext;
+    EXPECT_EQ(size.width, 53u) << ext;
+    EXPECT_EQ(size.height, 37u) << ext;
+    const std::string path = ::testing::TempDir() + "/header_size" + ext;
+    std::ofstream(path, std::ios::binary) << bytes;
+    ImageSize from_file;
+    ASSERT_TRUE(ImageHeaderSize(path, &from_file)) << ext;
+    EXPECT_EQ(from_file.width, 53u) << ext;
+    EXPECT_EQ(from_file.height, 37u) << ext;
+    std::remove(path.c_str());
+  }
+  // WebP lossless (VP8L, OpenCV's quality above 100) as well as lossy (VP8).
+  std::vector<uchar> vp8l;
+  ASSERT_TRUE(cv::imencode(".webp", colour, vp8l, {cv::IMWRITE_WEBP_QUALITY, 101}));
+  ASSERT_EQ(std::string(vp8l.begin() + 12, vp8l.begin() + 16), "VP8L");
+  bool ok = false;
+  const ImageSize lossless = SizeOf(std::string(vp8l.begin(), vp8l.end()), &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(lossless.width, 53u);
+  EXPECT_EQ(lossless.height, 37u);
+}
+
+// Headers that claim a bomb's size are read where OpenCV would read them:
+// a JPEG whose frame follows fill bytes and thousands of markers, a tiny
+// TIFF or BigTIFF claiming 30000 x 30000, a top-down BMP.
+TEST(ImageHeaderSizeTest, FindsTheSizeWhereDecodersDo) {
+  std::string jpeg = "\xff\xd8";
+  for (int i = 0; i < 3000; ++i) jpeg += std::string("\xff\xfe\x00\x04xy", 6);  // Comments.
+  jpeg += std::string("\xff\xff\xff\xc0\x00\x11\x08\x75\x30\x75\x30", 11);      // Fill bytes, SOF0.
+  bool ok = false;
+  ImageSize size = SizeOf(jpeg, &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 30000u);
+  EXPECT_EQ(size.height, 30000u);
+  EXPECT_NE(ImageSizeProblem(size).find("30000 x 30000 pixels, over the limit of 256 Mpx"),
+            std::string::npos);
+
+  // Little-endian TIFF: IFD at 8, two LONG entries.
+  std::string tiff("II*\0\x08\0\0\0\x02\0", 10);
+  tiff += std::string("\x00\x01\x04\x00\x01\x00\x00\x00\x30\x75\x00\x00", 12);  // 256 = 30000
+  tiff += std::string("\x01\x01\x03\x00\x01\x00\x00\x00\x30\x75\x00\x00", 12);  // 257 = 30000
+  size = SizeOf(tiff, &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 30000u);
+  EXPECT_EQ(size.height, 30000u);
+  // Big-endian BigTIFF: version 43, 8-byte offsets, 20-byte entries.
+  std::string big("MM\0\x2b\0\x08\0\0", 8);
+  big += std::string("\0\0\0\0\0\0\0\x10", 8);  // The first IFD at 16.
+  big += std::string("\0\0\0\0\0\0\0\x02", 8);
+  big += std::string("\x01\x00\x00\x10\0\0\0\0\0\0\0\x01\0\0\0\0\0\0\x75\x30", 20);
+  big += std::string("\x01\x01\x00\x03\0\0\0\0\0\0\0\x01\x4e\x20\0\0\0\0\0\0", 20);
+  size = SizeOf(big, &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 30000u);
+  EXPECT_EQ(size.height, 20000u);
+
+  // BMP with a negative (top-down) height.
+  std::string bmp("BM\0\0\0\0\0\0\0\0\x36\0\0\0\x28\0\0\0", 18);
+  bmp += std::string("\x10\x27\0\0\xf0\xd8\xff\xff", 8);  // 10000 x -10000
+  size = SizeOf(bmp, &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 10000u);
+  EXPECT_EQ(size.height, 10000u);
+
+  const std::string pnm = "P6\n# a comment\n 640\n# another\n480\n255\n";
+  size = SizeOf(pnm, &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 640u);
+  EXPECT_EQ(size.height, 480u);
+  EXPECT_EQ(ImageSizeProblem(size), "");
+}
+
+// What cannot be sized from a header is not sized: other formats, cut
+// headers, a JPEG scan before any frame, a size of 0.
+TEST(ImageHeaderSizeTest, RefusesWhatItCannotSize) {
+  const std::string png = Encode(".png", cv::Mat(4, 4, CV_8UC3, cv::Scalar::all(0)));
+  const std::string jpeg = Encode(".jpg", cv::Mat(4, 4, CV_8UC3, cv::Scalar::all(0)));
+  bool ok = true;
+  for (const std::string& bytes :
+       {std::string(), std::string("GIF89a\x10\0\x10\0", 10), std::string("%PDF-1.5\n"),
+        png.substr(0, 20), jpeg.substr(0, 6), std::string("\xff\xd8\xff\xda\x00\x02", 6),
+        std::string("II*\0\xff\xff\xff\x00", 8), std::string("P6\n640"),
+        std::string("RIFF\0\0\0\0WEBPVP8Z", 16)}) {
+    SizeOf(bytes, &ok);
+    EXPECT_FALSE(ok) << bytes.size() << " bytes";
+  }
+  ImageSize zero;
+  zero.width = 0;
+  zero.height = 10;
+  EXPECT_EQ(ImageSizeProblem(zero), "its header gives a size of 0");
+  ImageSize wide;
+  wide.width = uint64_t{1} << 33;
+  wide.height = 1;
+  EXPECT_NE(ImageSizeProblem(wide), "");
+  ImageSize ok_size;
+  EXPECT_FALSE(ImageHeaderSize("/nonexistent/x.png", &ok_size));
 }
 
 }  // namespace

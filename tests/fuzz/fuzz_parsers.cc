@@ -1,17 +1,20 @@
 // The toolkit's file parsers on arbitrary text. One source, built once per
 // parser (CHROMATAG_FUZZ_TARGET chooses which): palette, sheet sidecar,
-// calibration sidecar, detector config, camera file, .cube LUT, and the
-// resolution recorded in an image file's header (verify --print --scan).
+// calibration sidecar, detector config, camera file, .cube LUT, the
+// resolution recorded in an image file's header (verify --print --scan), and
+// the size an image file's header claims (the image budget's gate).
 #include <unistd.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/config.h"
+#include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/color_lut.h"
 #include "chromatag/generator/sidecar.h"
@@ -41,8 +44,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::ofstream(path, std::ios::binary) << text;
   auto lut = chromatag::ColorLut::Load(path, &error);
   if (lut) lut->Apply({0.5, 0.2, 0.9});
+  std::remove(path.c_str());  // Nothing left in /tmp when the run ends.
 #elif CHROMATAG_FUZZ_TARGET == 7
   chromatag::ReadImageDpi(text);
+#elif CHROMATAG_FUZZ_TARGET == 8
+  chromatag::ImageSize size;
+  if (chromatag::ImageBytesSize(text, &size)) chromatag::ImageSizeProblem(size);
 #endif
   return 0;
 }

@@ -6,17 +6,14 @@
 #include <memory>
 
 #include <libexif/exif-data.h>
-#include <opencv2/imgcodecs.hpp>
 
+#include "chromatag/detector/read_image.h"
 #include "chromatag/families/input_file.h"
 #include "chromatag/verify/print_check.h"
 #include "print_internal.h"
 
 namespace chromatag {
 namespace {
-
-// The largest image file read (a 1200 dpi A4 scan as PNG is about 60 MiB).
-constexpr std::uintmax_t kMaxImageFileBytes = 512u << 20;
 
 bool EndsWithJson(const std::string& path) {
   if (path.size() < 5) return false;
@@ -181,27 +178,8 @@ std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
   for (const std::string& path : paths) {
     const auto bytes = ReadInputFile(path, "image", kMaxImageFileBytes, error);
     if (!bytes) return std::nullopt;
-    int width = 0, height = 0;
-    if (ImageHeaderSize(path, &width, &height) &&
-        static_cast<double>(width) * height > kMaxImagePixels) {
-      if (error) {
-        *error = "cannot read image '" + path + "': " + std::to_string(width) + " x " +
-                 std::to_string(height) + " pixels, over the limit of " +
-                 std::to_string(kMaxImagePixels >> 20) + " Mpx";
-      }
-      return std::nullopt;
-    }
-    const cv::Mat raw(1, static_cast<int>(bytes->size()), CV_8U, const_cast<char*>(bytes->data()));
-    cv::Mat bgr;
-    try {
-      bgr = cv::imdecode(raw, cv::IMREAD_COLOR);
-    } catch (const cv::Exception&) {
-      bgr.release();
-    }
-    if (bgr.empty()) {
-      if (error) *error = "cannot read image '" + path + "': not an image OpenCV can decode";
-      return std::nullopt;
-    }
+    cv::Mat bgr = DecodeImage(*bytes, path, error);
+    if (bgr.empty()) return std::nullopt;
     PrintImage image;
     image.name = path;
     if (options.scans) {

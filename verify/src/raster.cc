@@ -7,8 +7,9 @@
 
 #include <cmath>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "chromatag/detector/read_image.h"
 
 namespace chromatag {
 namespace {
@@ -111,11 +112,8 @@ std::optional<SheetImages> RasterizeSheet(const SheetRecord& record, double dpi,
     case SheetFormat::kPng:
       images.px_per_mm = record.dpi / 25.4;
       for (size_t i = 0; ok && i < record.files.size(); ++i) {
-        cv::Mat page = cv::imread(record.files[i].path, cv::IMREAD_COLOR);
-        if (page.empty()) {
-          message = "cannot read PNG '" + record.files[i].path + "'";
-          ok = false;
-        }
+        cv::Mat page = ReadImage(record.files[i].path, &message);
+        ok = !page.empty();
         images.pages.push_back(page);
       }
       break;

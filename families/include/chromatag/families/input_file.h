@@ -31,10 +31,26 @@ bool JsonDeeperThan(const std::string& json_text, int max_depth);
 // alone would take gigabytes.
 inline constexpr int64_t kMaxImagePixels = int64_t{1} << 28;
 
-// The size a PNG or JPEG file's header claims, read before decoding it;
-// false for other formats (OpenCV's own limit applies to them) and for
-// headers it cannot read.
-bool ImageHeaderSize(const std::string& path, int* width, int* height);
+// The size an image file's header claims, read before anything is decoded.
+struct ImageSize {
+  uint64_t width = 0;
+  uint64_t height = 0;
+};
+
+// The formats whose size is read from the header: PNG, JPEG (any number of
+// markers and fill bytes before the frame), TIFF and BigTIFF (the first
+// page), BMP, WebP, and PNM/PAM/PFM. False for anything else and for a
+// header that cannot be read: such a file is not decoded (its size, and so
+// the memory it would take, is unknown).
+bool ImageHeaderSize(const std::string& path, ImageSize* size);
+// The same for a file already in memory.
+bool ImageBytesSize(const std::string& bytes, ImageSize* size);
+// The formats ImageHeaderSize reads, for messages.
+inline constexpr const char* kSizedImageFormats = "PNG, JPEG, TIFF, BMP, WebP, PPM/PGM/PAM/PFM";
+
+// Why an image of `size` is not decoded ("W x H pixels, over the limit of
+// 256 Mpx", a size of 0), or "" when it may be.
+std::string ImageSizeProblem(const ImageSize& size);
 
 // Whether `text` is well-formed UTF-8 (file names go into JSON sidecars,
 // which must be UTF-8).
