@@ -284,7 +284,8 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   if (!detector) return fail(error);
   std::vector<Source> sources;
   std::vector<std::string> notes;
-  if (!GatherSources(o.inputs, o.camera_indices, &sources, &error, &notes)) return fail(error);
+  if (!GatherSources(o.inputs, o.camera_indices, &sources, &error, &notes, &notes))
+    return fail(error);
   for (const std::string& note : notes) std::cerr << "calibrate-camera: " << note << "\n";
   const bool live =
       std::any_of(sources.begin(), sources.end(), [](const Source& s) { return s.live(); });

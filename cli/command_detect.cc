@@ -678,10 +678,11 @@ int RunDetect(const DetectOptions& options) {
   if (options.show && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
     return fail("--show needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set)");
   std::vector<Source> sources;
-  std::vector<std::string> notes;
-  if (!GatherSources(options.inputs, options.camera_indices, &sources, &error, &notes))
+  std::vector<std::string> notes, skipped;
+  if (!GatherSources(options.inputs, options.camera_indices, &sources, &error, &notes, &skipped))
     return fail(error);
   for (const std::string& note : notes) Fail("detect", note, kExitOk);
+  for (const std::string& entry : skipped) Fail("detect", entry, kExitOk);
   if (!options.overlay_dir.empty()) {
     std::error_code ec;
     fs::create_directories(options.overlay_dir, ec);
@@ -694,7 +695,8 @@ int RunDetect(const DetectOptions& options) {
                        ? options.jobs
                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   Run run(options, *detector, board, std::move(sources), jobs, camera_info.image_size);
-  const int code = run.Execute();
+  int code = run.Execute();
+  if (!skipped.empty() && code == kExitOk) code = kExitFailure;  // An input was not read.
   if (g_signal) DieBy(g_signal);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);

@@ -428,7 +428,8 @@ void RegisterVerify(CLI::App& app, Action* action) {
   c->add_flag("--scan", o->scan,
               "The images are flatbed scans: check the printed size (resolution from the file)")
       ->group(kPrintGroup);
-  c->add_option("--scan-dpi", o->scan_dpi, "The scans' resolution, when the files lack it")
+  c->add_option("--scan-dpi", o->scan_dpi, "The scans' resolution, 50-4800, when the files lack it")
+      ->check(CLI::Range(50.0, 4800.0))
       ->group(kPrintGroup);
   c->add_option("--scale-tolerance", o->scale_tolerance, "Largest accepted scale error of a scan")
       ->capture_default_str()

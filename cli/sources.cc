@@ -35,7 +35,7 @@ bool IsImage(const fs::path& path) {
 
 bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int>& camera_indices,
                    std::vector<Source>* sources, std::string* error,
-                   std::vector<std::string>* notes) {
+                   std::vector<std::string>* notes, std::vector<std::string>* skipped) {
   std::vector<std::string> missing;
   for (const std::string& input : inputs) {
     std::error_code ec;
@@ -44,6 +44,9 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
       // A local file named as a URL (read as a stream, as FFmpeg reads it:
       // the path after "file:") must exist, as every input must.
       missing.push_back(input);
+    } else if (input.rfind("file:", 0) == 0 && !fs::is_regular_file(input.substr(5), ec)) {
+      *error = "'" + input + "' is not a regular file (a FIFO or a device would block the run)";
+      return false;
     } else if (input.find("://") != std::string::npos) {
       sources->push_back(MakeSource(SourceKind::kStream, input));
     } else if (input.rfind("/dev/video", 0) == 0) {
@@ -54,15 +57,27 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
       }
     } else if (fs::is_directory(path, ec)) {
       std::vector<fs::path> files;
+      std::vector<std::string> bad;
       for (const auto& entry : fs::directory_iterator(path, ec)) {
-        if (entry.is_directory(ec) && notes) {
+        // An entry whose type cannot be read (a symbolic link loop, a
+        // dangling link) is named and passed over; the rest are read.
+        std::error_code entry_ec;
+        const fs::file_status status = entry.status(entry_ec);
+        if (entry_ec && entry_ec != std::errc::no_such_file_or_directory) {
+          bad.push_back("'" + entry.path().string() + "': " + entry_ec.message() + ", skipped");
+        } else if (fs::is_directory(status) && notes) {
           notes->push_back("'" + entry.path().string() + "' is a folder inside '" + input +
                            "', not read: give it as an input to read it");
-        } else if (entry.is_regular_file() && (IsImage(entry.path()) || IsVideo(entry.path()))) {
+        } else if (fs::is_regular_file(status) &&
+                   (IsImage(entry.path()) || IsVideo(entry.path()))) {
           files.push_back(entry.path());
+        } else if (!fs::exists(status) && (IsImage(entry.path()) || IsVideo(entry.path()))) {
+          bad.push_back("'" + entry.path().string() + "': a link to nothing, skipped");
         }
       }
       if (notes) std::sort(notes->begin(), notes->end());
+      std::sort(bad.begin(), bad.end());
+      if (skipped) skipped->insert(skipped->end(), bad.begin(), bad.end());
       std::sort(files.begin(), files.end());
       for (const fs::path& file : files)
         sources->push_back(

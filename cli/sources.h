@@ -24,13 +24,14 @@ struct Source {
 };
 
 // The sources named on the command line (a folder gives its images and
-// videos, sorted; its subfolders are named in *notes, not read), then the
-// camera indices; false with *error for inputs that do not exist (a
-// /dev/videoN too) or are not regular files, a negative camera index, or no
-// input at all.
+// videos, sorted; its subfolders are named in *notes, not read; entries it
+// cannot read, such as a symbolic link loop, in *skipped), then the camera
+// indices; false with *error for inputs that do not exist (a /dev/videoN
+// too) or are not regular files, a negative camera index, or no input at all.
 bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int>& camera_indices,
                    std::vector<Source>* sources, std::string* error,
-                   std::vector<std::string>* notes = nullptr);
+                   std::vector<std::string>* notes = nullptr,
+                   std::vector<std::string>* skipped = nullptr);
 
 }  // namespace chromatag::cli
 

@@ -89,7 +89,24 @@ TEST(CliDetectTest, UnreadableInputsAreReportedSkippedAndFailTheRun) {
   EXPECT_NE(missing.err.find("missing.png"), std::string::npos) << missing.err;
 }
 
-// Issue 11: detect looked for 16h5 only, so a 36h11 sheet gave "no tags".
+// A folder holding a symbolic link loop and a dangling link beside a good
+// image: each bad entry is named and skipped, the image is read, exit 1.
+TEST(CliDetectTest, AFoldersUnreadableEntriesAreSkipped) {
+  const std::string dir = MakeSheet("links");
+  ASSERT_EQ(symlink("loop-b", (dir + "/loop-a").c_str()), 0);
+  ASSERT_EQ(symlink("loop-a", (dir + "/loop-b").c_str()), 0);
+  ASSERT_EQ(symlink("nothing.png", (dir + "/gone.png").c_str()), 0);
+  const auto result = Chromatag({"detect", "--json", dir});
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_EQ(CountLines(result.out), 1) << result.out;  // sheet.png
+  for (const std::string& says :
+       {"'" + dir + "/loop-a': Too many levels of symbolic links, skipped",
+        "'" + dir + "/loop-b': Too many levels of symbolic links, skipped",
+        "'" + dir + "/gone.png': a link to nothing, skipped"})
+    EXPECT_NE(result.err.find(says), std::string::npos) << result.err;
+}
+
+// detect looks for both families by default: a 36h11 sheet is found.
 TEST(CliDetectTest, BothFamiliesByDefault) {
   const std::string dir = MakeSheet("families");
   ASSERT_EQ(Chromatag({"generate", "--family", "36h11", "--ids", "5", "--size", "25.4mm", "--dpi",

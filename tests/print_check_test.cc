@@ -705,6 +705,8 @@ TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
            {"verify", "--print", good},
            {"verify", sheet, "--print", good, "--report", *dir_ + "/r.txt"},
            {"verify", sheet, "--print", good, "--scan-dpi", "5"},
+           {"verify", sheet, "--print", good, "--scan-dpi", "0"},
+           {"verify", sheet, "--print", good, "--scan-dpi", "-300"},
            {"verify", sheet, "--print", good, "--scale-tolerance", "half"},
            {"verify", sheet, "--print", good, "--stress"},
            {"verify", sheet, "--scan"}}) {
