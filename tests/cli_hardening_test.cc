@@ -64,6 +64,26 @@ std::string HugePngHeader() {
   return png;
 }
 
+// `generate --color-lut` with a .cube of `size` points a side, `header`
+// lines, and each entry the identity except red, which is `red` when given
+// (for inputs of red above a half when it is "nan").
+std::vector<std::string> LutArgs(const std::string& dir, const std::string& name, int size,
+                                 const std::string& header, const std::string& red) {
+  const std::string path = dir + "/" + name + ".cube";
+  std::ofstream out(path);
+  out << "LUT_3D_SIZE " << size << "\n" << header;
+  for (int i = 0; i < size * size * size; ++i) {
+    const double step = size > 1 ? 1.0 / (size - 1) : 0.0;
+    const double r = (i % size) * step, g = (i / size % size) * step, b = (i / size / size) * step;
+    const std::string red_text = red.empty() || (red == "nan" && r <= 0.5) ? std::to_string(r)
+                                 : red == "nan"                            ? "nan"
+                                                : std::to_string(r + std::stod(red));
+    out << (size == 1 ? "0.5" : red_text) << " " << (size == 1 ? 0.5 : g) << " "
+        << (size == 1 ? 0.5 : b) << "\n";
+  }
+  return {"generate", "--ids", "0", "--color-lut", path, "-o", dir + "/lut.pdf"};
+}
+
 struct Case {
   std::string name;
   std::function<std::vector<std::string>(const std::string& dir)> args;  // Sets up, returns args.
@@ -150,6 +170,21 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
                                          "/dev/zero", "-o",    d + "/x.pdf"};
        },
        2, "not a regular file"},
+      // Broken LUTs that OpenColorIO reads without complaint and that would
+      // print a sheet that does not decode.
+      {"a LUT with nan entries",
+       [](const std::string& d) { return LutArgs(d, "nan", 5, "", "nan"); }, 2,
+       "does not raise red with red"},
+      {"a LUT giving negative values",
+       [](const std::string& d) { return LutArgs(d, "negative", 5, "", "-0.5"); }, 2,
+       "gives -0.5 for RGB (0, 0, 0), outside 0-1"},
+      {"a LUT of size 1", [](const std::string& d) { return LutArgs(d, "one", 1, "", ""); }, 2,
+       "maps every colour to nearly the same one"},
+      {"a LUT whose domain is upside down",
+       [](const std::string& d) {
+         return LutArgs(d, "domain", 5, "DOMAIN_MIN 1 1 1\nDOMAIN_MAX 0 0 0\n", "");
+       },
+       2, "does not raise red with red"},
       {"a FIFO named .png",
        [](const std::string& d) {
          mkfifo((d + "/fifo.png").c_str(), 0600);

@@ -304,14 +304,16 @@ TEST(SheetTest, SvgPagesAreSplitIntoFilesAndSizedInPoints) {
 }
 
 TEST(SheetTest, ColourLutChangesTheWrittenColours) {
-  // A 2x2x2 .cube that inverts every channel.
-  const std::string lut_path = ::testing::TempDir() + "/invert.cube";
+  // A 2x2x2 .cube that squeezes every channel into 0.2-0.8 (affine, so the
+  // trilinear lookup is exact).
+  const std::string lut_path = ::testing::TempDir() + "/squeeze.cube";
   {
     std::ofstream lut(lut_path);
-    lut << "TITLE \"invert\"\nLUT_3D_SIZE 2\n";
+    lut << "TITLE \"squeeze\"\nLUT_3D_SIZE 2\n";
     for (int b = 0; b < 2; ++b)
       for (int g = 0; g < 2; ++g)
-        for (int r = 0; r < 2; ++r) lut << 1 - r << " " << 1 - g << " " << 1 - b << "\n";
+        for (int r = 0; r < 2; ++r)
+          lut << 0.2 + 0.6 * r << " " << 0.2 + 0.6 * g << " " << 0.2 + 0.6 * b << "\n";
   }
   std::string error;
   SheetOptions options = Options16h5All();
@@ -324,17 +326,39 @@ TEST(SheetTest, ColourLutChangesTheWrittenColours) {
   ASSERT_TRUE(WriteSheet(options, path, &error)) << error;
   const Raster page = ReadPng(path, options.dpi);
   const auto sidecar = nlohmann::json::parse(ReadFile(SidecarPath(path)));
-  EXPECT_EQ(sidecar["color_lut"], "invert.cube");
+  EXPECT_EQ(sidecar["color_lut"], "squeeze.cube");
   const auto& tag = sidecar["tags"][0];
   const double cell = sidecar["cell_size_mm"];
-  // Cell (0, 0) of ID 0 is green-0; the black ring is now white.
+  const auto squeeze = [](uint8_t v) { return 255.0 * (0.2 + 0.6 * v / 255.0); };
+  const auto near = [](const Rgb8& a, double r, double g, double b) {
+    return std::abs(a.r - r) <= 1.0 && std::abs(a.g - g) <= 1.0 && std::abs(a.b - b) <= 1.0;
+  };
+  // Cell (0, 0) of ID 0 is green-0, squeezed; the black ring is now dark grey.
   const Rgb8 green0 = options.palette.Srgb8(Shade::kGreen0);
-  const Rgb8 inverted{static_cast<uint8_t>(255 - green0.r), static_cast<uint8_t>(255 - green0.g),
-                      static_cast<uint8_t>(255 - green0.b)};
   const double left = tag["corners_mm"][0][0], top = tag["corners_mm"][0][1];
-  EXPECT_EQ(PixelAtMm(page, left + 1.5 * cell, top + 1.5 * cell), inverted);
-  EXPECT_EQ(sidecar["palette"]["written_rgb"]["green-0"], ToHex(inverted));
-  EXPECT_EQ(PixelAtMm(page, left + 0.5 * cell, top + 0.5 * cell), (Rgb8{255, 255, 255}));
+  const Rgb8 cell00 = PixelAtMm(page, left + 1.5 * cell, top + 1.5 * cell);
+  EXPECT_TRUE(near(cell00, squeeze(green0.r), squeeze(green0.g), squeeze(green0.b)))
+      << int(cell00.r) << " " << int(cell00.g) << " " << int(cell00.b);
+  EXPECT_EQ(sidecar["palette"]["written_rgb"]["green-0"], ToHex(cell00));
+  const Rgb8 ring = PixelAtMm(page, left + 0.5 * cell, top + 0.5 * cell);
+  EXPECT_TRUE(near(ring, 51, 51, 51)) << int(ring.r);
+  std::remove(lut_path.c_str());
+}
+
+// A LUT that inverts the channels is one OpenColorIO reads, but it would
+// print the black ring white and the shades swapped: refused, saying so.
+TEST(SheetTest, AnInvertingLutIsRefused) {
+  const std::string lut_path = ::testing::TempDir() + "/invert.cube";
+  {
+    std::ofstream lut(lut_path);
+    lut << "LUT_3D_SIZE 2\n";
+    for (int b = 0; b < 2; ++b)
+      for (int g = 0; g < 2; ++g)
+        for (int r = 0; r < 2; ++r) lut << 1 - r << " " << 1 - g << " " << 1 - b << "\n";
+  }
+  std::string error;
+  EXPECT_FALSE(ColorLut::Load(lut_path, &error));
+  EXPECT_NE(error.find("does not raise red with red (from 1 to 0"), std::string::npos) << error;
   std::remove(lut_path.c_str());
 }
 

@@ -14,7 +14,9 @@ namespace chromatag {
 class ColorLut {
  public:
   // Reads `path` through an OpenColorIO FileTransform. Returns nullptr and
-  // sets *error for a missing, unreadable or malformed file.
+  // sets *error for a missing, unreadable or malformed file, and for a LUT
+  // that gives outputs that are not numbers or lie outside 0-1, or that maps
+  // every colour to nearly one (size 1, a folding domain).
   static std::unique_ptr<ColorLut> Load(const std::string& path, std::string* error = nullptr);
   ~ColorLut();
 
@@ -27,6 +29,8 @@ class ColorLut {
  private:
   struct Impl;
   ColorLut() = default;
+  // False with *fault when the LUT is unusable (Load's checks).
+  bool Probe(std::string* fault) const;
   std::string path_;
   std::unique_ptr<Impl> impl_;
 };
