@@ -1,6 +1,8 @@
 #include "sources.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <functional>
 #include <map>
 
 #include "commands.h"
@@ -122,6 +124,17 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
         s.kind == SourceKind::kStream ? "stream" : fs::path(s.name).filename().string();
     if (s.camera_index >= 0) stem = "camera" + std::to_string(s.camera_index);
     std::replace(stem.begin(), stem.end(), '.', '_');
+    // Room for a counter, a frame number and ".png" within a file name's
+    // 255 bytes: a longer name is cut (on a UTF-8 character boundary) and
+    // told apart by a hash of the whole.
+    constexpr size_t kMaxStem = 200;
+    if (stem.size() > kMaxStem) {
+      char hash[16];
+      std::snprintf(hash, sizeof hash, "~%08zx", std::hash<std::string>()(stem) & 0xffffffffu);
+      size_t cut = kMaxStem - 9;
+      while (cut > 0 && (static_cast<unsigned char>(stem[cut]) & 0xc0) == 0x80) --cut;
+      stem = stem.substr(0, cut) + hash;
+    }
     const int n = ++used[stem];
     s.overlay_stem = n == 1 ? stem : stem + "-" + std::to_string(n);
   }

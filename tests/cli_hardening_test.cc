@@ -170,6 +170,12 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
                                          "/dev/zero", "-o",    d + "/x.pdf"};
        },
        2, "not a regular file"},
+      {"an output name the file system cannot hold (its sidecar's)",
+       [](const std::string& d) {
+         return std::vector<std::string>{"generate", "--ids", "0", "-o",
+                                         d + "/" + std::string(251, 'n') + ".pdf"};
+       },
+       2, ".pdf.json': its name is 260 bytes, over the file system's limit of 255"},
       // Broken LUTs that OpenColorIO reads without complaint and that would
       // print a sheet that does not decode.
       {"a LUT with nan entries",
@@ -237,6 +243,30 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
   }
   EXPECT_FALSE(fs::exists(dir_ + "/x.pdf"));
   EXPECT_FALSE(fs::exists(dir_ + "/x.png"));
+  // No refused write leaves a temporary behind.
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_NE(entry.path().filename().string().rfind(".chromatag-", 0), 0u) << entry.path();
+}
+
+// An input whose name is too long for an overlay name of its own still gets
+// its overlay: the name is cut and told apart by a hash.
+TEST_F(CliHardeningTest, OverlaysOfInputsWithLongNames) {
+  const std::string long_name = dir_ + "/" + std::string(251, 'p') + ".png";
+  const std::string other = dir_ + "/" + std::string(251, 'p') + ".jpg";
+  fs::copy_file(dir_ + "/page.png", long_name, fs::copy_options::overwrite_existing);
+  fs::copy_file(dir_ + "/page.png", other, fs::copy_options::overwrite_existing);
+  const std::string overlays = dir_ + "/long-overlays";
+  const auto result = Chromatag({"detect", "--json", "--overlay", overlays, long_name, other});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(CountLines(result.out), 2);
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(overlays))
+    names.push_back(entry.path().filename().string());
+  ASSERT_EQ(names.size(), 2u);
+  EXPECT_NE(names[0], names[1]);
+  for (const std::string& name : names) EXPECT_LE(name.size(), 255u) << name;
+  fs::remove(long_name);
+  fs::remove(other);
 }
 
 // A non-UTF-8 file name is written into JSON with U+FFFD, not thrown on.

@@ -89,7 +89,16 @@ bool CheckOutputTargets(const std::vector<std::string>& paths, std::string* erro
     if (!fs::exists(folder)) return fail(path, "no such folder");
     if (!fs::is_directory(folder)) return fail(path, "'" + Folder(path) + "' is not a folder");
     if (access(Folder(path).c_str(), W_OK | X_OK) != 0) return fail(path, std::strerror(errno));
+    // A name the file system cannot hold would fail after the temporaries
+    // are written.
+    const long name_max = pathconf(Folder(path).c_str(), _PC_NAME_MAX);
+    const std::string name = fs::path(path).filename().string();
+    if (name_max > 0 && name.size() > static_cast<size_t>(name_max)) {
+      return fail(path, "its name is " + std::to_string(name.size()) +
+                            " bytes, over the file system's limit of " + std::to_string(name_max));
+    }
     const fs::file_status target = fs::symlink_status(path, ec);
+    if (ec && ec != std::errc::no_such_file_or_directory) return fail(path, ec.message());
     if (fs::is_directory(target)) return fail(path, "it is a folder");
     if (fs::exists(target) && !fs::is_regular_file(target) && !fs::is_symlink(target))
       return fail(path, "it is not a regular file");
@@ -127,15 +136,16 @@ bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* err
   // rename failing half way can put the earlier ones back.
   std::vector<std::string> backups(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
-    if (!fs::exists(fs::symlink_status(files[i].path))) continue;
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(files[i].path, ec))) continue;
     std::string name = Folder(files[i].path) + "/.chromatag-old-XXXXXX";
     const int fd = mkostemp(name.data(), O_CLOEXEC);
     if (fd >= 0) close(fd);
     if (fd < 0 || rename(files[i].path.c_str(), name.c_str()) != 0 ||
         link(name.c_str(), files[i].path.c_str()) != 0) {
       const std::string why = std::strerror(errno);
-      if (fd >= 0 && fs::exists(fs::symlink_status(name)) &&
-          !fs::exists(fs::symlink_status(files[i].path)))
+      if (fd >= 0 && fs::exists(fs::symlink_status(name, ec)) &&
+          !fs::exists(fs::symlink_status(files[i].path, ec)))
         rename(name.c_str(), files[i].path.c_str());
       else if (fd >= 0)
         unlink(name.c_str());
