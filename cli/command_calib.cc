@@ -108,7 +108,7 @@ void PrintSummary(const CalibrationResult& result, const std::vector<std::string
     std::printf(
         "  %s: %.1f px/mm, white %.0f/255, %d flagged patches, model CIEDE2000 mean %.2f "
         "max %.2f\n",
-        p.name.c_str(), p.measurement.location.px_per_mm, p.measurement.white_level,
+        Shown(p.name).c_str(), p.measurement.location.px_per_mm, p.measurement.white_level,
         p.measurement.flagged, p.fit.mean_de, p.fit.max_de);
   }
   std::printf(
@@ -120,10 +120,10 @@ void PrintSummary(const CalibrationResult& result, const std::vector<std::string
     std::printf("  %-24s %-5s %s\n", v.pair.c_str(), VerdictName(v.verdict), v.why.c_str());
   if (result.palette) {
     std::printf("Palette %s: score %.2f (sheet palette %.2f)\n",
-                result.palette->palette.name.c_str(), result.palette->score,
+                Shown(result.palette->palette.name).c_str(), result.palette->score,
                 result.palette->sheet_palette_score);
   }
-  for (const std::string& path : written) std::printf("  %s\n", path.c_str());
+  for (const std::string& path : written) std::printf("  %s\n", Shown(path).c_str());
   std::fflush(stdout);
   for (const std::string& w : result.warnings) std::cerr << "warning: " << w << "\n";
 }
@@ -175,7 +175,8 @@ int RunCalibrate(const CalibrateArgs& args) {
         used, camera->views.size(), camera->camera.fx, camera->camera.fy, camera->camera.cx,
         camera->camera.cy, camera->camera.distortion[0], camera->rms_px);
     for (const CalibrationViewResult& v : camera->views) {
-      if (!v.used) std::printf("  %s left out: %s\n", v.name.c_str(), v.why_not.c_str());
+      if (!v.used)
+        std::printf("  %s left out: %s\n", Shown(v.name).c_str(), Shown(v.why_not).c_str());
     }
     std::fflush(stdout);
     for (const std::string& w : camera->warnings) std::cerr << "warning: camera: " << w << "\n";
@@ -185,7 +186,7 @@ int RunCalibrate(const CalibrateArgs& args) {
     std::error_code ec;
     const bool removed =
         std::filesystem::is_regular_file(stale, ec) && std::filesystem::remove(stale, ec);
-    std::printf("Camera intrinsics not written: %s%s\n", camera_why.c_str(),
+    std::printf("Camera intrinsics not written: %s%s\n", Shown(camera_why).c_str(),
                 removed ? " (the earlier camera.yaml there is removed)" : "");
   }
   return kExitOk;

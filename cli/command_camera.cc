@@ -200,15 +200,15 @@ class ViewCollector {
 void PrintResult(const CameraCalibration& c) {
   std::printf("view                                      tags  rms px\n");
   for (const CalibrationViewResult& v : c.views) {
-    std::string name = v.name.size() > 40 ? "..." + v.name.substr(v.name.size() - 37) : v.name;
-    for (char& ch : name) ch = (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ? '?' : ch;
+    std::string name = Shown(v.name);
+    if (name.size() > 40) name = "..." + name.substr(name.size() - 37);
     if (v.used) {
       std::printf("%-40s %6d  %6.3f", name.c_str(), v.tags, v.rms_px);
       for (size_t t = 0; t < v.tags_left_out.size(); ++t)
-        std::printf("  left out ID %d: %s", v.tags_left_out[t], v.why_left_out[t].c_str());
+        std::printf("  left out ID %d: %s", v.tags_left_out[t], Shown(v.why_left_out[t]).c_str());
       std::printf("\n");
     } else {
-      std::printf("%-40s  left out: %s\n", name.c_str(), v.why_not.c_str());
+      std::printf("%-40s  left out: %s\n", name.c_str(), Shown(v.why_not).c_str());
     }
   }
   const std::vector<std::string> names = CalibrationParameterNames(c.camera);

@@ -21,6 +21,11 @@ inline constexpr int kExitUsage = 2;
 // broken file, escape sequences included). Returns `code`.
 int Fail(const char* command, const std::string& message, int code = kExitUsage);
 
+// `text` with control characters (all but newline and tab) shown as \xNN,
+// as std::cout and std::cerr show them (main.cc): for text printed with
+// printf, such as file names.
+std::string Shown(const std::string& text);
+
 // `text` in lower case (ASCII), for file extensions.
 inline std::string Lower(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -1,8 +1,10 @@
 // chromatag: print, detect and calibrate ChromaTag fiducial markers.
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <opencv2/core/utils/logger.hpp>
+#include <streambuf>
 
 #include "chromatag/families/version.h"
 #include "commands.h"
@@ -10,18 +12,74 @@
 namespace chromatag::cli {
 
 int Fail(const char* command, const std::string& message, int code) {
-  std::string line = "chromatag " + std::string(command) + ": " + message;
-  for (char& c : line) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) c = '?';
-  }
-  std::cerr << line << "\n";
+  std::cerr << "chromatag " << command << ": " << message << "\n";
   return code;
 }
 
+std::string Shown(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if ((u < 0x20 && c != '\n' && c != '\t') || u == 0x7f) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", u);
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// Writes through to another stream buffer with control characters (all but
+// newline and tab) shown as \xNN: a file name, an argument or a file's
+// contents quoted in a message cannot move the cursor, set the terminal's
+// title or ring its bell. Installed on std::cout and std::cerr for the
+// whole run, so that every message and table goes through it.
+class EscapingBuffer : public std::streambuf {
+ public:
+  explicit EscapingBuffer(std::streambuf* out) : out_(out) {}
+
+ protected:
+  int_type overflow(int_type ch) override {
+    if (traits_type::eq_int_type(ch, traits_type::eof())) return traits_type::not_eof(ch);
+    const char c = traits_type::to_char_type(ch);
+    return xsputn(&c, 1) == 1 ? ch : traits_type::eof();
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    std::streamsize done = 0;
+    while (done < n) {
+      std::streamsize run = 0;  // Characters that go through as they are.
+      while (done + run < n && !Control(s[done + run])) ++run;
+      if (run > 0 && out_->sputn(s + done, run) != run) return done;
+      done += run;
+      if (done == n) break;
+      char text[8];
+      std::snprintf(text, sizeof text, "\\x%02x", static_cast<unsigned char>(s[done]));
+      if (out_->sputn(text, 4) != 4) return done;
+      ++done;
+    }
+    return done;
+  }
+  int sync() override { return out_->pubsync(); }
+
+ private:
+  static bool Control(char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return (u < 0x20 && c != '\n' && c != '\t') || u == 0x7f;
+  }
+  std::streambuf* out_;
+};
+
+}  // namespace
 }  // namespace chromatag::cli
 
 int main(int argc, char** argv) {
+  // Never freed: the standard streams flush through them at exit.
+  std::cout.rdbuf(new chromatag::cli::EscapingBuffer(std::cout.rdbuf()));
+  std::cerr.rdbuf(new chromatag::cli::EscapingBuffer(std::cerr.rdbuf()));
   // OpenCV's and FFmpeg's own log lines ("[ERROR:0@0.006] global ...") would
   // come before the tool's one message; the tool says what went wrong itself.
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);

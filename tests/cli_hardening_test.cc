@@ -170,6 +170,11 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
                                          "/dev/zero", "-o",    d + "/x.pdf"};
        },
        2, "not a regular file"},
+      {"a family named with terminal escapes",
+       [](const std::string& d) {
+         return std::vector<std::string>{"detect", "--family", "\x1b[31mX\a", d + "/page.png"};
+       },
+       2, "--family: \\x1b[31mX\\x07 not in"},
       {"an output name the file system cannot hold (its sidecar's)",
        [](const std::string& d) {
          return std::vector<std::string>{"generate", "--ids", "0", "-o",
@@ -230,7 +235,7 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
          return std::vector<std::string>{
              "generate", "--ids", "0", "--color-lut", d + "/\x1b[31mred.cube", "-o", d + "/x.pdf"};
        },
-       2, "?[31mred.cube"},
+       2, "\\x1b[31mred.cube"},
   };
   for (const Case& c : cases) {
     const auto result = Chromatag(c.args(dir_));
@@ -246,6 +251,26 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
   // No refused write leaves a temporary behind.
   for (const auto& entry : fs::directory_iterator(dir_))
     EXPECT_NE(entry.path().filename().string().rfind(".chromatag-", 0), 0u) << entry.path();
+}
+
+// A file named to set the terminal's title: the table shows the escapes as
+// text, the JSON as JSON escapes; no raw control byte reaches the terminal.
+TEST_F(CliHardeningTest, NamesWithTerminalEscapesAreShownEscaped) {
+  const std::string odd = dir_ + "/\x1b]0;pwned\a.png";
+  fs::copy_file(dir_ + "/page.png", odd, fs::copy_options::overwrite_existing);
+  const auto table = Chromatag({"detect", odd});
+  EXPECT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("\\x1b]0;pwned\\x07.png"), std::string::npos) << table.out;
+  const auto json = Chromatag({"detect", "--json", odd, dir_ + "/missing-\a.png"});
+  EXPECT_EQ(json.exit_code, 2);
+  EXPECT_NE(json.err.find("missing-\\x07.png"), std::string::npos) << json.err;
+  const auto ok = Chromatag({"detect", "--json", odd});
+  EXPECT_NE(ok.out.find("\\u001b]0;pwned\\u0007.png"), std::string::npos) << ok.out;
+  for (const auto& r : {table, json, ok}) {
+    for (const std::string* text : {&r.out, &r.err})
+      for (char c : *text) EXPECT_FALSE(c == '\x1b' || c == '\a') << *text;
+  }
+  fs::remove(odd);
 }
 
 // An input whose name is too long for an overlay name of its own still gets
