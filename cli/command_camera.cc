@@ -119,12 +119,8 @@ class ViewCollector {
   // camera of the run, so the cap and the kept poses are the run's.
   void ReadVideo(const Source& source) {
     cv::VideoCapture capture;
-    if (source.camera_index >= 0) {
-      capture.open(source.camera_index);
-    } else {
-      capture.open(source.name);
-    }
-    if (!capture.isOpened()) return Skip("cannot open '" + source.name + "'");
+    if (!OpenSource(source, kDefaultOpenTimeout, &capture))
+      return Skip("cannot open '" + source.name + "'");
     std::vector<ViewPose> poses;
     std::vector<CalibrationView> candidates;
     std::map<std::string, int> not_kept;  // Reason -> frames.

@@ -63,10 +63,11 @@ struct DetectOptions {
   bool rejected = false;   // Report (JSON) and draw (overlay) rejected candidates.
   std::vector<int> camera_indices;
   bool show = false;
-  int jobs = 0;              // 0: one per core.
-  int64_t max_frames = 0;    // 0: no limit.
-  double duration_s = 0.0;   // 0: no limit.
-  bool every_frame = false;  // Live sources: never drop a stale frame.
+  int jobs = 0;                                 // 0: one per core.
+  int64_t max_frames = 0;                       // 0: no limit.
+  double duration_s = 0.0;                      // 0: no limit.
+  double open_timeout_s = kDefaultOpenTimeout;  // For a stream's server to answer.
+  bool every_frame = false;                     // Live sources: never drop a stale frame.
   std::vector<std::string> inputs;
 };
 
@@ -371,12 +372,16 @@ class Run {
         continue;
       }
       cv::VideoCapture capture;
-      if (source.camera_index >= 0) {
-        capture.open(source.camera_index);
-      } else {
-        capture.open(source.name);
-      }
-      if (!capture.isOpened()) {
+      const auto opening = std::chrono::steady_clock::now();
+      if (!OpenSource(source, options_.open_timeout_s, &capture)) {
+        const double waited =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - opening).count();
+        char timed_out[96] = "";
+        if (source.kind == SourceKind::kStream && waited >= 0.9 * options_.open_timeout_s) {
+          std::snprintf(timed_out, sizeof timed_out,
+                        " (no answer within %g s; --open-timeout sets the wait)",
+                        options_.open_timeout_s);
+        }
         Queue({i,
                0,
                {},
@@ -385,7 +390,7 @@ class Run {
                    (source.kind == SourceKind::kVideo ? "video"
                     : source.live()                   ? "camera or stream"
                                                       : "") +
-                   " '" + source.name + "', skipped"});
+                   " '" + source.name + "'" + timed_out + ", skipped"});
         continue;
       }
       if (!source.live())
@@ -737,6 +742,11 @@ void RegisterDetect(CLI::App& app, Action* action) {
                       "Read a camera by its index (as /dev/videoN); repeatable");
   command->add_flag("--show", options->show,
                     "Show the frames with the detections in a window (q quits)");
+  command
+      ->add_option("--open-timeout", options->open_timeout_s,
+                   "Seconds a stream's server may take to answer before it is given up")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 3600.0));
   command
       ->add_option("--max-frames", options->max_frames,
                    "End after this many frames read (images and video frames over all inputs, "

@@ -1,6 +1,7 @@
 #include "sources.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <map>
@@ -33,6 +34,13 @@ bool IsImage(const fs::path& path) {
   for (const char* v : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".ppm", ".pgm", ".webp"})
     if (ext == v) return true;
   return false;
+}
+
+bool OpenSource(const Source& source, double open_timeout_s, cv::VideoCapture* capture) {
+  if (source.camera_index >= 0) return capture->open(source.camera_index);
+  if (source.kind != SourceKind::kStream) return capture->open(source.name);
+  const int ms = static_cast<int>(std::lround(open_timeout_s * 1000.0));
+  return capture->open(source.name, cv::CAP_FFMPEG, {cv::CAP_PROP_OPEN_TIMEOUT_MSEC, ms});
 }
 
 bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int>& camera_indices,

@@ -4,6 +4,7 @@
 #define CHROMATAG_CLI_SOURCES_H_
 
 #include <filesystem>
+#include <opencv2/videoio.hpp>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,14 @@ struct Source {
   std::string overlay_stem;  // Unique among the run's sources.
   bool live() const { return kind == SourceKind::kCamera || kind == SourceKind::kStream; }
 };
+
+// The default of --open-timeout: how long a stream may take to answer.
+inline constexpr double kDefaultOpenTimeout = 10.0;
+
+// Opens `source` (a video, a camera or a stream) into *capture; a stream
+// through FFmpeg with `open_timeout_s` for its server to answer (FFmpeg's own
+// wait is 30 s or more). False when it does not open.
+bool OpenSource(const Source& source, double open_timeout_s, cv::VideoCapture* capture);
 
 // The sources named on the command line (a folder gives its images and
 // videos, sorted; its subfolders are named in *notes, not read; entries it

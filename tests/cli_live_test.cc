@@ -377,6 +377,25 @@ TEST(CliLiveTest, DurationEndsAStalledStream) {
   EXPECT_LT(run.total, std::chrono::seconds(18));
 }
 
+// A server that accepts and never answers is given up after --open-timeout
+// (FFmpeg alone waits 30 s or more), named, and the run ends: exit 1.
+TEST(CliLiveTest, OpenTimeoutEndsASilentServer) {
+  const std::string dir = FreshDir("silent");
+  StalledStream silent(0);
+  const SignalledRun run = RunAndSignal(dir, {"--open-timeout", "1.5", silent.url()}, {},
+                                        [](const std::string&) { return false; });
+  ASSERT_TRUE(run.ended) << run.err;
+  ASSERT_TRUE(WIFEXITED(run.status)) << run.err;
+  EXPECT_EQ(WEXITSTATUS(run.status), 1) << run.err;
+  EXPECT_NE(run.err.find("cannot open camera or stream '" + silent.url() +
+                         "' (no answer within 1.5 s; --open-timeout sets the wait), skipped"),
+            std::string::npos)
+      << run.err;
+  EXPECT_LT(run.total, std::chrono::seconds(10));
+  const auto zero = Chromatag({"detect", "--open-timeout", "0", silent.url()});
+  EXPECT_EQ(zero.exit_code, 2) << zero.err;
+}
+
 INSTANTIATE_TEST_SUITE_P(Signals, CliStalledStreamTest,
                          ::testing::Values(std::vector<int>{SIGINT},
                                            std::vector<int>{SIGINT, SIGINT},
