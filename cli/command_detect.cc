@@ -256,6 +256,12 @@ class Run {
       // and the process ends here. Overlays are written through temporary
       // files, so none is left half-written.
       const int code = summary();
+      // A worker writing an overlay has signals blocked in its thread, but
+      // the process would die around it: let the write end (a PNG takes
+      // milliseconds; a stuck disk is not waited for past two seconds).
+      dying_ = true;
+      for (int i = 0; writing_ > 0 && i < 200; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
       if (g_signal) DieBy(g_signal);
       std::_Exit(code);  // Stopped from the --show window.
     }
@@ -497,8 +503,15 @@ class Run {
         // Through the same all-or-nothing writer as every other output.
         std::vector<uchar> png;
         std::string why;
-        if (!cv::imencode(".png", canvas, png) ||
-            !WriteFilesAtomically({{overlay, std::string(png.begin(), png.end())}}, &why)) {
+        const bool encoded = cv::imencode(".png", canvas, png);
+        // A second signal waits for a write under way, and none starts after
+        // it (Execute): the process never dies around a write.
+        ++writing_;
+        const bool written =
+            encoded && !dying_ &&
+            WriteFilesAtomically({{overlay, std::string(png.begin(), png.end())}}, &why);
+        --writing_;
+        if (!written) {
           outcome.err = "chromatag detect: cannot write overlay '" + overlay + "'" +
                         (why.empty() ? "" : ": " + why.substr(why.find("': ") + 3)) + "\n";
           outcome.failed = true;
@@ -627,7 +640,9 @@ class Run {
   size_t working_ = 0;
   bool read_all_ = false;
   bool closed_ = false;
-  bool abandoned_ = false;  // The printer stopped waiting for a stuck reader.
+  bool abandoned_ = false;               // The printer stopped waiting for a stuck reader.
+  mutable std::atomic<int> writing_{0};  // Workers inside an overlay's write.
+  std::atomic<bool> dying_{false};       // The process ends without the workers.
 };
 
 int RunDetect(const DetectOptions& options) {

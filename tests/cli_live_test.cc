@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -277,6 +278,24 @@ INSTANTIATE_TEST_SUITE_P(Signals, CliLiveSignalTest,
                          ::testing::Values(std::vector<int>{SIGINT},
                                            std::vector<int>{SIGINT, SIGINT},
                                            std::vector<int>{SIGTERM}));
+
+// Two SIGTERMs while overlays are being written (the second ends the run
+// without waiting for the workers): a write under way ends first, none
+// starts after, and no temporary file is left, run after run.
+TEST(CliLiveTest, NoOverlayTemporaryIsLeftBySignals) {
+  const std::string dir = FreshDir("overlay_signals");
+  const std::string clip = MakeClip(dir, "clip.avi", 3000);
+  for (int run_index = 0; run_index < 6; ++run_index) {
+    const std::string overlays = dir + "/o" + std::to_string(run_index);
+    const SignalledRun run = RunAndSignal(
+        dir, {"--jobs", "2", "--overlay", overlays, clip}, {SIGTERM, SIGTERM},
+        [](const std::string& out) { return std::count(out.begin(), out.end(), '\n') >= 3; });
+    ASSERT_TRUE(run.ended && run.signalled) << run.err;
+    JsonLines(run.out);  // Whole lines.
+    for (const auto& entry : fs::directory_iterator(overlays))
+      EXPECT_NE(entry.path().filename().string().rfind(".chromatag", 0), 0u) << entry.path();
+  }
+}
 
 // A stream that stalls: a loopback TCP server sends JPEG frames (FFmpeg
 // reads them as a JPEG pipe), then keeps the connection open and sends
