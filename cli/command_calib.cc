@@ -147,10 +147,18 @@ int RunCalibrate(const CalibrateArgs& args) {
   const auto result = Calibrate(*layout, photos, options, &error);
   if (!result) return Fail(kName, error, kExitFailure);
   std::error_code ec;
+  // A folder made here and left empty by a failed write is removed again.
+  const bool made = !std::filesystem::exists(args.output, ec);
   std::filesystem::create_directories(args.output, ec);
   if (ec) {
     return Fail(kName, "cannot create the output folder '" + args.output + "': " + ec.message());
   }
+  const auto fail_written = [&](const std::string& why, int code) {
+    std::error_code ignored;
+    if (made && std::filesystem::is_empty(args.output, ignored))
+      std::filesystem::remove(args.output, ignored);
+    return Fail(kName, why, code);
+  };
   auto files = CalibrationFiles(*result, args.output);
   // The camera from the same photos, when they were taken at varied tilts.
   std::string camera_why;
@@ -160,10 +168,10 @@ int RunCalibrate(const CalibrateArgs& args) {
     info.image_size = camera->image_size;
     info.rms_px = camera->rms_px;
     std::string text = CameraFileText(camera->camera, info, CameraFileFormat::kOpenCv, &error);
-    if (text.empty()) return Fail(kName, error, kExitFailure);
+    if (text.empty()) return fail_written(error, kExitFailure);
     files.push_back({(std::filesystem::path(args.output) / kCameraFile).string(), text});
   }
-  if (!WriteFilesAtomically(files, &error)) return Fail(kName, error);
+  if (!WriteFilesAtomically(files, &error)) return fail_written(error, kExitUsage);
   std::vector<std::string> written;
   for (const auto& file : files) written.push_back(file.path);
   PrintSummary(*result, written);

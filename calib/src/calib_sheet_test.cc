@@ -125,6 +125,30 @@ TEST(CalibSheetTest, SidecarErrorsSayWhatIsWrong) {
   EXPECT_NE(error.find("not a calibration sheet"), std::string::npos) << error;
   EXPECT_FALSE(ReadCalibSidecar("/nonexistent/calib.json", &error));
   EXPECT_NE(error.find("/nonexistent/calib.json"), std::string::npos);
+  // Hostile values in an otherwise good sidecar.
+  const auto layout = LayoutCalibSheet(DefaultOptions());
+  ASSERT_TRUE(layout);
+  const std::string good =
+      RenderCalibSheet(*layout, CalibSheetFormat::kPdf, "/tmp/x/calib.pdf")[1].contents;
+  ASSERT_TRUE(ParseCalibSidecar(good, &error)) << error;
+  const struct {
+    std::string from, to, says;
+  } cases[] = {
+      {"\"tag_size_mm\": ", "\"tag_size_mm\": -", "\"tag_size_mm\" must be in [10, 60]"},
+      {"\"tag_size_mm\": ", "\"tag_size_mm\": 1e308, \"x\": ",
+       "\"tag_size_mm\" must be in [10, 60]"},
+      {"\"slot\": [\n        0", "\"slot\": [\n        -3", "\"slot\" must be [row, column]"},
+      {"\"path\": \"calib.pdf\"", "\"path\": \"../../etc/shadow\"",
+       "a file must be named by its base name beside the sidecar, not '../../etc/shadow'"},
+  };
+  for (const auto& c : cases) {
+    std::string bad = good;
+    const size_t at = bad.find(c.from);
+    ASSERT_NE(at, std::string::npos) << c.from;
+    bad.replace(at, c.from.size(), c.to);
+    EXPECT_FALSE(ParseCalibSidecar(bad, &error)) << c.to;
+    EXPECT_NE(error.find(c.says), std::string::npos) << c.to << ": " << error;
+  }
 }
 
 // The sheet is given as the file or as its sidecar, as verify takes a sheet;

@@ -74,9 +74,11 @@ Patch ParsePatch(const Json& item, const PageSize& page) {
   patch.origin_mm = Point(Member(item, "origin_mm"));
   patch.size_mm = Number(item, "size_mm");
   const auto slot = Member(item, "slot");
-  if (!slot.is_array() || slot.size() != 2 || !slot[0].is_number_integer() ||
-      !slot[1].is_number_integer())
-    throw ParseError{"\"slot\" must be [row, column]"};
+  const auto index = [](const Json& v) {
+    return v.is_number_integer() && v.get<long long>() >= 0 && v.get<long long>() < 10000;
+  };
+  if (!slot.is_array() || slot.size() != 2 || !index(slot[0]) || !index(slot[1]))
+    throw ParseError{"\"slot\" must be [row, column], each in [0, 10000)"};
   patch.row = slot[0].get<int>();
   patch.col = slot[1].get<int>();
   if (!(patch.size_mm > 0) || patch.origin_mm[0] < 0 || patch.origin_mm[1] < 0 ||
@@ -109,6 +111,20 @@ CalibSheetLayout Parse(const Json& root) {
   const auto family = TagFamily::Load(layout.family, &error);
   if (!family) throw ParseError{error};
   layout.tag_size_mm = Number(root, "tag_size_mm");
+  // calib-sheet's own range: the corner tags' black squares, in mm.
+  if (!(layout.tag_size_mm >= 10 && layout.tag_size_mm <= 60))
+    throw ParseError{"\"tag_size_mm\" must be in [10, 60]"};
+  // The page files: names beside the sidecar, never paths.
+  if (root.contains("files")) {
+    const Json& files = root["files"];
+    if (!files.is_array()) throw ParseError{"\"files\" must be a list"};
+    for (const Json& file : files) {
+      const std::string name = String(file, "path");
+      if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
+        throw ParseError{"a file must be named by its base name beside the sidecar, not '" + name +
+                         "'"};
+    }
+  }
   const Json& grid = Member(root, "grid");
   layout.rows = Integer(grid, "rows", 1, 10000);
   layout.columns = Integer(grid, "columns", 1, 10000);
