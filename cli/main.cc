@@ -12,7 +12,11 @@
 namespace chromatag::cli {
 
 int Fail(const char* command, const std::string& message, int code) {
-  std::cerr << "chromatag " << command << ": " << message << "\n";
+  // One line, whatever a library put in its message (OpenCV's end in "\n").
+  std::string line = message;
+  while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
+  for (size_t at; (at = line.find('\n')) != std::string::npos;) line.replace(at, 1, "; ");
+  std::cerr << "chromatag " << command << ": " << line << "\n";
   return code;
 }
 
