@@ -677,6 +677,43 @@ TEST_F(PrintCheckTest, CliChecksScansAndReportsAndRefusesBadInput) {
   r = RunChromatag({"verify", *dir_ + "/other.pdf", "--print", good, "--scan-dpi", "300"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("does not describe"), std::string::npos) << r.err;
+  // A sidecar edited after the sheet was written: cut down to one tag of the
+  // scanned page (the other tags found there are on the page, where it has
+  // none: FAIL), claiming 100,000 pages (refused: the PDF has fewer), or
+  // beside a sheet changed since (refused: its SHA-256 differs).
+  {
+    auto sidecar = nlohmann::json::parse(testing::ReadFile(sheet + ".json"));
+    nlohmann::json kept = nlohmann::json::array();
+    bool first = true;
+    for (const auto& tag : sidecar["tags"]) {
+      if (tag["page"] != 1 || first) kept.push_back(tag);
+      if (tag["page"] == 1) first = false;
+    }
+    sidecar["tags"] = kept;
+    std::ofstream(*dir_ + "/cut.json") << sidecar.dump(2);
+    sidecar["page"]["count"] = 100000;
+    std::ofstream(*dir_ + "/pages.json") << sidecar.dump(2);
+  }
+  r = RunChromatag({"verify", *dir_ + "/cut.json", "--print", good, "--scan-dpi", "300"});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("where the sidecar has no tag: the sidecar does not describe this print"),
+            std::string::npos)
+      << r.out;
+  r = RunChromatag({"verify", *dir_ + "/pages.json", "--print", good, "--scan-dpi", "300"});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_EQ(testing::CountLines(r.err), 1) << r.err;
+  {
+    std::ofstream(*dir_ + "/changed.pdf", std::ios::binary)
+        << testing::ReadFile(sheet) << "% changed\n";
+    std::string text = testing::ReadFile(sheet + ".json");
+    text.replace(text.find("\"tags.pdf\""), 10, "\"changed.pdf\"");
+    std::ofstream(*dir_ + "/changed.pdf.json") << text;
+  }
+  r = RunChromatag({"verify", *dir_ + "/changed.pdf", "--print", good, "--scan-dpi", "300"});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("does not match '" + *dir_ + "/changed.pdf': the sheet's SHA-256 differs"),
+            std::string::npos)
+      << r.err;
   // A sidecar whose tag size no check can work with.
   {
     std::string text = testing::ReadFile(sheet + ".json");

@@ -549,10 +549,16 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
                "curls%s",
                r->rms_mm, r->scan ? "" : " or the lens distorts (give --camera)"));
   }
+  // A tag on the page that the sidecar does not list means the sidecar does
+  // not describe this print (cut down, or another sheet's); one beside the
+  // page is something else in view.
   for (const UnexpectedDetection& u : r->unexpected) {
-    Add(findings, Grade::kWarn,
-        Format("%s ID %d found at %.1f, %.1f mm, where the sidecar has no tag", u.family.c_str(),
-               u.id, u.center_mm[0], u.center_mm[1]));
+    const bool on_page = u.center_mm[0] >= 0 && u.center_mm[0] <= record.page.width_mm &&
+                         u.center_mm[1] >= 0 && u.center_mm[1] <= record.page.height_mm;
+    Add(findings, on_page ? Grade::kFail : Grade::kWarn,
+        Format("%s ID %d found at %.1f, %.1f mm, where the sidecar has no tag%s", u.family.c_str(),
+               u.id, u.center_mm[0], u.center_mm[1],
+               on_page ? ": the sidecar does not describe this print" : " (beside the page)"));
   }
 }
 

@@ -2,13 +2,17 @@
 // sidecar (print_check.h).
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 
 #include <libexif/exif-data.h>
+#include <poppler/cpp/poppler-document.h>
 
 #include "chromatag/detector/read_image.h"
 #include "chromatag/families/input_file.h"
+#include "chromatag/generator/file_util.h"
 #include "chromatag/verify/print_check.h"
 #include "print_internal.h"
 
@@ -99,6 +103,34 @@ std::optional<SheetRecord> ReadPrintedSheet(const std::string& path, std::string
   if (!internal::SheetIsSane(*record, &why)) {
     if (error) *error = "sidecar '" + record->sidecar_path + "': " + why;
     return std::nullopt;
+  }
+  // The sheet files beside the sidecar (all of them when the sheet is given)
+  // must be the ones it was written with, and hold the pages it lists: a
+  // sidecar edited afterwards would judge the print against other tags.
+  const auto fail = [&](const std::string& message) -> std::optional<SheetRecord> {
+    if (error) *error = "sidecar '" + record->sidecar_path + "' " + message;
+    return std::nullopt;
+  };
+  for (const SheetRecord::File& file : record->files) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file.path, ec)) {
+      if (!EndsWithJson(path)) return fail("lists '" + file.path + "', which is not there");
+      continue;  // The sidecar alone, as the docs allow.
+    }
+    const auto bytes = ReadInputFile(file.path, "sheet", std::uintmax_t{512} << 20, error);
+    if (!bytes) return std::nullopt;
+    if (Sha256Hex(*bytes) != file.sha256) {
+      return fail("does not match '" + file.path +
+                  "': the sheet's SHA-256 differs from the one recorded (the sheet or the sidecar "
+                  "was changed after they were written)");
+    }
+    if (record->format != SheetFormat::kPdf) continue;  // One file a page.
+    std::unique_ptr<poppler::document> pdf(poppler::document::load_from_raw_data(
+        bytes->data(), static_cast<int>(std::min<size_t>(bytes->size(), INT_MAX))));
+    if (pdf && pdf->pages() != record->num_pages) {
+      return fail("lists " + std::to_string(record->num_pages) + " page(s), and '" + file.path +
+                  "' has " + std::to_string(pdf->pages()));
+    }
   }
   return record;
 }
