@@ -102,28 +102,26 @@ int RunCalibSheet(const CalibSheetArgs& args) {
 
 void PrintSummary(const CalibrationResult& result, const std::vector<std::string>& written) {
   const DetectorOptions& d = result.thresholds.options;
-  std::printf("Calibrated sheet %d from %zu photo(s):\n", result.layout.sheet_id,
-              result.photos.size());
+  Print("Calibrated sheet %d from %zu photo(s):\n", result.layout.sheet_id, result.photos.size());
   for (const PhotoResult& p : result.photos) {
-    std::printf(
+    Print(
         "  %s: %.1f px/mm, white %.0f/255, %d flagged patches, model CIEDE2000 mean %.2f "
         "max %.2f\n",
-        Shown(p.name).c_str(), p.measurement.location.px_per_mm, p.measurement.white_level,
+        p.name.c_str(), p.measurement.location.px_per_mm, p.measurement.white_level,
         p.measurement.flagged, p.fit.mean_de, p.fit.max_de);
   }
-  std::printf(
+  Print(
       "Detector thresholds: ADiffThresh %.1f, BorderThresh %.1f, min decision margin "
       "%.2f, max green a* %.1f, two-step rises %s\n",
       d.adiff_thresh, d.border_thresh, d.min_decision_margin, d.max_green_a,
       d.two_step_rises ? "on" : "off");
   for (const PairVerdict& v : result.thresholds.verdicts)
-    std::printf("  %-24s %-5s %s\n", v.pair.c_str(), VerdictName(v.verdict), v.why.c_str());
+    Print("  %-24s %-5s %s\n", v.pair.c_str(), VerdictName(v.verdict), v.why.c_str());
   if (result.palette) {
-    std::printf("Palette %s: score %.2f (sheet palette %.2f)\n",
-                Shown(result.palette->palette.name).c_str(), result.palette->score,
-                result.palette->sheet_palette_score);
+    Print("Palette %s: score %.2f (sheet palette %.2f)\n", result.palette->palette.name.c_str(),
+          result.palette->score, result.palette->sheet_palette_score);
   }
-  for (const std::string& path : written) std::printf("  %s\n", Shown(path).c_str());
+  for (const std::string& path : written) Print("  %s\n", path.c_str());
   std::fflush(stdout);
   for (const std::string& w : result.warnings) std::cerr << "warning: " << w << "\n";
 }
@@ -178,13 +176,11 @@ int RunCalibrate(const CalibrateArgs& args) {
   if (camera) {
     int used = 0;
     for (const CalibrationViewResult& v : camera->views) used += v.used ? 1 : 0;
-    std::printf(
-        "Camera from %d of %zu photos: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f, rms %.3f px\n",
-        used, camera->views.size(), camera->camera.fx, camera->camera.fy, camera->camera.cx,
-        camera->camera.cy, camera->camera.distortion[0], camera->rms_px);
+    Print("Camera from %d of %zu photos: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f, rms %.3f px\n",
+          used, camera->views.size(), camera->camera.fx, camera->camera.fy, camera->camera.cx,
+          camera->camera.cy, camera->camera.distortion[0], camera->rms_px);
     for (const CalibrationViewResult& v : camera->views) {
-      if (!v.used)
-        std::printf("  %s left out: %s\n", Shown(v.name).c_str(), Shown(v.why_not).c_str());
+      if (!v.used) Print("  %s left out: %s\n", v.name.c_str(), v.why_not.c_str());
     }
     std::fflush(stdout);
     for (const std::string& w : camera->warnings) std::cerr << "warning: camera: " << w << "\n";
@@ -194,8 +190,8 @@ int RunCalibrate(const CalibrateArgs& args) {
     std::error_code ec;
     const bool removed =
         std::filesystem::is_regular_file(stale, ec) && std::filesystem::remove(stale, ec);
-    std::printf("Camera intrinsics not written: %s%s\n", Shown(camera_why).c_str(),
-                removed ? " (the earlier camera.yaml there is removed)" : "");
+    Print("Camera intrinsics not written: %s%s\n", camera_why.c_str(),
+          removed ? " (the earlier camera.yaml there is removed)" : "");
   }
   return kExitOk;
 }

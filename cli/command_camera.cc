@@ -194,32 +194,32 @@ class ViewCollector {
 };
 
 void PrintResult(const CameraCalibration& c) {
-  std::printf("view                                      tags  rms px\n");
+  Print("view                                      tags  rms px\n");
   for (const CalibrationViewResult& v : c.views) {
-    std::string name = Shown(v.name);
+    std::string name = v.name;
     if (name.size() > 40) name = "..." + name.substr(name.size() - 37);
     if (v.used) {
-      std::printf("%-40s %6d  %6.3f", name.c_str(), v.tags, v.rms_px);
+      Print("%-40s %6d  %6.3f", name.c_str(), v.tags, v.rms_px);
       for (size_t t = 0; t < v.tags_left_out.size(); ++t)
-        std::printf("  left out ID %d: %s", v.tags_left_out[t], Shown(v.why_left_out[t]).c_str());
-      std::printf("\n");
+        Print("  left out ID %d: %s", v.tags_left_out[t], v.why_left_out[t].c_str());
+      Print("\n");
     } else {
-      std::printf("%-40s  left out: %s\n", name.c_str(), Shown(v.why_not).c_str());
+      Print("%-40s  left out: %s\n", name.c_str(), v.why_not.c_str());
     }
   }
   const std::vector<std::string> names = CalibrationParameterNames(c.camera);
   std::vector<double> values = {c.camera.fx, c.camera.fy, c.camera.cx, c.camera.cy};
   values.insert(values.end(), c.camera.distortion.begin(), c.camera.distortion.end());
-  std::printf("\n%s model, %d x %d, %d corners, reprojection rms %.3f px\n",
-              LensModelName(c.camera.model), c.image_size.width, c.image_size.height,
-              c.corners_used, c.rms_px);
+  Print("\n%s model, %d x %d, %d corners, reprojection rms %.3f px\n",
+        LensModelName(c.camera.model), c.image_size.width, c.image_size.height, c.corners_used,
+        c.rms_px);
   for (size_t i = 0; i < names.size() && i < values.size(); ++i) {
     const double deviation = i < c.std_dev.size() ? c.std_dev[i] : 0.0;
     if (i >= 4 && deviation == 0.0 && values[i] == 0.0) {
-      std::printf("  %-3s %12.6f (not fitted)\n", names[i].c_str(), values[i]);
+      Print("  %-3s %12.6f (not fitted)\n", names[i].c_str(), values[i]);
     } else {
-      std::printf(i < 4 ? "  %-3s %12.3f +- %.3f px\n" : "  %-3s %12.6f +- %.6f\n",
-                  names[i].c_str(), values[i], deviation);
+      Print(i < 4 ? "  %-3s %12.3f +- %.3f px\n" : "  %-3s %12.6f +- %.6f\n", names[i].c_str(),
+            values[i], deviation);
     }
   }
   std::fflush(stdout);

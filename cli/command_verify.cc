@@ -71,23 +71,20 @@ Json SheetJson(const SheetVerdict& verdict) {
 }
 
 void PrintSheet(const SheetVerdict& verdict) {
-  std::printf("  %5s %4s %5s %7s %7s %9s  %s\n", "ID", "page", "found", "hamming", "margin",
-              "error mm", "verdict");
+  Print("  %5s %4s %5s %7s %7s %9s  %s\n", "ID", "page", "found", "hamming", "margin", "error mm",
+        "verdict");
   for (const auto& t : verdict.tags) {
-    std::printf("  %5d %4d %5d %7d %7.1f %9.2f  %s\n", t.expected.id, t.expected.page + 1,
-                t.times_found, t.hamming, t.margin, t.position_error_mm,
-                t.passed ? "ok" : t.problem.c_str());
+    Print("  %5d %4d %5d %7d %7.1f %9.2f  %s\n", t.expected.id, t.expected.page + 1, t.times_found,
+          t.hamming, t.margin, t.position_error_mm, t.passed ? "ok" : t.problem.c_str());
   }
   for (const auto& u : verdict.unexpected) {
-    std::printf(
-        "  unexpected: %s ID %d on page %d at %.1f, %.1f mm, where the sidecar has no tag\n",
-        u.family.c_str(), u.id, u.page + 1, u.center_mm[0], u.center_mm[1]);
+    Print("  unexpected: %s ID %d on page %d at %.1f, %.1f mm, where the sidecar has no tag\n",
+          u.family.c_str(), u.id, u.page + 1, u.center_mm[0], u.center_mm[1]);
   }
-  for (const auto& problem : verdict.file_problems) std::printf("  file: %s\n", problem.c_str());
-  std::printf("%d of %zu %s%s. %s\n", verdict.tags_passed, verdict.tags.size(),
-              verdict.tags.size() == 1 ? "tag passes" : "tags pass",
-              verdict.unexpected.empty() ? ", nothing else found" : "",
-              verdict.passed ? "PASS" : "FAIL");
+  for (const auto& problem : verdict.file_problems) Print("  file: %s\n", problem.c_str());
+  Print("%d of %zu %s%s. %s\n", verdict.tags_passed, verdict.tags.size(),
+        verdict.tags.size() == 1 ? "tag passes" : "tags pass",
+        verdict.unexpected.empty() ? ", nothing else found" : "", verdict.passed ? "PASS" : "FAIL");
 }
 
 Json AuditJson(const FamilyAudit& audit) {
@@ -115,26 +112,25 @@ Json AuditJson(const FamilyAudit& audit) {
 }
 
 void PrintAudit(const std::string& family, const FamilyAudit& audit) {
-  std::printf("\nFamily audit, %s: %d codes, minimum distance %d over rotations, radius %d\n",
-              family.c_str(), audit.num_codes, audit.min_distance, audit.radius);
-  std::printf("  pairs by distance:");
+  Print("\nFamily audit, %s: %d codes, minimum distance %d over rotations, radius %d\n",
+        family.c_str(), audit.num_codes, audit.min_distance, audit.radius);
+  Print("  pairs by distance:");
   for (size_t d = 0; d < audit.histogram.size(); ++d) {
-    if (audit.histogram[d] > 0)
-      std::printf(" %zu:%lld", d, static_cast<long long>(audit.histogram[d]));
+    if (audit.histogram[d] > 0) Print(" %zu:%lld", d, static_cast<long long>(audit.histogram[d]));
   }
-  std::printf("\n  closest pairs (ID a, ID b turned k quarter turns, distance):");
+  Print("\n  closest pairs (ID a, ID b turned k quarter turns, distance):");
   for (size_t i = 0; i < std::min<size_t>(audit.closest_pairs.size(), 10); ++i) {
     const auto& p = audit.closest_pairs[i];
-    std::printf("%s %d-%d/%d:%d", i ? "," : "", p.id_a, p.id_b, p.rotation, p.distance);
+    Print("%s %d-%d/%d:%d", i ? "," : "", p.id_a, p.id_b, p.rotation, p.distance);
   }
-  std::printf("\n  bit flips   trials      correct   wrong ID    rejected\n");
+  Print("\n  bit flips   trials      correct   wrong ID    rejected\n");
   for (const auto& f : audit.flips) {
-    std::printf("  %9d %8lld%s %11lld %10lld %11lld\n", f.flips, static_cast<long long>(f.trials),
-                f.exhaustive ? "*" : " ", static_cast<long long>(f.correct),
-                static_cast<long long>(f.wrong_id), static_cast<long long>(f.rejected));
+    Print("  %9d %8lld%s %11lld %10lld %11lld\n", f.flips, static_cast<long long>(f.trials),
+          f.exhaustive ? "*" : " ", static_cast<long long>(f.correct),
+          static_cast<long long>(f.wrong_id), static_cast<long long>(f.rejected));
   }
-  std::printf("  (* every pattern; otherwise a random sample)  decoding within the radius: %s\n",
-              audit.DecodingIsSafe() ? "always right" : "NOT SAFE");
+  Print("  (* every pattern; otherwise a random sample)  decoding within the radius: %s\n",
+        audit.DecodingIsSafe() ? "always right" : "NOT SAFE");
 }
 
 Json StressJson(const std::vector<TagStress>& stresses) {
@@ -152,14 +148,14 @@ Json StressJson(const std::vector<TagStress>& stresses) {
 
 void PrintStress(const std::vector<TagStress>& stresses) {
   if (stresses.empty()) return;
-  std::printf("\nStress (face-on sizes and tilts are the black square's side in pixels):\n");
-  std::printf("  %5s %9s %9s", "ID", "min size", "max tilt");
-  for (const auto& c : stresses[0].conditions) std::printf(" %14s", c.condition.c_str());
-  std::printf("\n");
+  Print("\nStress (face-on sizes and tilts are the black square's side in pixels):\n");
+  Print("  %5s %9s %9s", "ID", "min size", "max tilt");
+  for (const auto& c : stresses[0].conditions) Print(" %14s", c.condition.c_str());
+  Print("\n");
   for (const auto& s : stresses) {
-    std::printf("  %5d %9.1f %9.0f", s.id, s.smallest_size_px, s.largest_tilt_deg);
-    for (const auto& c : s.conditions) std::printf(" %14s", c.decoded ? "ok" : "FAIL");
-    std::printf("\n");
+    Print("  %5d %9.1f %9.0f", s.id, s.smallest_size_px, s.largest_tilt_deg);
+    for (const auto& c : s.conditions) Print(" %14s", c.decoded ? "ok" : "FAIL");
+    Print("\n");
   }
   std::vector<TagStress> weakest = stresses;
   std::sort(weakest.begin(), weakest.end(), [](const TagStress& a, const TagStress& b) {
@@ -170,10 +166,9 @@ void PrintStress(const std::vector<TagStress>& stresses) {
     return std::make_tuple(-fails(a), -a.smallest_size_px, a.largest_tilt_deg) <
            std::make_tuple(-fails(b), -b.smallest_size_px, b.largest_tilt_deg);
   });
-  std::printf("  weakest IDs:");
-  for (size_t i = 0; i < std::min<size_t>(5, weakest.size()); ++i)
-    std::printf(" %d", weakest[i].id);
-  std::printf("\n");
+  Print("  weakest IDs:");
+  for (size_t i = 0; i < std::min<size_t>(5, weakest.size()); ++i) Print(" %d", weakest[i].id);
+  Print("\n");
 }
 
 std::vector<TagStress> RunStress(const TagFamily& family, const std::vector<int>& ids,
@@ -194,51 +189,50 @@ std::vector<TagStress> RunStress(const TagFamily& family, const std::vector<int>
 void PrintPrintCheck(const SheetRecord& record, const PrintVerdict& verdict) {
   for (const PrintPageResult& r : verdict.images) {
     if (r.page < 0) {
-      std::printf("%s: page not recognised\n", r.image.c_str());
+      Print("%s: page not recognised\n", r.image.c_str());
     } else if (r.scan) {
-      std::printf(
+      Print(
           "%s: page %d of %d, scan at %.0f dpi, %d of %zu tags found; scale x %.3f ± %.3f, "
           "y %.3f ± %.3f\n",
           r.image.c_str(), r.page + 1, record.num_pages, r.dpi_x, r.tags_found, r.tags.size(),
           r.scale_x, std::max(0.001, 2 * r.scale_x_error), r.scale_y,
           std::max(0.001, 2 * r.scale_y_error));
     } else if (r.aspect == 0) {
-      std::printf("%s: page %d of %d, photo, %d of %zu tags found\n", r.image.c_str(), r.page + 1,
-                  record.num_pages, r.tags_found, r.tags.size());
+      Print("%s: page %d of %d, photo, %d of %zu tags found\n", r.image.c_str(), r.page + 1,
+            record.num_pages, r.tags_found, r.tags.size());
     } else {
-      std::printf(
+      Print(
           "%s: page %d of %d, photo, %d of %zu tags found; aspect x/y %.3f ± %.3f (the size "
           "cannot be told from a photo: scan the page, or measure the scale bar)\n",
           r.image.c_str(), r.page + 1, record.num_pages, r.tags_found, r.tags.size(), r.aspect,
           std::max(0.001, 2 * r.aspect_error));
     }
     for (size_t i = 0; i < r.problems.size(); ++i) {
-      std::printf("  %s: %s\n", r.problem_grades[i] == Grade::kFail ? "FAIL" : "warn",
-                  r.problems[i].c_str());
+      Print("  %s: %s\n", r.problem_grades[i] == Grade::kFail ? "FAIL" : "warn",
+            r.problems[i].c_str());
     }
     if (r.tags.empty()) continue;
-    std::printf("  %5s %5s %7s %6s %6s %6s %6s  %s\n", "ID", "found", "hamming", "a* gap", "red b*",
-                "grn b*", "margin", "verdict");
+    Print("  %5s %5s %7s %6s %6s %6s %6s  %s\n", "ID", "found", "hamming", "a* gap", "red b*",
+          "grn b*", "margin", "verdict");
     for (const PrintTagResult& t : r.tags) {
       const Margins& m = t.colours.margins;
-      std::printf("  %5d %5s %7d %6.1f %6.1f %6.1f %6.1f  %s%s%s\n", t.expected.id,
-                  t.found ? (t.found_id == t.expected.id ? "yes" : "wrong") : "no", t.hamming,
-                  m.a_gap, m.red_b_gap, m.green_b_gap, t.margin, GradeName(t.grade),
-                  t.problems.empty() ? "" : ": ", t.problems.empty() ? "" : t.problems[0].c_str());
-      for (size_t i = 1; i < t.problems.size(); ++i)
-        std::printf("  %50s%s\n", "", t.problems[i].c_str());
+      Print("  %5d %5s %7d %6.1f %6.1f %6.1f %6.1f  %s%s%s\n", t.expected.id,
+            t.found ? (t.found_id == t.expected.id ? "yes" : "wrong") : "no", t.hamming, m.a_gap,
+            m.red_b_gap, m.green_b_gap, t.margin, GradeName(t.grade),
+            t.problems.empty() ? "" : ": ", t.problems.empty() ? "" : t.problems[0].c_str());
+      for (size_t i = 1; i < t.problems.size(); ++i) Print("  %50s%s\n", "", t.problems[i].c_str());
     }
   }
   for (int p : verdict.pages_not_seen)
-    std::printf("page %d: no scan or photo shows it (not checked)\n", p + 1);
-  std::printf("%d of %d tag%s pass%s. %s\n", verdict.tags_passed, verdict.tags_checked,
-              verdict.tags_checked == 1 ? "" : "s",
-              verdict.tags_warned
-                  ? (" (" + std::to_string(verdict.tags_warned) + " with warnings)").c_str()
-                  : "",
-              verdict.grade == Grade::kFail   ? "FAIL"
-              : verdict.grade == Grade::kWarn ? "PASS with warnings"
-                                              : "PASS");
+    Print("page %d: no scan or photo shows it (not checked)\n", p + 1);
+  Print("%d of %d tag%s pass%s. %s\n", verdict.tags_passed, verdict.tags_checked,
+        verdict.tags_checked == 1 ? "" : "s",
+        verdict.tags_warned
+            ? (" (" + std::to_string(verdict.tags_warned) + " with warnings)").c_str()
+            : "",
+        verdict.grade == Grade::kFail   ? "FAIL"
+        : verdict.grade == Grade::kWarn ? "PASS with warnings"
+                                        : "PASS");
 }
 
 // "0.5%" or "0.005": a relative tolerance.
@@ -302,12 +296,12 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
   if (o.json) {
     std::cout << PrintVerdictJson(*record, *verdict) << "\n";
   } else {
-    std::printf("Printed sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s\n",
-                o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
-                record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
-                record->num_pages == 1 ? "" : "s", record->palette.name.c_str());
+    Print("Printed sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s\n", o.sheet.c_str(),
+          record->family->name().c_str(), record->tags.size(), record->tags.size() == 1 ? "" : "s",
+          record->tag_size_mm, record->num_pages, record->num_pages == 1 ? "" : "s",
+          record->palette.name.c_str());
     PrintPrintCheck(*record, *verdict);
-    if (!o.report.empty()) std::printf("Report: %s\n", o.report.c_str());
+    if (!o.report.empty()) Print("Report: %s\n", o.report.c_str());
   }
   return verdict->passed() ? kExitOk : kExitFailure;
 }
@@ -354,11 +348,11 @@ int RunVerify(const VerifyCommandOptions& o) {
       out = SheetJson(*verdict);
       out["sheet"] = o.sheet;
     } else {
-      std::printf("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
-                  o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
-                  record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
-                  record->num_pages == 1 ? "" : "s", record->palette.name.c_str(),
-                  record->format == SheetFormat::kPng ? record->dpi : o.dpi);
+      Print("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
+            o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
+            record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
+            record->num_pages == 1 ? "" : "s", record->palette.name.c_str(),
+            record->format == SheetFormat::kPng ? record->dpi : o.dpi);
       PrintSheet(*verdict);
     }
   } else {
@@ -378,11 +372,11 @@ int RunVerify(const VerifyCommandOptions& o) {
       out["audit"] = AuditJson(verdict->audit);
       out["passed"] = verdict->passed;
     } else {
-      std::printf("Every kept %s ID, rendered with palette %s and detected again:\n",
-                  o.family.c_str(), palette->name.c_str());
+      Print("Every kept %s ID, rendered with palette %s and detected again:\n", o.family.c_str(),
+            palette->name.c_str());
       PrintSheet(verdict->sheet);
       PrintAudit(o.family, verdict->audit);
-      std::printf("%s\n", verdict->passed ? "PASS" : "FAIL");
+      Print("%s\n", verdict->passed ? "PASS" : "FAIL");
     }
   }
   if (o.json) {

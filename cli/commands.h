@@ -21,10 +21,9 @@ inline constexpr int kExitUsage = 2;
 // broken file, escape sequences included). Returns `code`.
 int Fail(const char* command, const std::string& message, int code = kExitUsage);
 
-// `text` with control characters (all but newline and tab) shown as \xNN,
-// as std::cout and std::cerr show them (main.cc): for text printed with
-// printf, such as file names.
-std::string Shown(const std::string& text);
+// printf to std::cout, so that it goes through the same escaping as every
+// other output (main.cc).
+void Print(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
 // `text` in lower case (ASCII), for file extensions.
 inline std::string Lower(std::string text) {

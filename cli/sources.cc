@@ -73,7 +73,8 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
         // dangling link) is named and passed over; the rest are read.
         std::error_code entry_ec;
         const fs::file_status status = entry.status(entry_ec);
-        if (entry_ec && entry_ec != std::errc::no_such_file_or_directory) {
+        const bool wanted = IsImage(entry.path()) || IsVideo(entry.path());
+        if (entry_ec && entry_ec != std::errc::no_such_file_or_directory && wanted) {
           bad.push_back("'" + entry.path().string() + "': " + entry_ec.message() + ", skipped");
         } else if (fs::is_directory(status) && notes) {
           notes->push_back("'" + entry.path().string() + "' is a folder inside '" + input +
@@ -81,7 +82,7 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
         } else if (fs::is_regular_file(status) &&
                    (IsImage(entry.path()) || IsVideo(entry.path()))) {
           files.push_back(entry.path());
-        } else if (!fs::exists(status) && (IsImage(entry.path()) || IsVideo(entry.path()))) {
+        } else if (!fs::exists(status) && wanted) {
           bad.push_back("'" + entry.path().string() + "': a link to nothing, skipped");
         }
       }

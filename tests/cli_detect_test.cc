@@ -93,17 +93,21 @@ TEST(CliDetectTest, UnreadableInputsAreReportedSkippedAndFailTheRun) {
 // image: each bad entry is named and skipped, the image is read, exit 1.
 TEST(CliDetectTest, AFoldersUnreadableEntriesAreSkipped) {
   const std::string dir = MakeSheet("links");
-  ASSERT_EQ(symlink("loop-b", (dir + "/loop-a").c_str()), 0);
-  ASSERT_EQ(symlink("loop-a", (dir + "/loop-b").c_str()), 0);
+  ASSERT_EQ(symlink("loop-b.png", (dir + "/loop-a.png").c_str()), 0);
+  ASSERT_EQ(symlink("loop-a.png", (dir + "/loop-b.png").c_str()), 0);
+  // Not an image by its name: passed over like any other such file.
+  ASSERT_EQ(symlink("loop-d", (dir + "/loop-c").c_str()), 0);
+  ASSERT_EQ(symlink("loop-c", (dir + "/loop-d").c_str()), 0);
   ASSERT_EQ(symlink("nothing.png", (dir + "/gone.png").c_str()), 0);
   const auto result = Chromatag({"detect", "--json", dir});
   EXPECT_EQ(result.exit_code, 1) << result.err;
   EXPECT_EQ(CountLines(result.out), 1) << result.out;  // sheet.png
   for (const std::string& says :
-       {"'" + dir + "/loop-a': Too many levels of symbolic links, skipped",
-        "'" + dir + "/loop-b': Too many levels of symbolic links, skipped",
+       {"'" + dir + "/loop-a.png': Too many levels of symbolic links, skipped",
+        "'" + dir + "/loop-b.png': Too many levels of symbolic links, skipped",
         "'" + dir + "/gone.png': a link to nothing, skipped"})
     EXPECT_NE(result.err.find(says), std::string::npos) << result.err;
+  EXPECT_EQ(result.err.find("loop-c"), std::string::npos) << result.err;
 }
 
 // detect looks for both families by default: a 36h11 sheet is found.

@@ -40,6 +40,17 @@ cv::Mat DecodeImage(const std::string& bytes, const std::string& name, std::stri
       return Fail(error, cannot + "a PDF or SVG sheet is checked by chromatag verify; images are " +
                              kSizedImageFormats);
     }
+    // A PNG, JPEG or TIFF signature whose header then cannot be walked.
+    static const std::string kMagic[] = {std::string("\x89PNG\r\n\x1a\n", 8),
+                                         std::string("\xff\xd8\xff", 3),
+                                         std::string("II*\0", 4),
+                                         std::string("MM\0*", 4),
+                                         std::string("II+\0", 4),
+                                         std::string("MM\0+", 4)};
+    for (const std::string& magic : kMagic) {
+      if (bytes.compare(0, magic.size(), magic) == 0)
+        return Fail(error, cannot + "its header cannot be read (damaged or cut short)");
+    }
     return Fail(error, cannot + "not a " + std::string(kSizedImageFormats) +
                            " file (the size is read from the header before decoding)");
   }

@@ -51,6 +51,7 @@ TEST_F(ReadImageTest, ReadsFilesAsEightBitBgr) {
 // the file and the reason; nothing blocks (a FIFO would, read blindly).
 TEST_F(ReadImageTest, SaysWhyAFileCannotBeRead) {
   std::ofstream(Path("notes.png")) << "not an image";
+  std::ofstream(Path("cut.png"), std::ios::binary) << std::string("\x89PNG\r\n\x1a\n\0\0", 10);
   std::ofstream(Path("sheet.pdf")) << "%PDF-1.5\n";
   ASSERT_EQ(::mkfifo(Path("pipe.png").c_str(), 0600), 0);
   // A PNG header claiming 40000 x 40000 pixels: refused before decoding.
@@ -67,6 +68,7 @@ TEST_F(ReadImageTest, SaysWhyAFileCannotBeRead) {
       {"", "': not a regular file"},  // The folder itself.
       {"pipe.png", "': not a regular file"},
       {"notes.png", "': not a PNG, JPEG, TIFF, BMP, WebP, PPM/PGM/PAM/PFM file"},
+      {"cut.png", "': its header cannot be read (damaged or cut short)"},
       {"sheet.pdf", "': a PDF or SVG sheet is checked by chromatag verify"},
       {"huge.png", "': 40000 x 40000 pixels, over the limit of 256 Mpx"},
   };

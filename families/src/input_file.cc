@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <tuple>
 
 namespace chromatag {
 
@@ -106,19 +107,24 @@ uint32_t Le32(const unsigned char* p) { return Le16(p + 2) << 16 | Le16(p); }
 uint64_t Le64(const unsigned char* p) { return uint64_t{Le32(p + 4)} << 32 | Le32(p); }
 uint64_t Be64(const unsigned char* p) { return uint64_t{Be32(p)} << 32 | Be32(p + 4); }
 
-// JPEG: the markers after SOI, each after any number of 0xFF fill bytes, up
-// to the first start of frame (SOF0-SOF15 but DHT C4, JPG C8 and DAC CC).
-// Bounded by the file: every step moves forward.
+// JPEG: the markers after SOI, found as libjpeg finds them (any bytes up to
+// an 0xFF, any number of 0xFF fill bytes, and FF 00 taken as stray data,
+// not a marker), up to the first start of frame (SOF0-SOF15 but DHT C4, JPG
+// C8 and DAC CC). Bounded by the file: every step moves forward.
 bool JpegSize(const ReadAt& read, ImageSize* size) {
   uint64_t at = 2;
   unsigned char b[9];
   for (;;) {
-    if (!read(at, 1, b) || b[0] != 0xff) return false;
-    do {
-      if (!read(++at, 1, b)) return false;
-    } while (b[0] == 0xff);
-    const unsigned marker = b[0];
-    ++at;
+    unsigned marker = 0;
+    while (marker == 0) {
+      do {
+        if (!read(at++, 1, b)) return false;
+      } while (b[0] != 0xff);
+      do {
+        if (!read(at++, 1, b)) return false;
+      } while (b[0] == 0xff);
+      marker = b[0];
+    }
     if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) continue;     // No length.
     if (marker == 0xd9 || marker == 0xda || !read(at, 2, b)) return false;  // No frame.
     const uint32_t length = Be16(b);
@@ -143,7 +149,7 @@ bool TiffSize(const ReadAt& read, const unsigned char* head, ImageSize* size) {
   const uint32_t version = u16(head + 2);
   if (version != 42 && version != 43) return false;
   const bool big = version == 43;
-  unsigned char b[20];
+  unsigned char b[20] = {};
   uint64_t ifd = 0, entries = 0;
   if (big) {
     if (!read(8, 8, b)) return false;
@@ -161,24 +167,24 @@ bool TiffSize(const ReadAt& read, const unsigned char* head, ImageSize* size) {
   for (uint64_t e = 0; e < entries && e < 4096 && !(have_width && have_height); ++e) {
     if (!read(first + e * entry_size, entry_size, b)) return false;
     const uint32_t tag = u16(b), type = u16(b + 2);
+    // The first ImageWidth and ImageLength count, as libtiff reads them;
+    // an entry of a type that holds no size is refused, not passed over.
+    if ((tag != 256 || have_width) && (tag != 257 || have_height)) continue;
     const unsigned char* value = b + (big ? 12 : 8);
     uint64_t v = 0;
-    if (type == 3) {
-      v = u16(value);  // SHORT
-    } else if (type == 4) {
-      v = u32(value);  // LONG
-    } else if (type == 16) {
-      v = u64(value);  // LONG8 (BigTIFF)
+    if (type == 1) {
+      v = value[0];  // BYTE
+    } else if (type == 3 || type == 8) {
+      v = u16(value);  // SHORT, SSHORT (a negative one reads as huge)
+    } else if (type == 4 || type == 9) {
+      v = u32(value);  // LONG, SLONG
+    } else if (type == 16 && big) {
+      v = u64(value);  // LONG8
     } else {
-      continue;
+      return false;
     }
-    if (tag == 256) {
-      size->width = v;
-      have_width = true;
-    } else if (tag == 257) {
-      size->height = v;
-      have_height = true;
-    }
+    (tag == 256 ? size->width : size->height) = v;
+    (tag == 256 ? have_width : have_height) = true;
   }
   return have_width && have_height;
 }
@@ -191,24 +197,44 @@ bool PnmSize(const ReadAt& read, ImageSize* size) {
   while (n < sizeof head && read(n, 1, head + n)) ++n;
   const std::string text(reinterpret_cast<char*>(head), n);
   if (text[1] == '7') {
-    const auto number = [&](const char* key, uint64_t* out) {
-      const size_t at = text.find(key);
-      if (at == std::string::npos) return false;
-      char* end = nullptr;
-      const unsigned long long v = std::strtoull(text.c_str() + at + std::strlen(key), &end, 10);
-      if (end == text.c_str() + at + std::strlen(key)) return false;
-      *out = v;
-      return true;
-    };
-    return number("\nWIDTH ", &size->width) && number("\nHEIGHT ", &size->height);
+    // Header lines up to ENDHDR, as OpenCV reads them: leading whitespace,
+    // a keyword, whitespace, a value; WIDTH and HEIGHT once each.
+    bool have_width = false, have_height = false;
+    size_t at = 2;
+    while (at < n) {
+      const size_t end = text.find_first_of("\r\n", at);
+      if (end == std::string::npos) return false;  // Past the 1 KiB read: refused.
+      std::string line = text.substr(at, end - at);
+      at = end + 1;
+      const size_t first = line.find_first_not_of(" \t");
+      if (first == std::string::npos || line[first] == '#') continue;
+      line = line.substr(first);
+      if (line.rfind("ENDHDR", 0) == 0) return have_width && have_height;
+      for (const auto& [key, value, seen] :
+           {std::make_tuple("WIDTH", &size->width, &have_width),
+            std::make_tuple("HEIGHT", &size->height, &have_height)}) {
+        const size_t length = std::strlen(key);
+        if (line.rfind(key, 0) != 0 || line.size() == length ||
+            !std::isspace(static_cast<unsigned char>(line[length])))
+          continue;
+        if (*seen) return false;
+        char* stop = nullptr;
+        const char* digits = line.c_str() + length;
+        const unsigned long long v = std::strtoull(digits, &stop, 10);
+        if (stop == digits) return false;
+        *value = v;
+        *seen = true;
+      }
+    }
+    return false;
   }
   size_t at = 2;
   uint64_t values[2];
   for (uint64_t& value : values) {
     for (;;) {
       while (at < n && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
-      if (at < n && text[at] == '#') {
-        while (at < n && text[at] != '\n') ++at;
+      if (at < n && text[at] == '#') {  // To the end of the line, \n or \r (as OpenCV).
+        while (at < n && text[at] != '\n' && text[at] != '\r') ++at;
         continue;
       }
       break;
@@ -281,15 +307,9 @@ bool HeaderSize(const ReadAt& read, ImageSize* size) {
 }  // namespace
 
 bool ImageHeaderSize(const std::string& path, ImageSize* size) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  const ReadAt read = [&](uint64_t offset, size_t n, unsigned char* out) {
-    in.clear();
-    in.seekg(static_cast<std::streamoff>(offset));
-    return static_cast<bool>(
-        in.read(reinterpret_cast<char*>(out), static_cast<std::streamsize>(n)));
-  };
-  return HeaderSize(read, size);
+  // Read whole (as the readers do): the JPEG walk may reach far into it.
+  const auto bytes = ReadInputFile(path, "image", std::uintmax_t{512} << 20, nullptr);
+  return bytes && ImageBytesSize(*bytes, size);
 }
 
 bool ImageBytesSize(const std::string& bytes, ImageSize* size) {

@@ -144,6 +144,52 @@ TEST(ImageHeaderSizeTest, FindsTheSizeWhereDecodersDo) {
   EXPECT_EQ(ImageSizeProblem(size), "");
 }
 
+// Headers crafted so that a looser reader would find a small size where the
+// decoder finds a bomb: each is sized as the decoder sizes it.
+TEST(ImageHeaderSizeTest, ReadsAsTheDecodersRead) {
+  bool ok = false;
+  // libjpeg takes FF 00 as stray data and scans on to the real frame; a fake
+  // 1 x 1 frame hides in a comment after it.
+  std::string jpeg("\xff\xd8\xff\x00\x00\x19", 6);
+  jpeg += std::string("\xff\xc0\x00\x11\x08\x75\x30\x75\x30", 9) + std::string(12, '\0');
+  jpeg += std::string("\xff\xfe\x00\x0b\xff\xc0\x00\x11\x08\x00\x01\x00\x01", 13);
+  ImageSize size = SizeOf(jpeg, &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 30000u);
+  // Stray bytes between markers (some cameras write them) are skipped too
+  // (right after SOI they are not: OpenCV wants FF D8 FF to call it JPEG).
+  const std::string stray = std::string("\xff\xd8\xff\xfe\x00\x04xy\x12\x34", 10) + jpeg.substr(2);
+  size = SizeOf(stray, &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.height, 30000u);
+  // TIFF: the first ImageWidth counts (libtiff's), whatever its integer type.
+  std::string tiff("II*\0\x08\0\0\0\x03\0", 10);
+  tiff += std::string("\x00\x01\x09\x00\x01\x00\x00\x00\x30\x75\x00\x00", 12);  // SLONG
+  tiff += std::string("\x00\x01\x03\x00\x01\x00\x00\x00\x01\x00\x00\x00", 12);  // SHORT 1
+  tiff += std::string("\x01\x01\x03\x00\x01\x00\x00\x00\x30\x75\x00\x00", 12);
+  size = SizeOf(tiff, &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 30000u);
+  // A width of a type that holds no size (ASCII) is refused.
+  std::string ascii = tiff;
+  ascii[12] = '\x02';
+  SizeOf(ascii, &ok);
+  EXPECT_FALSE(ok);
+  // PNM: a comment ends at \r as well (OpenCV's reader).
+  size = SizeOf("P6\n#\r30000 30000\n1 1\n255\n", &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 30000u);
+  // PAM: the header's own lines (a tab after the keyword), not words in the
+  // pixel data after ENDHDR.
+  size = SizeOf(
+      "P7\n WIDTH\t30000\nHEIGHT 30000\nDEPTH 3\nMAXVAL 255\nENDHDR\n\nWIDTH 1\nHEIGHT 1\n", &ok);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(size.width, 30000u);
+  EXPECT_EQ(size.height, 30000u);
+  SizeOf("P7\nWIDTH 5\nWIDTH 1\nHEIGHT 1\nENDHDR\n", &ok);
+  EXPECT_FALSE(ok);  // Twice: refused.
+}
+
 // What cannot be sized from a header is not sized: other formats, cut
 // headers, a JPEG scan before any frame, a size of 0.
 TEST(ImageHeaderSizeTest, RefusesWhatItCannotSize) {

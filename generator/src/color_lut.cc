@@ -52,7 +52,7 @@ std::unique_ptr<ColorLut> ColorLut::Load(const std::string& path, std::string* e
 }
 
 bool ColorLut::Probe(std::string* fault) const {
-  // A 9 x 9 x 9 grid over the input cube: every output a number near 0-1,
+  // A 9 x 9 x 9 grid over the input cube: every output a number in -0.25-1.25,
   // and the outputs spread (a LUT of size 1, or a domain that folds every
   // input onto one point, prints every shade alike).
   constexpr int kSteps = 9;
@@ -70,7 +70,8 @@ bool ColorLut::Probe(std::string* fault) const {
         *fault = std::string("gives a value that is not a number for ") + at;
         return false;
       }
-      if (out[c] < -0.02f || out[c] > 1.02f) {
+      // Apply clamps to 0-1; a LUT far outside it is not a printer correction.
+      if (out[c] < -0.25f || out[c] > 1.25f) {
         char value[32];
         std::snprintf(value, sizeof value, "%.3g", out[c]);
         *fault = std::string("gives ") + value + " for " + at + ", outside 0-1";

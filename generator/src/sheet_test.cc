@@ -333,7 +333,7 @@ TEST(SheetTest, ColourLutChangesTheWrittenColours) {
   const auto near = [](const Rgb8& a, double r, double g, double b) {
     return std::abs(a.r - r) <= 1.0 && std::abs(a.g - g) <= 1.0 && std::abs(a.b - b) <= 1.0;
   };
-  // Cell (0, 0) of ID 0 is green-0, squeezed; the black ring is now dark grey.
+  // Cell (0, 0) of ID 0 is green-0, squeezed; the black ring, dark grey.
   const Rgb8 green0 = options.palette.Srgb8(Shade::kGreen0);
   const double left = tag["corners_mm"][0][0], top = tag["corners_mm"][0][1];
   const Rgb8 cell00 = PixelAtMm(page, left + 1.5 * cell, top + 1.5 * cell);

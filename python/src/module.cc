@@ -128,7 +128,11 @@ py::array_t<double> Matrix33(const cv::Matx33d& m) {
 // What a value is, for messages: its type and a short repr.
 std::string Describe(const py::handle& value) {
   std::string repr = py::str(py::repr(value));
-  if (repr.size() > 40) repr = repr.substr(0, 37) + "...";
+  if (repr.size() > 40) {
+    size_t cut = 37;  // On a UTF-8 character boundary.
+    while (cut > 0 && (static_cast<unsigned char>(repr[cut]) & 0xc0) == 0x80) --cut;
+    repr = repr.substr(0, cut) + "...";
+  }
   return std::string(py::str(value.get_type().attr("__name__"))) + " " + repr;
 }
 

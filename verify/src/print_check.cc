@@ -549,16 +549,17 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
                "curls%s",
                r->rms_mm, r->scan ? "" : " or the lens distorts (give --camera)"));
   }
-  // A tag on the page that the sidecar does not list means the sidecar does
-  // not describe this print (cut down, or another sheet's); one beside the
-  // page is something else in view.
+  // A tag of the sheet's family, read exactly, on the page where the sidecar
+  // lists none means the sidecar does not describe this print (cut down, or
+  // another sheet's); one beside the page, of another family or read with
+  // corrected bits may be something else in view.
   for (const UnexpectedDetection& u : r->unexpected) {
-    const bool on_page = u.center_mm[0] >= 0 && u.center_mm[0] <= record.page.width_mm &&
+    const bool on_page = u.exact && u.center_mm[0] >= 0 && u.center_mm[0] <= record.page.width_mm &&
                          u.center_mm[1] >= 0 && u.center_mm[1] <= record.page.height_mm;
     Add(findings, on_page ? Grade::kFail : Grade::kWarn,
         Format("%s ID %d found at %.1f, %.1f mm, where the sidecar has no tag%s", u.family.c_str(),
                u.id, u.center_mm[0], u.center_mm[1],
-               on_page ? ": the sidecar does not describe this print" : " (beside the page)"));
+               on_page ? ": the sidecar does not describe this print" : ""));
   }
 }
 
@@ -1002,7 +1003,8 @@ PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
   for (size_t k = 0; k < mine.size(); ++k) {
     if (owner[k] >= 0) continue;
     const cv::Point2d c = on_page(fit_corners[k]);
-    r.unexpected.push_back({r.page, mine[k]->family->name(), mine[k]->id, {c.x, c.y}});
+    r.unexpected.push_back(
+        {r.page, mine[k]->family->name(), mine[k]->id, {c.x, c.y}, mine[k]->hamming == 0});
   }
   for (const Detection& d : result.detections) {
     if (d.family == record.family.get()) continue;

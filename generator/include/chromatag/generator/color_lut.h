@@ -15,7 +15,7 @@ class ColorLut {
  public:
   // Reads `path` through an OpenColorIO FileTransform. Returns nullptr and
   // sets *error for a missing, unreadable or malformed file, and for a LUT
-  // that gives outputs that are not numbers or lie outside 0-1, or that maps
+  // that gives outputs that are not numbers or lie far outside 0-1, or that maps
   // every colour to nearly one (size 1, a folding domain).
   static std::unique_ptr<ColorLut> Load(const std::string& path, std::string* error = nullptr);
   ~ColorLut();

@@ -43,6 +43,9 @@ struct UnexpectedDetection {
   std::string family;
   int id = -1;
   std::array<double, 2> center_mm{};
+  // The sheet's own family, read with no bit corrected: not a false decode
+  // of something else in view.
+  bool exact = false;
 };
 
 struct SheetVerdict {
