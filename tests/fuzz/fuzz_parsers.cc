@@ -48,8 +48,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 #elif CHROMATAG_FUZZ_TARGET == 7
   chromatag::ReadImageDpi(text);
 #elif CHROMATAG_FUZZ_TARGET == 8
-  chromatag::ImageSize size;
-  if (chromatag::ImageBytesSize(text, &size)) chromatag::ImageSizeProblem(size);
+  chromatag::ImageSize image_size;
+  if (chromatag::ImageBytesSize(text, &image_size)) chromatag::ImageSizeProblem(image_size);
 #endif
   return 0;
 }
