@@ -76,9 +76,11 @@ int RunCalibSheet(const CalibSheetArgs& args) {
                            " name or leave the format out");
   }
   if (!(args.dpi >= 50 && args.dpi <= 1200)) return Fail(kName, "--dpi must be in [50, 1200]");
-  if (format == "png" &&
-      std::max(options.page.width_mm, options.page.height_mm) / 25.4 * args.dpi > kMaxRasterSidePx)
-    return Fail(kName, "a PNG page that large is over Cairo's 32767 pixels a side; lower --dpi");
+  if (format == "png") {
+    const std::string problem =
+        RasterPageProblem(options.page.width_mm, options.page.height_mm, args.dpi);
+    if (!problem.empty()) return Fail(kName, "a PNG sheet: " + problem + "; lower --dpi");
+  }
   const auto layout = LayoutCalibSheet(options, &error);
   if (!layout) return Fail(kName, error);
   const auto files =

@@ -1,4 +1,4 @@
-// Issue 12: bad and hostile input, as a careless or hostile user gives it.
+// Bad and hostile input, as a careless or hostile user gives it.
 // Each case ends with exit 1 or 2 and one line on stderr naming what was
 // wrong: never a signal, never a PASS on the wrong file, never a
 // half-replaced output.
@@ -139,7 +139,22 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
          return std::vector<std::string>{"generate", "--ids", "0",         "--dpi",
                                          "3000",     "-o",    d + "/x.png"};
        },
-       2, "too large"},
+       2, "over the limit of 256 Mpx; at most 1666 dpi fits"},
+      {"PNG sheet over the pixel budget verify reads back",
+       [](const std::string& d) {
+         return std::vector<std::string>{"generate", "--ids", "0",         "--dpi",
+                                         "2000",     "-o",    d + "/x.png"};
+       },
+       2, "16535 x 23386 pixels (369 Mpx), over the limit of 256 Mpx"},
+      {"verify of a 10 m page at 200 dpi",
+       [](const std::string& d) {
+         EXPECT_EQ(
+             Chromatag({"generate", "--ids", "0", "--page", "10000x10000mm", "-o", d + "/huge.pdf"})
+                 .exit_code,
+             0);
+         return std::vector<std::string>{"verify", d + "/huge.pdf"};
+       },
+       2, "page 1: a page of 10000 x 10000 mm at 200 dpi is 78740 x 78740 pixels"},
       {"calibration sheet PNG past Cairo's limit",
        [](const std::string& d) {
          return std::vector<std::string>{"calib-sheet", "--page", "1000x1000mm", "--dpi",
@@ -330,6 +345,24 @@ TEST_F(CliHardeningTest, AFailedWriteLeavesTheOldFiles) {
   size_t entries = 0;
   for (const auto& entry : fs::directory_iterator(d)) entries += entry.exists() ? 1 : 0;
   EXPECT_EQ(entries, 2u);
+}
+
+// verify holds one page in memory at a time: a 587-page sheet at 100 dpi is
+// 1.7 GB of pages, and passes under a 1 GB address-space limit.
+TEST_F(CliHardeningTest, VerifyOfALongSheetHoldsOnePageAtATime) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "sanitizers reserve terabytes of address space";
+#endif
+  const std::string sheet = dir_ + "/all36h11.pdf";
+  ASSERT_EQ(Chromatag({"generate", "--family", "36h11", "--all", "--one-per-page", "-o", sheet})
+                .exit_code,
+            0);
+  const auto result =
+      testing::RunCommand("/bin/sh", {"-c", "ulimit -v 1000000 && exec \"$@\"", "sh",
+                                      CHROMATAG_CLI_PATH, "verify", sheet, "--dpi", "100"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("587 of 587 tags pass, nothing else found. PASS"), std::string::npos)
+      << result.out.substr(result.out.size() > 400 ? result.out.size() - 400 : 0);
 }
 
 }  // namespace

@@ -2,9 +2,13 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <vector>
+
+#include "chromatag/families/input_file.h"
 
 namespace chromatag {
 
@@ -81,6 +85,26 @@ std::string EncodePng(cairo_surface_t* surface, double dpi) {
   png_write_end(writer, info);
   png_destroy_write_struct(&writer, &info);
   return png;
+}
+
+std::string RasterPageProblem(double width_mm, double height_mm, double dpi) {
+  const double w_in = width_mm / 25.4, h_in = height_mm / 25.4;
+  const double w_px = w_in * dpi, h_px = h_in * dpi;
+  const auto budget = static_cast<double>(kMaxImagePixels);
+  if (w_px * h_px <= budget && std::max(w_px, h_px) <= kMaxRasterSidePx) return "";
+  const double fit = std::floor(std::min(std::sqrt(budget / std::max(w_in * h_in, 1e-12)),
+                                         kMaxRasterSidePx / std::max({w_in, h_in, 1e-12})));
+  const auto whole = [](double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.0f", value);
+    return std::string(buffer);
+  };
+  return "a page of " + whole(width_mm) + " x " + whole(height_mm) + " mm at " + whole(dpi) +
+         " dpi is " + whole(w_px) + " x " + whole(h_px) + " pixels (" +
+         whole(w_px * h_px / (1 << 20)) + " Mpx), over the limit of " +
+         (w_px * h_px > budget ? std::to_string(kMaxImagePixels >> 20) + " Mpx"
+                               : whole(kMaxRasterSidePx) + " pixels a side") +
+         "; " + (fit >= 1.0 ? "at most " + whole(fit) + " dpi fits" : "no dpi fits");
 }
 
 }  // namespace chromatag

@@ -96,11 +96,8 @@ bool SheetOptions::IsValid(std::string* error) const {
   }
   if (format == SheetFormat::kPng) {
     if (!(dpi >= 10.0 && dpi <= 4800.0)) return fail("--dpi must be in [10, 4800]");
-    const double longest_px = std::fmax(page.width_mm, page.height_mm) / 25.4 * dpi;
-    if (longest_px > kMaxRasterSidePx) {
-      return fail("a PNG page of " + internal::Mm(longest_px) + " pixels is too large (limit " +
-                  internal::Mm(kMaxRasterSidePx) + ", Cairo's); lower --dpi");
-    }
+    const std::string problem = RasterPageProblem(page.width_mm, page.height_mm, dpi);
+    if (!problem.empty()) return fail("a PNG sheet: " + problem + "; lower --dpi");
   }
   return true;
 }

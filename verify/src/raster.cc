@@ -5,13 +5,24 @@
 #include <poppler/cpp/poppler-page-renderer.h>
 #include <poppler/cpp/poppler-page.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/detector/read_image.h"
+#include "chromatag/families/input_file.h"
+#include "chromatag/generator/cairo_util.h"
 
 namespace chromatag {
+
+struct SheetPages::Source {
+  SheetFormat format = SheetFormat::kPdf;
+  std::vector<std::string> paths;  // The PDF, or one file per page.
+  std::unique_ptr<poppler::document> pdf;
+  double dpi = 0.0;
+};
+
 namespace {
 
 // Copies a 32-bit 0xAARRGGBB (or xRGB) raster into a BGR Mat.
@@ -22,69 +33,181 @@ cv::Mat FromXrgb(const unsigned char* data, int width, int height, int stride) {
   return bgr;
 }
 
-bool RasterizePdf(const std::string& path, double dpi, std::vector<cv::Mat>* pages,
-                  std::string* error) {
-  std::unique_ptr<poppler::document> document(poppler::document::load_from_file(path));
-  if (!document) {
-    *error = "cannot read PDF '" + path + "'";
-    return false;
-  }
-  poppler::page_renderer renderer;
-  renderer.set_render_hint(poppler::page_renderer::antialiasing, true);
-  for (int i = 0; i < document->pages(); ++i) {
-    std::unique_ptr<poppler::page> page(document->create_page(i));
-    const poppler::image image =
-        page ? renderer.render_page(page.get(), dpi, dpi) : poppler::image();
-    if (!image.is_valid()) {
-      *error = "cannot render page " + std::to_string(i + 1) + " of '" + path + "'";
-      return false;
-    }
-    pages->push_back(FromXrgb(reinterpret_cast<const unsigned char*>(image.const_data()),
-                              image.width(), image.height(), image.bytes_per_row()));
-  }
-  return true;
+// Why page `index` cannot be drawn at `dpi`, or "".
+std::string PageSizeProblem(int index, double width_mm, double height_mm, double dpi) {
+  const std::string problem = RasterPageProblem(width_mm, height_mm, dpi);
+  return problem.empty() ? "" : "page " + std::to_string(index + 1) + ": " + problem;
 }
 
-bool RasterizeSvg(const std::string& path, double dpi, std::vector<cv::Mat>* pages,
-                  std::string* error) {
+// Loads an SVG with librsvg at `dpi`; nullptr and *error when it cannot.
+RsvgHandle* LoadSvg(const std::string& path, double dpi, double* width, double* height,
+                    std::string* error) {
   GError* gerror = nullptr;
   RsvgHandle* handle = rsvg_handle_new_from_file(path.c_str(), &gerror);
   if (handle == nullptr) {
     *error = "cannot read SVG '" + path + "': " + (gerror ? gerror->message : "unknown error");
     if (gerror) g_error_free(gerror);
-    return false;
+    return nullptr;
   }
   rsvg_handle_set_dpi(handle, dpi);
-  double width = 0.0, height = 0.0;
-  if (!rsvg_handle_get_intrinsic_size_in_pixels(handle, &width, &height)) {
+  if (!rsvg_handle_get_intrinsic_size_in_pixels(handle, width, height) ||
+      !(*width >= 1.0 && *height >= 1.0)) {
     *error = "SVG '" + path + "' has no physical size";
     g_object_unref(handle);
-    return false;
+    return nullptr;
   }
+  return handle;
+}
+
+cv::Mat RenderSvg(const std::string& path, double dpi, std::string* error) {
+  double width = 0.0, height = 0.0;
+  RsvgHandle* handle = LoadSvg(path, dpi, &width, &height, error);
+  if (handle == nullptr) return {};
   const int w = static_cast<int>(std::lround(width));
   const int h = static_cast<int>(std::lround(height));
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
+    *error = "cannot render SVG '" + path +
+             "': " + cairo_status_to_string(cairo_surface_status(surface));
+    cairo_surface_destroy(surface);
+    g_object_unref(handle);
+    return {};
+  }
   cairo_t* cr = cairo_create(surface);
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
   const RsvgRectangle viewport{0.0, 0.0, width, height};
+  GError* gerror = nullptr;
   const bool ok = rsvg_handle_render_document(handle, cr, &viewport, &gerror);
   cairo_destroy(cr);
   g_object_unref(handle);
-  if (!ok) {
+  cv::Mat page;
+  if (ok) {
+    cairo_surface_flush(surface);
+    page = FromXrgb(cairo_image_surface_get_data(surface), w, h,
+                    cairo_image_surface_get_stride(surface));
+  } else {
     *error = "cannot render SVG '" + path + "': " + (gerror ? gerror->message : "unknown error");
     if (gerror) g_error_free(gerror);
-    cairo_surface_destroy(surface);
-    return false;
   }
-  cairo_surface_flush(surface);
-  pages->push_back(FromXrgb(cairo_image_surface_get_data(surface), w, h,
-                            cairo_image_surface_get_stride(surface)));
   cairo_surface_destroy(surface);
-  return true;
+  return page;
+}
+
+std::string CountProblem(int found, int described) {
+  return "the sheet has " + std::to_string(found) + " page(s) but its sidecar describes " +
+         std::to_string(described);
 }
 
 }  // namespace
+
+std::optional<SheetPages> SheetPages::Open(const SheetRecord& record, double dpi,
+                                           std::string* error) {
+  std::string message;
+  auto source = std::make_shared<Source>();
+  source->format = record.format;
+  source->dpi = dpi;
+  for (const auto& file : record.files) source->paths.push_back(file.path);
+  SheetPages pages;
+  pages.px_per_mm_ = (record.format == SheetFormat::kPng ? record.dpi : dpi) / 25.4;
+  const auto fail = [&](const std::string& why) -> std::optional<SheetPages> {
+    if (error) *error = why;
+    return std::nullopt;
+  };
+  if (source->paths.empty()) return fail("the sidecar lists no sheet file");
+  switch (record.format) {
+    case SheetFormat::kPdf: {
+      source->pdf.reset(poppler::document::load_from_file(source->paths[0]));
+      if (!source->pdf || source->pdf->is_locked())
+        return fail("cannot read PDF '" + source->paths[0] + "'");
+      const int count = source->pdf->pages();
+      if (count != record.num_pages) return fail(CountProblem(count, record.num_pages));
+      for (int i = 0; i < count; ++i) {
+        std::unique_ptr<poppler::page> page(source->pdf->create_page(i));
+        if (!page)
+          return fail("cannot read page " + std::to_string(i + 1) + " of '" + source->paths[0] +
+                      "'");
+        const poppler::rectf box = page->page_rect();
+        const double w_mm = box.width() / 72.0 * 25.4, h_mm = box.height() / 72.0 * 25.4;
+        const std::string problem = PageSizeProblem(i, w_mm, h_mm, dpi);
+        if (!problem.empty()) return fail(problem);
+        pages.sizes_.emplace_back(static_cast<int>(std::ceil(w_mm / 25.4 * dpi)),
+                                  static_cast<int>(std::ceil(h_mm / 25.4 * dpi)));
+      }
+      break;
+    }
+    case SheetFormat::kSvg:
+    case SheetFormat::kPng:
+      if (static_cast<int>(source->paths.size()) != record.num_pages)
+        return fail(CountProblem(static_cast<int>(source->paths.size()), record.num_pages));
+      for (size_t i = 0; i < source->paths.size(); ++i) {
+        const std::string& path = source->paths[i];
+        if (record.format == SheetFormat::kSvg) {
+          double w = 0.0, h = 0.0;
+          RsvgHandle* handle = LoadSvg(path, dpi, &w, &h, &message);
+          if (handle == nullptr) return fail(message);
+          g_object_unref(handle);
+          const std::string problem =
+              PageSizeProblem(static_cast<int>(i), w / dpi * 25.4, h / dpi * 25.4, dpi);
+          if (!problem.empty()) return fail(problem);
+          pages.sizes_.emplace_back(static_cast<int>(std::lround(w)),
+                                    static_cast<int>(std::lround(h)));
+        } else {
+          ImageSize size;
+          if (!ImageHeaderSize(path, &size))
+            return fail("cannot read the size of PNG page '" + path + "'");
+          const std::string problem = ImageSizeProblem(size);
+          if (!problem.empty()) return fail("PNG page '" + path + "': " + problem);
+          pages.sizes_.emplace_back(static_cast<int>(size.width), static_cast<int>(size.height));
+        }
+      }
+      break;
+  }
+  pages.source_ = std::move(source);
+  return pages;
+}
+
+cv::Mat SheetPages::Render(int index, std::string* error) const {
+  std::string message;
+  cv::Mat page;
+  if (index < 0 || index >= size()) {
+    message =
+        "no page " + std::to_string(index + 1) + " (the sheet has " + std::to_string(size()) + ")";
+  } else if (source_->format == SheetFormat::kPdf) {
+    std::unique_ptr<poppler::page> pdf_page(source_->pdf->create_page(index));
+    poppler::page_renderer renderer;
+    renderer.set_render_hint(poppler::page_renderer::antialiasing, true);
+    const poppler::image image =
+        pdf_page ? renderer.render_page(pdf_page.get(), source_->dpi, source_->dpi)
+                 : poppler::image();
+    if (image.is_valid()) {
+      page = FromXrgb(reinterpret_cast<const unsigned char*>(image.const_data()), image.width(),
+                      image.height(), image.bytes_per_row());
+    } else {
+      message =
+          "cannot render page " + std::to_string(index + 1) + " of '" + source_->paths[0] + "'";
+    }
+  } else if (source_->format == SheetFormat::kSvg) {
+    page = RenderSvg(source_->paths[index], source_->dpi, &message);
+  } else {
+    page = ReadImage(source_->paths[index], &message);
+  }
+  if (page.empty() && error) *error = message;
+  return page;
+}
+
+std::optional<SheetImages> RasterizeSheet(const SheetRecord& record, double dpi,
+                                          std::string* error) {
+  auto pages = SheetPages::Open(record, dpi, error);
+  if (!pages) return std::nullopt;
+  SheetImages images;
+  images.px_per_mm = pages->px_per_mm();
+  for (int i = 0; i < pages->size(); ++i) {
+    images.pages.push_back(pages->Render(i, error));
+    if (images.pages.back().empty()) return std::nullopt;
+  }
+  return images;
+}
 
 cv::Point2d MmToPixel(const std::array<double, 2>& mm, double px_per_mm) {
   return {mm[0] * px_per_mm - 0.5, mm[1] * px_per_mm - 0.5};
@@ -92,42 +215,6 @@ cv::Point2d MmToPixel(const std::array<double, 2>& mm, double px_per_mm) {
 
 std::array<double, 2> PixelToMm(const cv::Point2d& px, double px_per_mm) {
   return {(px.x + 0.5) / px_per_mm, (px.y + 0.5) / px_per_mm};
-}
-
-std::optional<SheetImages> RasterizeSheet(const SheetRecord& record, double dpi,
-                                          std::string* error) {
-  std::string message;
-  SheetImages images;
-  images.px_per_mm = dpi / 25.4;
-  bool ok = true;
-  switch (record.format) {
-    case SheetFormat::kPdf:
-      ok = RasterizePdf(record.files.at(0).path, dpi, &images.pages, &message);
-      break;
-    case SheetFormat::kSvg:
-      for (size_t i = 0; ok && i < record.files.size(); ++i) {
-        ok = RasterizeSvg(record.files[i].path, dpi, &images.pages, &message);
-      }
-      break;
-    case SheetFormat::kPng:
-      images.px_per_mm = record.dpi / 25.4;
-      for (size_t i = 0; ok && i < record.files.size(); ++i) {
-        cv::Mat page = ReadImage(record.files[i].path, &message);
-        ok = !page.empty();
-        images.pages.push_back(page);
-      }
-      break;
-  }
-  if (ok && static_cast<int>(images.pages.size()) != record.num_pages) {
-    message = "the sheet has " + std::to_string(images.pages.size()) +
-              " page(s) but its sidecar describes " + std::to_string(record.num_pages);
-    ok = false;
-  }
-  if (!ok) {
-    if (error) *error = message;
-    return std::nullopt;
-  }
-  return images;
 }
 
 }  // namespace chromatag

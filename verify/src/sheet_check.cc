@@ -69,8 +69,9 @@ bool VerifyOptions::IsValid(std::string* error) const {
   return true;
 }
 
-SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
-                        const Detector& detector, const VerifyOptions& options) {
+std::optional<SheetVerdict> CheckSheet(const SheetRecord& record, const SheetPages& pages,
+                                       const Detector& detector, const VerifyOptions& options,
+                                       std::string* error) {
   SheetVerdict verdict;
   for (const PlacedTag& tag : record.tags) {
     TagVerdict v;
@@ -78,28 +79,32 @@ SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
     verdict.tags.push_back(v);
   }
   const double reach_mm = record.tag_size_mm / 2.0;  // A detection this close belongs to a tag.
-  for (size_t page = 0; page < images.pages.size(); ++page) {
-    const DetectionResult result = detector.Detect(images.pages[page], PixelOrder::kBgr);
+  for (int page = 0; page < pages.size(); ++page) {
+    DetectionResult result;
+    {
+      // Held only while it is searched: one page in memory at a time.
+      const cv::Mat image = pages.Render(page, error);
+      if (image.empty()) return std::nullopt;
+      detector.Detect(image, PixelOrder::kBgr, &result);
+    }
     for (const Detection& detection : result.detections) {
       std::array<std::array<double, 2>, 4> corners;
       std::array<double, 2> center{0.0, 0.0};
       for (int i = 0; i < 4; ++i) {
-        corners[i] = PixelToMm(detection.corners[i], images.px_per_mm);
+        corners[i] = PixelToMm(detection.corners[i], pages.px_per_mm());
         center[0] += corners[i][0] / 4.0;
         center[1] += corners[i][1] / 4.0;
       }
       TagVerdict* owner = nullptr;
       for (TagVerdict& v : verdict.tags) {
-        if (v.expected.page == static_cast<int>(page) &&
-            Distance(v.expected.center_mm, center) < reach_mm &&
+        if (v.expected.page == page && Distance(v.expected.center_mm, center) < reach_mm &&
             (owner == nullptr || Distance(v.expected.center_mm, center) <
                                      Distance(owner->expected.center_mm, center))) {
           owner = &v;
         }
       }
       if (owner == nullptr || detection.family != record.family.get()) {
-        verdict.unexpected.push_back(
-            {static_cast<int>(page), detection.family->name(), detection.id, center});
+        verdict.unexpected.push_back({page, detection.family->name(), detection.id, center});
         continue;
       }
       if (++owner->times_found > 1) continue;
@@ -152,13 +157,15 @@ std::optional<SheetVerdict> VerifySheetFile(const std::string& sheet_path,
   if (!options.IsValid(error)) return std::nullopt;
   auto record = ReadSheetSidecar(sheet_path, error);
   if (!record) return std::nullopt;
-  auto images = RasterizeSheet(*record, options.dpi, error);
-  if (!images) return std::nullopt;
+  auto pages = SheetPages::Open(*record, options.dpi, error);
+  if (!pages) return std::nullopt;
   DetectorOptions detector_options;
   detector_options.families = TagFamily::Names();
   auto detector = Detector::Create(detector_options, error);
   if (!detector) return std::nullopt;
-  SheetVerdict verdict = CheckSheet(*record, *images, *detector, options);
+  auto checked = CheckSheet(*record, *pages, *detector, options, error);
+  if (!checked) return std::nullopt;
+  SheetVerdict& verdict = *checked;
   for (const auto& file : record->files) {
     if (Sha256Hex(ReadFile(file.path)) != file.sha256) {
       verdict.file_problems.push_back("'" + file.path +

@@ -12,6 +12,13 @@ namespace chromatag {
 // The largest side of a Cairo image surface, in pixels.
 inline constexpr double kMaxRasterSidePx = 32767.0;
 
+// Why a page of width_mm x height_mm cannot be drawn as an image at `dpi`:
+// over Cairo's side limit or over kMaxImagePixels, the budget every reader
+// of the project holds to (so a PNG written can be read back). The message
+// gives the size it would take and the highest dpi that fits. "" when it
+// fits.
+std::string RasterPageProblem(double width_mm, double height_mm, double dpi);
+
 // The font of every label and note (Debian's fonts-dejavu-core).
 inline constexpr const char* kLabelFont = "DejaVu Sans";
 

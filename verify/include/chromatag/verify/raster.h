@@ -3,6 +3,7 @@
 #ifndef CHROMATAG_VERIFY_RASTER_H_
 #define CHROMATAG_VERIFY_RASTER_H_
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,14 +14,47 @@
 
 namespace chromatag {
 
+// The pages of a sheet, rasterised one at a time: memory holds one page
+// however many the sheet has. Every page's size in pixels is known on Open,
+// so a page too large for the resolution is refused before any is drawn.
+class SheetPages {
+ public:
+  // Opens the sheet `record` describes, to rasterise its PDF or SVG pages at
+  // `dpi` (a PNG keeps its own resolution, record.dpi). Refuses (nullopt,
+  // *error) a missing or unreadable file, a page count other than the
+  // sidecar's, and a page over kMaxImagePixels or 32767 pixels a side at
+  // that resolution (the message gives the size and the highest dpi that
+  // fits).
+  static std::optional<SheetPages> Open(const SheetRecord& record, double dpi,
+                                        std::string* error = nullptr);
+
+  int size() const { return static_cast<int>(sizes_.size()); }
+  double px_per_mm() const { return px_per_mm_; }
+  // Width and height of page `index` in pixels, as Render will draw it.
+  cv::Size page_size(int index) const { return sizes_.at(index); }
+
+  // Rasterises page `index` (0-based) to CV_8UC3 BGR. Returns an empty Mat
+  // and sets *error when the renderer fails (out of memory, a damaged page).
+  // Not for two threads at once: a PDF's pages share one poppler document.
+  cv::Mat Render(int index, std::string* error = nullptr) const;
+
+ private:
+  struct Source;
+  std::shared_ptr<const Source> source_;
+  std::vector<cv::Size> sizes_;
+  double px_per_mm_ = 0.0;
+};
+
+// Every page of a sheet at once, for small sheets (tests, simulations):
+// memory grows with the page count, so a tool that checks sheets of any
+// length goes through SheetPages.
 struct SheetImages {
   std::vector<cv::Mat> pages;  // CV_8UC3, BGR, one per page.
   double px_per_mm = 0.0;
 };
 
-// Rasterises every page of the sheet `record` describes at `dpi` (PDF, SVG;
-// a PNG keeps its own resolution, record.dpi). Refuses (nullopt, *error) a
-// missing or unreadable file, or one with a different number of pages.
+// Rasterises every page through SheetPages (so it refuses what Open and
+// Render refuse).
 std::optional<SheetImages> RasterizeSheet(const SheetRecord& record, double dpi,
                                           std::string* error = nullptr);
 

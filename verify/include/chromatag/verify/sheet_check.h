@@ -57,10 +57,13 @@ struct SheetVerdict {
   int tags_passed = 0;
 };
 
-// Checks rasterised pages against the sidecar with `detector` (which should
-// look for every family, so strays of another family are found too).
-SheetVerdict CheckSheet(const SheetRecord& record, const SheetImages& images,
-                        const Detector& detector, const VerifyOptions& options);
+// Checks the sheet's pages against the sidecar with `detector` (which should
+// look for every family, so strays of another family are found too), one
+// page rasterised at a time. Refuses (nullopt, *error) a page that cannot be
+// rendered.
+std::optional<SheetVerdict> CheckSheet(const SheetRecord& record, const SheetPages& pages,
+                                       const Detector& detector, const VerifyOptions& options,
+                                       std::string* error = nullptr);
 
 // The sidecar beside a sheet file (.pdf, .svg, .png), which must describe
 // that file. Refuses (nullopt, *error) a missing sheet, what ReadSidecar
