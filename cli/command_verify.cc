@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/config.h"
@@ -225,11 +226,24 @@ void PrintPrintCheck(const SheetRecord& record, const PrintVerdict& verdict) {
   }
   for (int p : verdict.pages_not_seen)
     Print("page %d: no scan or photo shows it (not checked)\n", p + 1);
-  Print("%d of %d tag%s pass%s. %s\n", verdict.tags_passed, verdict.tags_checked,
+  // A page's shape counts as checked when any image of it measured it.
+  std::set<int> shape_checked, shape_unchecked;
+  for (const PrintPageResult& r : verdict.images) {
+    if (r.page >= 0) (r.geometry_checked ? shape_checked : shape_unchecked).insert(r.page);
+  }
+  int unchecked = 0;
+  for (int p : shape_unchecked) unchecked += shape_checked.count(p) ? 0 : 1;
+  const std::string shape_note =
+      unchecked == 0 ? ""
+      : unchecked == 1 && shape_checked.empty()
+          ? "; the page's shape was not checked"
+          : "; the shape of " + std::to_string(unchecked) + " page(s) was not checked";
+  Print("%d of %d tag%s pass%s%s. %s\n", verdict.tags_passed, verdict.tags_checked,
         verdict.tags_checked == 1 ? "" : "s",
         verdict.tags_warned
             ? (" (" + std::to_string(verdict.tags_warned) + " with warnings)").c_str()
             : "",
+        shape_note.c_str(),
         verdict.grade == Grade::kFail   ? "FAIL"
         : verdict.grade == Grade::kWarn ? "PASS with warnings"
                                         : "PASS");

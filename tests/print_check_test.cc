@@ -367,6 +367,44 @@ TEST_F(PrintCheckTest, PhotoOfAGoodPrintPassesAndAStretchedOneFails) {
   }
 }
 
+// Tilted about one image axis only, the page's perspective leaves the focal
+// length free and the aspect trades with it: a 4 % stretch cannot be told
+// apart, so the page's shape must be reported as not checked (not passed);
+// the camera's intrinsics pin the aspect, and the stretch fails.
+TEST_F(PrintCheckTest, PhotoTiltedAboutOneAxisSaysTheShapeWasNotChecked) {
+  SimCamera camera;
+  camera.width = 2400;
+  camera.height = 1800;
+  camera.page_corners_px =
+      PinholePageCorners(record_->page, 1800, 30, 0, 420, {camera.width, camera.height});
+  const cv::Mat photo =
+      PrintAndPhotograph(images_->pages[1], PxPerMm(), press_->AsPrintFn(), {1.0, 1.04}, camera);
+  PrintPageResult r = CheckPrintImage(*record_, photo, {"tilted"}, *detector_, PrintCheckOptions());
+  EXPECT_EQ(r.tags_found, static_cast<int>(r.tags.size()));
+  EXPECT_GT(2 * r.aspect_error, PrintCheckOptions().max_aspect_error) << r.aspect_error;
+  EXPECT_FALSE(r.geometry_checked);
+  EXPECT_EQ(r.grade, Grade::kWarn) << AllProblems(r);
+  bool said = false;
+  for (const std::string& p : r.problems)
+    said |= p.rfind("the page's shape was not checked", 0) == 0 && p.find("--camera") != p.npos;
+  EXPECT_TRUE(said) << AllProblems(r);
+  // The command's verdict says so too.
+  const std::string file = *dir_ + "/tilted.png";
+  ASSERT_TRUE(cv::imwrite(file, photo));
+  const auto run = testing::RunChromatag({"verify", *dir_ + "/tags.pdf", "--print", file});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("pass; the page's shape was not checked. PASS with warnings"),
+            std::string::npos)
+      << run.out;
+  PrintCheckOptions with_camera;
+  with_camera.camera =
+      CameraIntrinsics{1800, 1800, (camera.width - 1) / 2.0, (camera.height - 1) / 2.0, {}};
+  r = CheckPrintImage(*record_, photo, {"tilted"}, *detector_, with_camera);
+  EXPECT_TRUE(r.geometry_checked);
+  EXPECT_NEAR(r.aspect, 1.0 / 1.04, 0.003);
+  EXPECT_EQ(r.grade, Grade::kFail) << AllProblems(r);
+}
+
 TEST_F(PrintCheckTest, ReportsDrawEveryImage) {
   PrintVerdict verdict;
   verdict.images.push_back(Scan(images_->pages[2], press_->AsPrintFn()));
@@ -412,6 +450,7 @@ TEST_F(PrintCheckTest, PhotoFaceOnGuessesTheFocalLengthAndFewTagsLeaveTheAspectU
   EXPECT_EQ(r.focal_source, "guessed");
   EXPECT_NEAR(r.aspect, 1.0, 0.003);
   EXPECT_NE(r.grade, Grade::kFail) << AllProblems(r);
+  EXPECT_TRUE(r.geometry_checked) << AllProblems(r);
   // Given the camera, its focal length is used.
   PrintCheckOptions with_camera;
   with_camera.camera =
@@ -431,9 +470,10 @@ TEST_F(PrintCheckTest, PhotoFaceOnGuessesTheFocalLengthAndFewTagsLeaveTheAspectU
   r = CheckPrintImage(*record_, few, {"few"}, *detector_, PrintCheckOptions());
   EXPECT_EQ(r.tags_in_fit, 3);
   EXPECT_EQ(r.aspect, 0.0);
+  EXPECT_FALSE(r.geometry_checked);
   bool said = false;
   for (size_t i = 0; i < r.problems.size(); ++i)
-    said |= r.problems[i].find("too few to judge the page's aspect") != std::string::npos &&
+    said |= r.problems[i].find("too few to judge its aspect") != std::string::npos &&
             r.problem_grades[i] == Grade::kWarn;
   EXPECT_TRUE(said) << AllProblems(r);
 }

@@ -531,9 +531,22 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
                  r->skew_deg));
     }
   } else if (r->aspect == 0) {
+    r->geometry_checked = false;
     Add(findings, Grade::kWarn,
-        Format("only %d tag%s fit: too few to judge the page's aspect (4 or more)", r->tags_in_fit,
-               r->tags_in_fit == 1 ? "" : "s"));
+        Format("the page's shape was not checked: only %d tag%s fit, too few to judge its aspect "
+               "(4 or more)",
+               r->tags_in_fit, r->tags_in_fit == 1 ? "" : "s"));
+  } else if (2 * r->aspect_error > o.max_aspect_error) {
+    // The view leaves the aspect too loose to catch a stretch of the
+    // tolerance's size (a tilt about one image axis leaves the focal length
+    // free, and the aspect trades with it): passing it would vouch for what
+    // was not seen.
+    r->geometry_checked = false;
+    Add(findings, Grade::kWarn,
+        Format("the page's shape was not checked: this view gives its aspect only as %.3f ± %.3f, "
+               "where 1 ± %.3f is allowed (the view does not fix the camera's focal length); "
+               "give --camera, add a photo tilted about both axes or face on, or scan the page",
+               r->aspect, 2 * r->aspect_error, o.max_aspect_error));
   } else {
     const double allowed = o.max_aspect_error + 2 * r->aspect_error;
     if (std::abs(r->aspect - 1.0) > allowed) {

@@ -54,7 +54,8 @@ Json ToJson(const SheetRecord& record, const PrintVerdict& verdict) {
                   {"kind", r.scan ? "scan" : "photo"},
                   {"grade", GradeName(r.grade)},
                   {"tags_found", r.tags_found},
-                  {"rms_mm", r.rms_mm}};
+                  {"rms_mm", r.rms_mm},
+                  {"geometry_checked", r.geometry_checked}};
     if (r.scan) {
       image["dpi"] = {r.dpi_x, r.dpi_y};
       image["scale"] = {{"x", r.scale_x},
