@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <glib.h>
 #include <pthread.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -12,6 +13,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <set>
 
 namespace chromatag {
 namespace {
@@ -42,19 +45,16 @@ class SignalGuard {
   sigset_t saved_;
 };
 
-// A new file with a short unpredictable name in `folder` (mkostemp: O_EXCL,
-// so never an existing file or a planted symlink), holding `contents`,
-// synced to disk. Its path in *temporary; false with *why.
-bool WriteTemporary(const std::string& folder, const std::string& contents, std::string* temporary,
-                    std::string* why) {
-  std::string name = folder + "/.chromatag-XXXXXX";
-  const int fd = mkostemp(name.data(), O_CLOEXEC);
+// Writes `contents` to a new file `path` (O_EXCL and O_NOFOLLOW: never an
+// existing file or a planted symlink), mode 0644, synced to disk; false with
+// *why.
+bool WriteNewFile(const std::string& path, const std::string& contents, std::string* why) {
+  const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
   if (fd < 0) {
     *why = std::strerror(errno);
     return false;
   }
-  *temporary = name;
-  bool ok = fchmod(fd, 0644) == 0;  // mkostemp makes 0600; outputs are for sharing.
+  bool ok = fchmod(fd, 0644) == 0;  // Past the umask: outputs are for sharing.
   for (size_t done = 0; ok && done < contents.size();) {
     const ssize_t n = write(fd, contents.data() + done, contents.size() - done);
     if (n < 0 && errno == EINTR) continue;
@@ -73,6 +73,154 @@ void SyncFolder(const std::string& folder) {
   if (fd < 0) return;
   fsync(fd);
   close(fd);
+}
+
+// One write on disk. Every file it makes is named from one unpredictable
+// stem S (".chromatag-XXXXXX", made in the first target's folder):
+//   S.journal              locked (flock) while its writer lives; its lines:
+//                          "target PATH" for each target, synced before any
+//                          new file exists; "old I" for each target that had
+//                          a file, and "commit" once every new file is whole;
+//                          "rollback" if a rename failed after that
+//   <target's folder>/S.I      the new contents of target I
+//   <target's folder>/S.I.old  a hard link to target I's old file
+// A writer killed (SIGKILL, power loss) leaves its journal, and the next
+// write into that folder finishes it: before "commit" nothing was replaced,
+// so the new files go; after it the renames are completed; after
+// "rollback" the old files are put back. Either way the targets end as one
+// whole set, old or new, and nothing of the write is left.
+constexpr char kJournalHeader[] = "chromatag write journal 1\n";
+constexpr char kJournalCommit[] = "commit\n";
+constexpr char kJournalSuffix[] = ".journal";
+
+// A path on one line: backslash and newline escaped.
+std::string EscapeLine(const std::string& path) {
+  std::string out;
+  for (char c : path) {
+    if (c == '\\')
+      out += "\\\\";
+    else if (c == '\n')
+      out += "\\n";
+    else
+      out += c;
+  }
+  return out;
+}
+
+std::string UnescapeLine(const std::string& line) {
+  std::string out;
+  for (size_t i = 0; i < line.size(); ++i) {
+    if (line[i] == '\\' && i + 1 < line.size()) {
+      out += line[i + 1] == 'n' ? '\n' : line[i + 1];
+      ++i;
+    } else {
+      out += line[i];
+    }
+  }
+  return out;
+}
+
+bool WriteAll(int fd, const std::string& text) {
+  for (size_t done = 0; done < text.size();) {
+    const ssize_t n = write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<size_t>(n);
+  }
+  return true;
+}
+
+// The new file and the backup of target `index` of the write named `stem`.
+std::string NewName(const std::string& target, const std::string& stem, size_t index) {
+  return Folder(target) + "/" + stem + "." + std::to_string(index);
+}
+std::string OldName(const std::string& target, const std::string& stem, size_t index) {
+  return NewName(target, stem, index) + ".old";
+}
+
+bool Exists(const std::string& path) {
+  struct stat st;
+  return lstat(path.c_str(), &st) == 0;
+}
+
+// Finishes the write whose journal is `journal`, unless its writer still
+// holds it, it is not this user's, or it is not a journal.
+void FinishInterruptedWrite(const std::string& journal) {
+  const int fd = open(journal.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  struct stat st;
+  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != geteuid() ||
+      st.st_size > (64 << 20) || flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    close(fd);
+    return;
+  }
+  std::string text(static_cast<size_t>(st.st_size), '\0');
+  const bool read_all = pread(fd, text.data(), text.size(), 0) == st.st_size;
+  if (!read_all || text.rfind(kJournalHeader, 0) != 0) {
+    close(fd);
+    return;
+  }
+  std::vector<std::string> targets;
+  std::set<size_t> had_old;
+  bool committed = false, rolled_back = false;
+  for (size_t at = sizeof(kJournalHeader) - 1; at < text.size();) {
+    const size_t end = text.find('\n', at);
+    if (end == std::string::npos) break;  // A line cut short: not written whole.
+    const std::string line = text.substr(at, end - at);
+    at = end + 1;
+    if (line.rfind("target ", 0) == 0) {
+      if (!committed) targets.push_back(UnescapeLine(line.substr(7)));
+    } else if (line.rfind("old ", 0) == 0) {
+      had_old.insert(std::strtoull(line.c_str() + 4, nullptr, 10));
+    } else if (line == "commit") {
+      committed = true;
+    } else if (line == "rollback") {
+      rolled_back = committed;
+    }
+  }
+  std::string stem = fs::path(journal).filename().string();
+  stem.resize(stem.size() - (sizeof(kJournalSuffix) - 1));
+  std::vector<std::string> folders;
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const std::string fresh = NewName(targets[i], stem, i), old = OldName(targets[i], stem, i);
+    if (rolled_back) {
+      if (had_old.count(i) && Exists(old))
+        rename(old.c_str(), targets[i].c_str());
+      else if (!had_old.count(i) && !Exists(fresh))
+        unlink(targets[i].c_str());  // Renamed into place where no file was.
+    } else if (committed && Exists(fresh)) {
+      rename(fresh.c_str(), targets[i].c_str());
+    }
+    unlink(fresh.c_str());
+    unlink(old.c_str());
+    folders.push_back(Folder(targets[i]));
+  }
+  for (const std::string& folder : folders) SyncFolder(folder);
+  unlink(journal.c_str());
+  SyncFolder(Folder(journal));
+  close(fd);
+}
+
+// Finishes the interrupted writes in `folder`, once per folder and process
+// (an overlay folder is written thousands of times).
+void FinishInterruptedWritesIn(const std::string& folder) {
+  static std::mutex mutex;
+  static std::set<std::string> done;
+  std::error_code ec;
+  const std::string key = fs::weakly_canonical(folder, ec).string();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!done.insert(ec ? folder : key).second) return;
+  }
+  std::vector<std::string> journals;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(".chromatag-", 0) == 0 && name.size() > sizeof(kJournalSuffix) &&
+        name.compare(name.size() - (sizeof(kJournalSuffix) - 1), std::string::npos,
+                     kJournalSuffix) == 0)
+      journals.push_back(it->path().string());
+  }
+  for (const std::string& journal : journals) FinishInterruptedWrite(journal);
 }
 
 }  // namespace
@@ -114,75 +262,88 @@ bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* err
   std::vector<std::string> paths;
   for (const OutputFile& file : files) paths.push_back(file.path);
   if (!CheckOutputTargets(paths, error)) return false;
+  if (files.empty()) return true;
   auto fail = [&](const std::string& path, const std::string& why) {
     if (error) *error = "cannot write '" + path + "': " + why;
     return false;
   };
   SignalGuard guard;
-  std::vector<std::string> temporaries;
-  auto remove_all = [&](const std::vector<std::string>& paths) {
-    for (const std::string& p : paths) unlink(p.c_str());
-  };
+  std::vector<std::string> targets, folders;
   for (const OutputFile& file : files) {
-    std::string temporary, why;
-    if (!WriteTemporary(Folder(file.path), file.contents, &temporary, &why)) {
-      if (!temporary.empty()) unlink(temporary.c_str());
-      remove_all(temporaries);
-      return fail(file.path, why);
-    }
-    temporaries.push_back(temporary);
-  }
-  // Backups of the targets that exist (hard links, no copy), so that a
-  // rename failing half way can put the earlier ones back.
-  std::vector<std::string> backups(files.size());
-  for (size_t i = 0; i < files.size(); ++i) {
     std::error_code ec;
-    if (!fs::exists(fs::symlink_status(files[i].path, ec))) continue;
-    std::string name = Folder(files[i].path) + "/.chromatag-old-XXXXXX";
-    const int fd = mkostemp(name.data(), O_CLOEXEC);
-    if (fd >= 0) close(fd);
-    if (fd < 0 || rename(files[i].path.c_str(), name.c_str()) != 0 ||
-        link(name.c_str(), files[i].path.c_str()) != 0) {
-      const std::string why = std::strerror(errno);
-      if (fd >= 0 && fs::exists(fs::symlink_status(name, ec)) &&
-          !fs::exists(fs::symlink_status(files[i].path, ec)))
-        rename(name.c_str(), files[i].path.c_str());
-      else if (fd >= 0)
-        unlink(name.c_str());
-      for (size_t j = 0; j < i; ++j) {
-        if (!backups[j].empty()) unlink(backups[j].c_str());
-      }
-      remove_all(temporaries);
-      return fail(files[i].path, why);
-    }
-    backups[i] = name;
-  }
-  for (size_t i = 0; i < files.size(); ++i) {
-    if (rename(temporaries[i].c_str(), files[i].path.c_str()) != 0) {
-      const std::string why = std::strerror(errno);
-      for (size_t j = 0; j < i; ++j) {  // Undo: the old files back, new ones gone.
-        if (!backups[j].empty())
-          rename(backups[j].c_str(), files[j].path.c_str());
-        else
-          unlink(files[j].path.c_str());
-      }
-      for (size_t j = i; j < files.size(); ++j) {
-        if (!backups[j].empty()) unlink(backups[j].c_str());
-      }
-      remove_all(
-          std::vector<std::string>(temporaries.begin() + static_cast<long>(i), temporaries.end()));
-      return fail(files[i].path, why);
-    }
-  }
-  for (const std::string& backup : backups) {
-    if (!backup.empty()) unlink(backup.c_str());
-  }
-  std::vector<std::string> folders;
-  for (const OutputFile& file : files) {
+    const fs::path absolute = fs::absolute(file.path, ec);
+    targets.push_back(ec ? file.path : absolute.string());
     if (std::find(folders.begin(), folders.end(), Folder(file.path)) == folders.end())
       folders.push_back(Folder(file.path));
   }
+  for (const std::string& folder : folders) FinishInterruptedWritesIn(folder);
+
+  // The journal, naming the targets, synced before any new file exists.
+  std::string journal = Folder(files[0].path) + "/.chromatag-XXXXXX" + kJournalSuffix;
+  const int journal_fd =
+      mkostemps(journal.data(), static_cast<int>(sizeof(kJournalSuffix) - 1), O_CLOEXEC);
+  if (journal_fd < 0) return fail(files[0].path, std::strerror(errno));
+  std::string stem = fs::path(journal).filename().string();
+  stem.resize(stem.size() - (sizeof(kJournalSuffix) - 1));
+  std::string listing = kJournalHeader;
+  for (const std::string& target : targets) listing += "target " + EscapeLine(target) + "\n";
+  size_t made = 0, linked = 0;  // New files written, targets looked at for backups.
+  std::vector<bool> had_old(files.size(), false);
+  // Removes what this write made and its journal: the targets untouched.
+  const auto abandon = [&](const std::string& path, const std::string& why) {
+    for (size_t i = 0; i < made; ++i) unlink(NewName(files[i].path, stem, i).c_str());
+    for (size_t i = 0; i < linked; ++i)
+      if (had_old[i]) unlink(OldName(files[i].path, stem, i).c_str());
+    unlink(journal.c_str());
+    close(journal_fd);
+    return fail(path, why);
+  };
+  if (flock(journal_fd, LOCK_EX) != 0 || !WriteAll(journal_fd, listing) || fsync(journal_fd) != 0)
+    return abandon(files[0].path, std::strerror(errno));
+  SyncFolder(Folder(files[0].path));
+  for (; made < files.size(); ++made) {
+    std::string why;
+    if (!WriteNewFile(NewName(files[made].path, stem, made), files[made].contents, &why)) {
+      unlink(NewName(files[made].path, stem, made).c_str());  // A part written, if any.
+      return abandon(files[made].path, why);
+    }
+  }
+  // Hard links to the targets that exist, so that a rename failing half way
+  // can put the earlier ones back.
+  std::string commit;
+  for (; linked < files.size(); ++linked) {
+    if (!Exists(files[linked].path)) continue;
+    if (link(files[linked].path.c_str(), OldName(files[linked].path, stem, linked).c_str()) != 0)
+      return abandon(files[linked].path, std::strerror(errno));
+    had_old[linked] = true;
+    commit += "old " + std::to_string(linked) + "\n";
+  }
+  // The commit point: from here an interrupted write is completed, not undone.
+  commit += kJournalCommit;
+  if (!WriteAll(journal_fd, commit) || fsync(journal_fd) != 0)
+    return abandon(files[0].path, std::strerror(errno));
+  for (size_t i = 0; i < files.size(); ++i) {
+    if (rename(NewName(files[i].path, stem, i).c_str(), files[i].path.c_str()) == 0) continue;
+    const std::string why = std::strerror(errno);
+    // Undo, marked first so that an undo cut short is finished the same way.
+    const bool marked = WriteAll(journal_fd, "rollback\n") && fsync(journal_fd) == 0;
+    for (size_t j = 0; j < files.size(); ++j) {
+      if (j < i && !had_old[j]) unlink(files[j].path.c_str());
+      if (j < i && had_old[j])
+        rename(OldName(files[j].path, stem, j).c_str(), files[j].path.c_str());
+      unlink(NewName(files[j].path, stem, j).c_str());
+      unlink(OldName(files[j].path, stem, j).c_str());
+    }
+    if (marked) unlink(journal.c_str());  // Else the next write finishes the undo.
+    close(journal_fd);
+    return fail(files[i].path, why);
+  }
+  for (size_t i = 0; i < files.size(); ++i)
+    if (had_old[i]) unlink(OldName(files[i].path, stem, i).c_str());
   for (const std::string& folder : folders) SyncFolder(folder);
+  unlink(journal.c_str());
+  SyncFolder(Folder(files[0].path));
+  close(journal_fd);
   return true;
 }
 

@@ -1,10 +1,18 @@
 #include "chromatag/generator/file_util.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
+#include <thread>
 
 namespace chromatag {
 namespace {
@@ -39,7 +47,7 @@ TEST(FileUtilTest, WritesAllFilesOrLeavesEverythingAsItWas) {
   std::remove(b.c_str());
 }
 
-// Issue 12's cases: a target that is a folder, a name of 250 characters, a
+// Cases: a target that is a folder, a name of 250 characters, a
 // symlink at the target, the mode, and never a temporary left behind.
 TEST(FileUtilTest, TargetsAreCheckedFirstAndNothingIsLeftBehind) {
   namespace fs = std::filesystem;
@@ -78,4 +86,121 @@ TEST(FileUtilTest, TargetsAreCheckedFirstAndNothingIsLeftBehind) {
 }
 
 }  // namespace
+namespace fs = std::filesystem;
+
+// Names in `dir` left by a write (its journal, new files, backups).
+std::vector<std::string> Leftovers(const std::string& dir) {
+  std::vector<std::string> out;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(".chromatag-", 0) == 0) out.push_back(name);
+  }
+  return out;
+}
+
+// A write killed by SIGKILL at any moment leaves the targets as one whole set,
+// old or new, once the next process writing into the folder has run: the child rewrites
+// ten files over and over, each round with its own number in every file, and
+// is killed after a random delay.
+TEST(FileUtilTest, AWriteKilledAnywhereIsFinishedByTheNextOne) {
+  const std::string root = ::testing::TempDir() + "/atomic_kill_" + std::to_string(getpid());
+  fs::remove_all(root);
+  std::mt19937 random(7);
+  int killed_with_leftovers = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    // A folder per trial: a process finishes a folder's writes once.
+    const std::string dir = root + "/" + std::to_string(trial);
+    fs::create_directories(dir);
+    const auto round_files = [&](int round) {
+      std::vector<OutputFile> files;
+      for (int i = 0; i < 10; ++i) {
+        files.push_back({dir + "/f" + std::to_string(i),
+                         "round " + std::to_string(round) + "\n" + std::string(32 << 10, 'x')});
+      }
+      return files;
+    };
+    // Round 0 in a process of its own: this one must come to the folder
+    // fresh, as the next run would.
+    const pid_t writer = fork();
+    ASSERT_GE(writer, 0);
+    if (writer == 0) _exit(WriteFilesAtomically(round_files(0)) ? 0 : 1);
+    int status = 1;
+    waitpid(writer, &status, 0);
+    ASSERT_EQ(status, 0);
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      for (int round = 1;; ++round) WriteFilesAtomically(round_files(round));
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(random() % 20000));
+    kill(child, SIGKILL);
+    waitpid(child, nullptr, 0);
+    killed_with_leftovers += Leftovers(dir).empty() ? 0 : 1;
+    ASSERT_TRUE(WriteFilesAtomically({{dir + "/other", "x"}}));
+    EXPECT_TRUE(Leftovers(dir).empty()) << "trial " << trial << ": " << Leftovers(dir)[0];
+    std::string first;
+    for (int i = 0; i < 10; ++i) {
+      const std::string text = Read(dir + "/f" + std::to_string(i));
+      const std::string round = text.substr(0, text.find('\n'));
+      if (i == 0) first = round;
+      EXPECT_EQ(round, first) << "trial " << trial << ", file " << i;
+      EXPECT_EQ(text.size(), round.size() + 1 + (32 << 10));
+    }
+  }
+  // The kills landed inside writes (else the test shows nothing).
+  EXPECT_GT(killed_with_leftovers, 10);
+  fs::remove_all(root);
+}
+
+// The three states a killed write can leave, made by hand from the journal's
+// layout (file_util.cc): before its commit, after it, and during an undo.
+TEST(FileUtilTest, InterruptedWritesAreUndoneCompletedOrRolledBack) {
+  const std::string root = ::testing::TempDir() + "/atomic_states_" + std::to_string(getpid());
+  fs::remove_all(root);
+  const auto setup = [&](const std::string& name, const std::string& tail) {
+    const std::string dir = root + "/" + name;
+    fs::create_directories(dir);
+    std::ofstream(dir + "/a") << "old a";  // b did not exist.
+    std::ofstream(dir + "/.chromatag-AbC123.0") << "new a";
+    std::ofstream(dir + "/.chromatag-AbC123.1") << "new b";
+    fs::create_hard_link(dir + "/a", dir + "/.chromatag-AbC123.0.old");
+    std::ofstream(dir + "/.chromatag-AbC123.journal")
+        << "chromatag write journal 1\ntarget " << dir << "/a\ntarget " << dir << "/b\n"
+        << tail;
+    return dir;
+  };
+  // Killed before the commit: nothing was replaced; the new files go.
+  std::string dir = setup("before", "old 0\n");
+  ASSERT_TRUE(WriteFilesAtomically({{dir + "/other", "x"}}));
+  EXPECT_EQ(Read(dir + "/a"), "old a");
+  EXPECT_FALSE(fs::exists(dir + "/b"));
+  EXPECT_TRUE(Leftovers(dir).empty());
+  // Killed after the commit, a renamed: the write is completed.
+  dir = setup("after", "old 0\ncommit\n");
+  fs::rename(dir + "/.chromatag-AbC123.0", dir + "/a");
+  ASSERT_TRUE(WriteFilesAtomically({{dir + "/other", "x"}}));
+  EXPECT_EQ(Read(dir + "/a"), "new a");
+  EXPECT_EQ(Read(dir + "/b"), "new b");
+  EXPECT_TRUE(Leftovers(dir).empty());
+  // Killed while undoing a failed rename (b renamed in, a not): old files back.
+  dir = setup("undo", "old 0\ncommit\nrollback\n");
+  fs::rename(dir + "/.chromatag-AbC123.1", dir + "/b");
+  ASSERT_TRUE(WriteFilesAtomically({{dir + "/other", "x"}}));
+  EXPECT_EQ(Read(dir + "/a"), "old a");
+  EXPECT_FALSE(fs::exists(dir + "/b"));
+  EXPECT_TRUE(Leftovers(dir).empty());
+  // A journal its writer still holds is left alone.
+  dir = setup("live", "old 0\n");
+  const int fd = open((dir + "/.chromatag-AbC123.journal").c_str(), O_RDONLY);
+  ASSERT_EQ(flock(fd, LOCK_EX), 0);
+  const pid_t child = fork();
+  if (child == 0) _exit(WriteFilesAtomically({{dir + "/other", "x"}}) ? 0 : 1);
+  int status = 0;
+  waitpid(child, &status, 0);
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(Leftovers(dir).size(), 4u);
+  close(fd);
+  fs::remove_all(root);
+}
+
 }  // namespace chromatag

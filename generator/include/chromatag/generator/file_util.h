@@ -16,15 +16,20 @@ struct OutputFile {
 // Writes all the files of one command, all or nothing:
 // - every target is checked first (its folder exists and is writable, the
 //   target is not a folder or a device, no path twice);
-// - each file goes to a new temporary file with a short unpredictable name
-//   in the target's folder (mkostemp: O_EXCL, never through a symlink),
-//   mode 0644, synced to disk;
-// - the existing targets are kept as hard-linked backups, the temporaries
-//   renamed into place, the backups dropped and the folders synced;
+// - a journal naming the targets is written and synced (a file with a short
+//   unpredictable name, mkostemps, in the first target's folder);
+// - each file goes to a new temporary file beside its target (O_EXCL, never
+//   through a symlink), mode 0644, synced to disk;
+// - the existing targets are kept as hard-linked backups, the journal
+//   marked committed, the temporaries renamed into place, the backups and
+//   the journal dropped and the folders synced;
 // - Ctrl-C, SIGTERM, SIGHUP and SIGQUIT are held back in this thread until
 //   it is over.
 // On any failure the old files are left as they were, no temporary remains,
-// and *error names the target and why.
+// and *error names the target and why. A write cut short by SIGKILL or a
+// power loss is finished by the first write of a later process into the
+// same folder: undone before its commit, completed after it, so the targets
+// are one whole set, old or new, and its temporaries are removed.
 bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* error = nullptr);
 
 // The checks WriteFilesAtomically makes of its targets before writing, for
