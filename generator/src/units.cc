@@ -68,7 +68,10 @@ std::optional<Length> ParseLength(const std::string& input, std::string* error) 
   const Unit* unit = FindUnit(unit_name);
   if (unit == nullptr) return fail("unknown unit '" + unit_name + "' (units: mm, cm, m, in)");
   if (!std::isfinite(value) || value <= 0.0) return fail("the length must be greater than zero");
-  return Length{value * unit->mm};
+  // Checked again in millimetres: 1e308m is finite, a thousand times it is not.
+  const double mm = value * unit->mm;
+  if (!std::isfinite(mm) || mm <= 0.0) return fail("the length is too large");
+  return Length{mm};
 }
 
 std::optional<PageSize> ParsePageSize(const std::string& input, std::string* error) {

@@ -23,6 +23,10 @@ TEST(UnitsTest, RefusesBadLengthsAndSaysWhatIsAllowed) {
   EXPECT_FALSE(ParseLength("-3mm", &error));
   EXPECT_FALSE(ParseLength("mm", &error));
   EXPECT_FALSE(ParseLength("nanmm", &error));
+  // Finite as typed, infinite in millimetres (found by fuzz_value_parsers).
+  EXPECT_FALSE(ParseLength("1e308m", &error));
+  EXPECT_EQ(error, "invalid length '1e308m': the length is too large");
+  EXPECT_FALSE(ParseLength("0x1p1023in", &error));
 }
 
 TEST(UnitsTest, ParsesNamedAndCustomPages) {
