@@ -36,6 +36,7 @@
 #include "chromatag/generator/file_util.h"
 #include "chromatag/generator/units.h"
 #include "commands.h"
+#include "library_output.h"
 #include "progress.h"
 #include "sources.h"
 
@@ -94,7 +95,7 @@ void OnSignal(int signal) {
 // a shell then knows the job was interrupted (a loop over files stops too).
 [[noreturn]] void DieBy(int signal) {
   std::fflush(stdout);
-  std::fflush(stderr);
+  std::fflush(ToolErr());
   std::signal(signal, SIG_DFL);
   std::raise(signal);
   std::_Exit(128 + signal);
@@ -240,13 +241,13 @@ class Run {
                           : reader_stuck && duration_over ? " (--duration, the stream stalled)"
                                                           : "";
       if (dropped) ended += ", " + std::to_string(dropped) + " stale live frames dropped";
-      std::fprintf(stderr,
+      std::fprintf(ToolErr(),
                    "detect: %zu frame%s, %zu with tags, %zu tag%s in %.2f s: %.1f frames/s on %d "
                    "thread%s%s\n",
                    frames, frames == 1 ? "" : "s", with_tags, tags, tags == 1 ? "" : "s", seconds,
                    seconds > 0 ? static_cast<double>(frames) / seconds : 0.0, jobs_,
                    jobs_ == 1 ? "" : "s", ended.c_str());
-      std::fflush(stderr);
+      std::fflush(ToolErr());
       return failed ? kExitFailure : kExitOk;
     };
     if (g_stop_now || reader_stuck) {

@@ -9,6 +9,7 @@
 
 #include "chromatag/families/version.h"
 #include "commands.h"
+#include "library_output.h"
 
 namespace chromatag::cli {
 
@@ -38,6 +39,25 @@ void Print(const char* format, ...) {
 }
 
 namespace {
+
+// A stream buffer over a C stream, unbuffered (as std::cerr's own).
+class FileBuffer : public std::streambuf {
+ public:
+  explicit FileBuffer(std::FILE* file) : file_(file) {}
+
+ protected:
+  int_type overflow(int_type ch) override {
+    if (traits_type::eq_int_type(ch, traits_type::eof())) return traits_type::not_eof(ch);
+    return std::fputc(ch, file_) == EOF ? traits_type::eof() : ch;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    return static_cast<std::streamsize>(std::fwrite(s, 1, static_cast<size_t>(n), file_));
+  }
+  int sync() override { return std::fflush(file_) == 0 ? 0 : -1; }
+
+ private:
+  std::FILE* file_;
+};
 
 // Writes through to another stream buffer with control characters (all but
 // newline and tab) shown as \xNN: a file name, an argument or a file's
@@ -83,9 +103,12 @@ class EscapingBuffer : public std::streambuf {
 }  // namespace chromatag::cli
 
 int main(int argc, char** argv) {
+  // Libraries' own lines kept apart from the tool's (library_output.h).
+  chromatag::cli::CaptureLibraryOutput();
   // Never freed: the standard streams flush through them at exit.
   std::cout.rdbuf(new chromatag::cli::EscapingBuffer(std::cout.rdbuf()));
-  std::cerr.rdbuf(new chromatag::cli::EscapingBuffer(std::cerr.rdbuf()));
+  std::cerr.rdbuf(new chromatag::cli::EscapingBuffer(
+      new chromatag::cli::FileBuffer(chromatag::cli::ToolErr())));
   // OpenCV's and FFmpeg's own log lines ("[ERROR:0@0.006] global ...") would
   // come before the tool's one message; the tool says what went wrong itself.
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);

@@ -4,13 +4,15 @@
 
 #include <cstdio>
 
+#include "library_output.h"
+
 namespace chromatag::cli {
 
 Progress::Progress(std::string label, std::string unit, size_t total)
     : label_(std::move(label)),
       unit_(std::move(unit)),
       total_(total),
-      enabled_(isatty(STDERR_FILENO) == 1),
+      enabled_(isatty(fileno(ToolErr())) == 1),
       start_(Clock::now()),
       last_draw_(start_ - std::chrono::seconds(1)) {}
 
@@ -26,20 +28,20 @@ void Progress::Update(size_t done) {
   if (total_ > 0) {
     constexpr int kWidth = 30;
     const int filled = static_cast<int>(kWidth * std::min(done, total_) / total_);
-    std::fprintf(stderr, "\r\033[K%s [%s%s] %zu/%zu %s, %.0f/s", label_.c_str(),
+    std::fprintf(ToolErr(), "\r\033[K%s [%s%s] %zu/%zu %s, %.0f/s", label_.c_str(),
                  std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(), done,
                  total_, unit_.c_str(), rate);
   } else {
-    std::fprintf(stderr, "\r\033[K%s %zu %s, %.0f/s", label_.c_str(), done, unit_.c_str(), rate);
+    std::fprintf(ToolErr(), "\r\033[K%s %zu %s, %.0f/s", label_.c_str(), done, unit_.c_str(), rate);
   }
-  std::fflush(stderr);
+  std::fflush(ToolErr());
   drawn_ = true;
 }
 
 void Progress::Finish() {
   if (!drawn_) return;
-  std::fprintf(stderr, "\r\033[K");
-  std::fflush(stderr);
+  std::fprintf(ToolErr(), "\r\033[K");
+  std::fflush(ToolErr());
   drawn_ = false;
 }
 

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "test_util.h"
 
@@ -146,6 +147,23 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
                                          "2000",     "-o",    d + "/x.png"};
        },
        2, "16535 x 23386 pixels (369 Mpx), over the limit of 256 Mpx"},
+      {"a PNG cut in half (libpng would print its own line)",
+       [](const std::string& d) {
+         const std::string png = ReadFile(d + "/page.png");
+         Write(d + "/cut.png", png.substr(0, png.size() / 2));
+         return std::vector<std::string>{"detect", d + "/cut.png"};
+       },
+       1, "cannot read image '"},
+      {"a PDF sheet cut short (poppler would print three lines)",
+       [](const std::string& d) {
+         const std::string pdf = ReadFile(d + "/sheet.pdf");
+         Write(d + "/cut.pdf", pdf.substr(0, 3000));
+         auto json = nlohmann::json::parse(ReadFile(d + "/sheet.pdf.json"));
+         json["files"][0]["path"] = "cut.pdf";
+         Write(d + "/cut.pdf.json", json.dump());
+         return std::vector<std::string>{"verify", d + "/cut.pdf"};
+       },
+       2, "cannot read PDF '"},
       {"verify of a 10 m page at 200 dpi",
        [](const std::string& d) {
          EXPECT_EQ(
@@ -266,6 +284,27 @@ TEST_F(CliHardeningTest, EveryBadInputIsOneLineAndAnExitCode) {
   // No refused write leaves a temporary behind.
   for (const auto& entry : fs::directory_iterator(dir_))
     EXPECT_NE(entry.path().filename().string().rfind(".chromatag-", 0), 0u) << entry.path();
+}
+
+// A JPEG whose data is damaged still decodes (grey where it is lost), and
+// libjpeg's "Corrupt JPEG data" line stays out of the tool's output.
+TEST_F(CliHardeningTest, LibraryLinesStayOutOfTheToolsOutput) {
+  const cv::Mat page = cv::imread(dir_ + "/page.png");
+  std::vector<uchar> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", page, jpeg));
+  std::fill(jpeg.begin() + static_cast<long>(jpeg.size() / 2),
+            jpeg.begin() + static_cast<long>(jpeg.size() / 2) + 64, 0);
+  Write(dir_ + "/damaged.jpg", std::string(jpeg.begin(), jpeg.end()));
+  const auto result = Chromatag({"detect", dir_ + "/damaged.jpg"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(CountLines(result.err), 1) << result.err;  // The summary.
+  EXPECT_EQ(result.err.rfind("detect: 1 frame", 0), 0u) << result.err;
+  // Asked for, the libraries' lines come through.
+  const auto through = testing::RunCommand(
+      "/usr/bin/env",
+      {"CHROMATAG_LIBRARY_OUTPUT=1", CHROMATAG_CLI_PATH, "detect", dir_ + "/damaged.jpg"});
+  EXPECT_NE(through.err.find("Corrupt JPEG data"), std::string::npos) << through.err;
+  EXPECT_EQ(through.exit_code, 0);
 }
 
 // A file named to set the terminal's title: the table shows the escapes as

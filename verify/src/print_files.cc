@@ -14,6 +14,7 @@
 #include "chromatag/families/input_file.h"
 #include "chromatag/generator/file_util.h"
 #include "chromatag/verify/print_check.h"
+#include "poppler_messages.h"
 #include "print_internal.h"
 
 namespace chromatag {
@@ -125,6 +126,7 @@ std::optional<SheetRecord> ReadPrintedSheet(const std::string& path, std::string
                   "was changed after they were written)");
     }
     if (record->format != SheetFormat::kPdf) continue;  // One file a page.
+    PopplerMessages messages;
     std::unique_ptr<poppler::document> pdf(poppler::document::load_from_raw_data(
         bytes->data(), static_cast<int>(std::min<size_t>(bytes->size(), INT_MAX))));
     if (pdf && pdf->pages() != record->num_pages) {

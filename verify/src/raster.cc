@@ -13,6 +13,7 @@
 #include "chromatag/detector/read_image.h"
 #include "chromatag/families/input_file.h"
 #include "chromatag/generator/cairo_util.h"
+#include "poppler_messages.h"
 
 namespace chromatag {
 
@@ -117,9 +118,10 @@ std::optional<SheetPages> SheetPages::Open(const SheetRecord& record, double dpi
   if (source->paths.empty()) return fail("the sidecar lists no sheet file");
   switch (record.format) {
     case SheetFormat::kPdf: {
+      PopplerMessages messages;
       source->pdf.reset(poppler::document::load_from_file(source->paths[0]));
       if (!source->pdf || source->pdf->is_locked())
-        return fail("cannot read PDF '" + source->paths[0] + "'");
+        return fail("cannot read PDF '" + source->paths[0] + "'" + messages.Note());
       const int count = source->pdf->pages();
       if (count != record.num_pages) return fail(CountProblem(count, record.num_pages));
       for (int i = 0; i < count; ++i) {
@@ -174,6 +176,7 @@ cv::Mat SheetPages::Render(int index, std::string* error) const {
     message =
         "no page " + std::to_string(index + 1) + " (the sheet has " + std::to_string(size()) + ")";
   } else if (source_->format == SheetFormat::kPdf) {
+    PopplerMessages messages;
     std::unique_ptr<poppler::page> pdf_page(source_->pdf->create_page(index));
     poppler::page_renderer renderer;
     renderer.set_render_hint(poppler::page_renderer::antialiasing, true);
@@ -184,8 +187,8 @@ cv::Mat SheetPages::Render(int index, std::string* error) const {
       page = FromXrgb(reinterpret_cast<const unsigned char*>(image.const_data()), image.width(),
                       image.height(), image.bytes_per_row());
     } else {
-      message =
-          "cannot render page " + std::to_string(index + 1) + " of '" + source_->paths[0] + "'";
+      message = "cannot render page " + std::to_string(index + 1) + " of '" + source_->paths[0] +
+                "'" + messages.Note();
     }
   } else if (source_->format == SheetFormat::kSvg) {
     page = RenderSvg(source_->paths[index], source_->dpi, &message);
