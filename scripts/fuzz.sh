@@ -35,4 +35,19 @@ for name in "${names[@]}"; do
   fi
   grep -E "stat::number_of_executed_units|cov:" "$build/fuzz_$name.log" | tail -n 2 || true
 done
+# The Python module's array conversions: random arrays from a script (the
+# module is the one `make build` made; a crash of the interpreter fails).
+python_dir=${CHROMATAG_PYTHON_DIR:-build/python}
+if ls "$python_dir"/chromatag/_chromatag*.so >/dev/null 2>&1; then
+  echo "fuzz_python_arrays: $seconds s"
+  if ! PYTHONPATH="$python_dir" /usr/bin/python3 tests/fuzz/fuzz_python_arrays.py "$seconds" \
+      >"$build/fuzz_python_arrays.log" 2>&1; then
+    echo "fuzz_python_arrays FOUND A FAILURE: $build/fuzz_python_arrays.log" >&2
+    tail -n 30 "$build/fuzz_python_arrays.log" >&2
+    status=1
+  fi
+  tail -n 1 "$build/fuzz_python_arrays.log"
+else
+  echo "fuzz_python_arrays: skipped, no Python module in $python_dir (make build first)"
+fi
 exit $status
