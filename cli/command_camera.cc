@@ -238,11 +238,11 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   if (!calibration_options.IsValid(&error)) return fail("--k3: " + error);
   if (o.k3 && format == CameraFileFormat::kKalibr)
     return fail("--k3 with --format kalibr: Kalibr's radtan model has no k3");
-  const std::string ext = Lower(fs::path(o.output).extension().string());
+  const std::string ext = LowerExtension(o.output);
   if (ext != ".yaml" && ext != ".yml")
     return fail("-o '" + o.output + "': camera files are YAML (.yaml or .yml)");
   for (const std::string& report : o.reports) {
-    const std::string e = Lower(fs::path(report).extension().string());
+    const std::string e = LowerExtension(report);
     if (e != ".pdf" && e != ".png") return fail("--report '" + report + "': .pdf or .png");
   }
   if (o.camera_name.empty() ||
@@ -314,7 +314,7 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   std::vector<OutputFile> files = {{o.output, text}};
   const std::string title = fs::path(o.board_file).filename().string();
   for (const std::string& report : o.reports) {
-    files.push_back({report, Lower(fs::path(report).extension().string()) == ".pdf"
+    files.push_back({report, LowerExtension(report) == ".pdf"
                                  ? RenderCameraReportPdf(*calibration, title)
                                  : RenderCameraReportPng(*calibration, title)});
   }

@@ -286,7 +286,7 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
   if (!options.IsValid(&error)) return Fail("verify", error);
   std::string report_format;
   if (!o.report.empty()) {
-    const std::string ext = Lower(std::filesystem::path(o.report).extension().string());
+    const std::string ext = LowerExtension(o.report);
     if (ext != ".pdf" && ext != ".png") {
       return Fail("verify", "--report '" + o.report +
                                 "': the report is a .pdf or a .png (from its extension)");

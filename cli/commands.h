@@ -9,6 +9,8 @@
 #include <functional>
 #include <string>
 
+#include "chromatag/families/input_file.h"
+
 namespace chromatag::cli {
 
 // Exit codes: 0 success, 1 the job failed, 2 bad usage or input.
@@ -24,12 +26,6 @@ int Fail(const char* command, const std::string& message, int code = kExitUsage)
 // printf to std::cout, so that it goes through the same escaping as every
 // other output (main.cc).
 void Print(const char* format, ...) __attribute__((format(printf, 1, 2)));
-
-// `text` in lower case (ASCII), for file extensions.
-inline std::string Lower(std::string text) {
-  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return text;
-}
 
 // A --family value as AprilTag names it ("tag16h5", "tag36h11") becomes this
 // toolkit's name ("16h5", "36h11"); put before the option's check.

@@ -23,14 +23,14 @@ Source MakeSource(SourceKind kind, std::string name) {
 }  // namespace
 
 bool IsVideo(const fs::path& path) {
-  const std::string ext = Lower(path.extension().string());
+  const std::string ext = LowerExtension(path.string());
   for (const char* v : {".avi", ".mp4", ".mkv", ".mov", ".webm", ".mpg", ".mpeg", ".m4v"})
     if (ext == v) return true;
   return false;
 }
 
 bool IsImage(const fs::path& path) {
-  const std::string ext = Lower(path.extension().string());
+  const std::string ext = LowerExtension(path.string());
   for (const char* v : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".ppm", ".pgm", ".webp"})
     if (ext == v) return true;
   return false;

@@ -15,11 +15,6 @@ namespace {
 // Bundle YAML files are small: a few hundred tags at most.
 constexpr std::uintmax_t kMaxBundleFileBytes = 1u << 20;
 
-std::string Lower(std::string text) {
-  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return text;
-}
-
 // The first "tag_bundles" at the top level or one map down (ROS parameter
 // files nest the node's parameters under its name).
 YAML::Node FindBundles(const YAML::Node& root) {
@@ -195,13 +190,13 @@ std::optional<Board> ReadBoardFile(const std::string& spec, std::string* error) 
   const auto hash = spec.find_last_of('#');
   if (hash != std::string::npos && hash > spec.find_last_of('/') + 1) {
     const std::string before = spec.substr(0, hash);
-    const std::string ext = Lower(std::filesystem::path(before).extension().string());
+    const std::string ext = LowerExtension(before);
     if (ext == ".yaml" || ext == ".yml") {
       path = before;
       name = spec.substr(hash + 1);
     }
   }
-  const std::string ext = Lower(std::filesystem::path(path).extension().string());
+  const std::string ext = LowerExtension(path);
   std::string why;
   const bool sheet = ext == ".pdf" || ext == ".svg" || ext == ".png";
   if (ext == ".json" || sheet) {

@@ -264,10 +264,7 @@ std::optional<std::string> ReadSidecarOfSheet(const std::string& sheet_path,
 }
 
 std::optional<CalibSheetLayout> ReadCalibSheet(const std::string& path, std::string* error) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".json") return ReadCalibSidecar(path, error);
+  if (LowerExtension(path) == ".json") return ReadCalibSidecar(path, error);
   std::string sidecar;
   const auto text = ReadSidecarOfSheet(path, "calibration sheet", &sidecar, error);
   if (!text) return std::nullopt;

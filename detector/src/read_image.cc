@@ -11,13 +11,6 @@
 namespace chromatag {
 namespace {
 
-std::string LowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
-
 cv::Mat Fail(std::string* error, const std::string& message) {
   if (error) *error = message;
   return cv::Mat();

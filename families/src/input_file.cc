@@ -332,4 +332,10 @@ std::string ImageSizeProblem(const ImageSize& size) {
   return "";
 }
 
+std::string LowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
 }  // namespace chromatag

@@ -20,13 +20,7 @@
 namespace chromatag {
 namespace {
 
-bool EndsWithJson(const std::string& path) {
-  if (path.size() < 5) return false;
-  std::string ext = path.substr(path.size() - 5);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".json";
-}
+bool EndsWithJson(const std::string& path) { return LowerExtension(path) == ".json"; }
 
 // A TIFF's XResolution and YResolution (rationals) in its ResolutionUnit
 // (2 inch, the default; 3 centimetre), from the first IFD; either byte order.

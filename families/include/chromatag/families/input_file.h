@@ -52,6 +52,10 @@ inline constexpr const char* kSizedImageFormats = "PNG, JPEG, TIFF, BMP, WebP, P
 // 256 Mpx", a size of 0), or "" when it may be.
 std::string ImageSizeProblem(const ImageSize& size);
 
+// A path's extension lower-cased, with its dot (".png"); "" when it has
+// none. File kinds are told by it the same way everywhere.
+std::string LowerExtension(const std::string& path);
+
 // Whether `text` is well-formed UTF-8 (file names go into JSON sidecars,
 // which must be UTF-8).
 bool IsValidUtf8(const std::string& text);
