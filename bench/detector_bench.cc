@@ -85,7 +85,7 @@ void BM_DetectFlatFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_DetectFlatFrame)->Unit(benchmark::kMicrosecond);
 
-// The first frames of the camera set (issue 10; bench/include/chromatag/bench/
+// The first frames of the camera set (bench/include/chromatag/bench/
 // dataset.h), both families: noise, casts, blur, demosaicing and JPEG as
 // tag_comparison renders them, cycled through so that each iteration is a
 // different frame, read once before the timed call so that it sits in the

@@ -1,5 +1,5 @@
 // tag_comparison: ChromaTag against AprilTag 3 and OpenCV ArUco on the same
-// rendered frames (issues 7 and 10). `make bench` runs it on both data sets;
+// rendered frames. `make bench` runs it on both data sets;
 // see docs/benchmarks.md.
 //
 //   tag_comparison [--set classic|camera] [--detectors all|chromatag]
@@ -189,12 +189,11 @@ bool DumpMisses(const Dataset& dataset, const std::vector<FrameRecord>& records,
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set (issues 7, 10)"};
+  CLI::App app{"ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set"};
   std::string set = "classic", which_detectors = "all";
   app.add_option("--set", set,
-                 "data set: classic (16h5, kind conditions, issue 7) or camera (16h5 and 36h11, "
-                 "as hard as real cameras, issue 10)")
+                 "data set: classic (16h5, kind conditions) or camera (16h5 and 36h11, "
+                 "as hard as real cameras)")
       ->check(CLI::IsMember({"classic", "camera"}))
       ->capture_default_str();
   app.add_option("--detectors", which_detectors,

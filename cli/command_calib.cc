@@ -1,5 +1,5 @@
-// `chromatag calib-sheet` and `chromatag calibrate` (issue 6,
-// docs/calibration.md): input checking, library calls and output only.
+// `chromatag calib-sheet` and `chromatag calibrate` (docs/calibration.md):
+// input checking, library calls and output only.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>

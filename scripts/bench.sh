@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `make bench`: every benchmark in bench/, one thread, with the CPU named; then
 # the side-by-side comparison with AprilTag 3 and OpenCV ArUco on both data
-# sets: "classic" (issue 7, 10,000 frames) into BUILD_DIR/bench-results/classic/
+# sets: "classic" (10,000 frames) into BUILD_DIR/bench-results/classic/
 # and "camera" (8,000 frames: 16h5 and 36h11, four prints) into
 # BUILD_DIR/bench-results/camera/, each a report.md, PNG figures and frames.csv;
 # then camera calibration from a ChromaTag board against OpenCV's ChArUco

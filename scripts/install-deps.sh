@@ -25,7 +25,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # A real printer in the tests: LittleCMS applies Ghostscript's SWOP press
   # profile (default_cmyk.icc, in libgs-common) to pages before they are
-  # photographed or scanned (issue 13).
+  # photographed or scanned.
   liblcms2-dev libgs-common
   # Natural photographs for the no-false-detection tests and the benchmark.
   opencv-doc

@@ -101,7 +101,7 @@ TEST(CalibCalibrateTest, FullRunWritesLoadableOutputs) {
   ASSERT_TRUE(result->palette) << result->palette_error;
   EXPECT_GE(result->palette->score, result->palette->sheet_palette_score);
 
-  // The report: no label over another (issue 11: "0 flaggedmodel", the
+  // The report: no label over another (once "0 flaggedmodel", the
   // legend's swatch over its label), on an A4 page.
   for (const std::string& overlap : ReportOverlaps(*result)) ADD_FAILURE() << overlap;
   const std::string pdf = RenderReportPdf(*result);

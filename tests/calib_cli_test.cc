@@ -92,7 +92,7 @@ TEST_F(CalibCliTest, SheetBadInputIsOneLineAndExitTwo) {
         {"calib-sheet", "-o", dir_ + "/x.pdf", "--page", "80x80mm"},
         {"calib-sheet", "-o", dir_ + "/x.pdf", "--palette", "nope"},
         {"calib-sheet", "-o", dir_ + "/x.pdf", "--tag-size", "5mm"},
-        // 0 was silently replaced by the derived ID (issue 11).
+        // 0 was silently replaced by the derived ID.
         {"calib-sheet", "-o", dir_ + "/x.pdf", "--sheet-id", "0"},
         {"calib-sheet", "-o", dir_ + "/x.pdf", "--format", "png"}}) {
     const CommandResult r = RunCommand(kCli, args);

@@ -60,7 +60,7 @@ TEST(CliGenerateTest, WritesPdfAndSidecarByteIdenticallyTwice) {
   EXPECT_EQ(ReadFile(dir + "/tags.pdf.json"), sidecar);
 }
 
-// Issue 11: --format png -o x.pdf wrote a PNG named x.pdf.
+// --format png -o x.pdf must not write a PNG named x.pdf.
 TEST(CliGenerateTest, FormatThatDisagreesWithTheExtensionIsRefused) {
   const std::string dir = MakeDir("mismatch");
   const auto result =

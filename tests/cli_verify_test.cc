@@ -35,8 +35,8 @@ TEST(CliVerifyTest, GeneratedSheetPassesAndATamperedSidecarFails) {
   EXPECT_NE(report["tags"][2]["problem"].get<std::string>().find("16h5 ID 9"), std::string::npos);
 }
 
-// Issue 11: a PDF and an SVG written one after the other into the same
-// folder shared tags.json, and verify of the PDF trusted the SVG's sidecar
+// A PDF and an SVG written one after the other into the same
+// folder once shared tags.json, and verify of the PDF trusted the SVG's sidecar
 // (PASS for IDs it did not hold). Each output now has its own sidecar, and a
 // sidecar that describes another file is refused.
 TEST(CliVerifyTest, EachOutputKeepsItsOwnSidecar) {

@@ -1,4 +1,4 @@
-// The detector on frames made the way a colour camera makes them (issue 10):
+// The detector on frames made the way a colour camera makes them:
 // light, optics blur and sensor noise act on linear values, an RGGB mosaic is
 // demosaiced, the sRGB curve is followed by the camera's own tone curve, and
 // JPEG subsamples the chroma 4:2:0. Each test is one failure mode the

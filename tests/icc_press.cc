@@ -73,8 +73,8 @@ std::unique_ptr<IccPress> IccPress::Load(const std::string& path, std::string* e
   // press. No black point compensation (LittleCMS's default; ICC relative
   // colorimetric as defined): with it the mid-tones print lighter and paler
   // too (default's green-0 at b* 33 instead of 31, iccv17's b* gaps 7.1 and
-  // 10.7 instead of 7.8 and 11.4); without it the press gives issue 13's
-  // figures.
+  // 10.7 instead of 7.8 and 11.4); without it the press gives the figures
+  // of docs/calibration.md.
   t->srgb_to_cmyk = cmsCreateTransformTHR(t->context, t->srgb, TYPE_RGB_8, t->cmyk, TYPE_CMYK_8,
                                           INTENT_RELATIVE_COLORIMETRIC, 0);
   // What the press puts on paper, relative to the paper (no compensation: the

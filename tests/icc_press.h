@@ -45,7 +45,7 @@ class IccPress {
   mutable std::unordered_map<uint32_t, Lab> cache_;
 };
 
-// The two lights of issue 13's calibration through the press (the test and
+// The two lights of the calibration through the press (the test and
 // docs/calibration.md): a tungsten lamp, warm as an uncorrected camera sees
 // it (R 1.25, B 0.7), and daylight by a window, slightly cool; each with the
 // portrait A4 page filling most of a 1600 x 1200 frame in mild perspective

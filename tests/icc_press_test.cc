@@ -1,4 +1,4 @@
-// Printing through a real press profile (issue 13): Ghostscript's SWOP press
+// Printing through a real press profile: Ghostscript's SWOP press
 // (default_cmyk.icc) applied with LittleCMS, what it does to the palettes,
 // and the geometry of a printed and scanned page.
 #include "icc_press.h"
@@ -258,7 +258,7 @@ TEST(IccPressTest, ScanShowsPaperPrintAndLid) {
   EXPECT_NEAR(lid, 255.0 * LinearToSrgb(0.85 * scanner.exposure), 1.0);
 }
 
-// The calibration end to end through the press (issue 13): the calibration
+// The calibration end to end through the press: the calibration
 // sheet printed through the SWOP press and photographed under tungsten and
 // daylight, `chromatag calibrate` on the photos, a tag sheet in the chosen
 // palette printed through the same press and photographed the same way, and

@@ -1,4 +1,4 @@
-// verify --print (issue 13) on simulated scans and photos of sheets printed
+// verify --print on simulated scans and photos of sheets printed
 // through a real press profile (icc_press.h): a good print passes; a print
 // shrunk by "fit to page", a stretched one, one whose two reds print alike
 // and a sheet with one tag's shades swapped are each caught and named.
@@ -222,7 +222,7 @@ TEST_F(PrintCheckTest, GoodSwopPrintOfEveryKeptIdPassesOnEveryPage) {
       EXPECT_NEAR(t.size_mm, 30.0, 0.15) << "ID " << t.expected.id;
       ASSERT_TRUE(t.colours.measured);
       // The press keeps the default palette's a* gap near 84 and its green
-      // b* gap near 28 (issue 13's figures), measured on the paper.
+      // b* gap near 28 (docs/calibration.md's figures), measured on the paper.
       EXPECT_NEAR(t.colours.margins.a_gap, 84.0, 8.0);
       EXPECT_NEAR(t.colours.margins.green_b_gap, 28.0, 5.0);
     }

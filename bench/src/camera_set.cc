@@ -1,4 +1,4 @@
-// The camera set (issue 10): frames as hard as real cameras make them. See
+// The camera set: frames as hard as real cameras make them. See
 // dataset.h for the list of conditions; the constants below fix their ranges.
 #include <apriltag/tag16h5.h>
 #include <apriltag/tag36h11.h>

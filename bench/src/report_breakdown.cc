@@ -1,4 +1,4 @@
-// The report's breakdowns (issue 10): recall per family by size and tilt,
+// The report's breakdowns: recall per family by size and tilt,
 // recall per condition, the targets table, and Table 4(b) from the miss
 // analysis.
 #include <algorithm>

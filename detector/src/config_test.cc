@@ -70,7 +70,7 @@ TEST(DetectorConfigTest, RefusesBadFilesAndLeavesOptionsAlone) {
       {R"({"schema": "chromatag-detector-config", "schema_version": 1})", "missing \"options\""},
       {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"adif_thresh": 3}})",
        "unknown option \"adif_thresh\""},
-      // Issue 12: 4294967300 wrapped to a step of 4; max_hamming 50 passed here
+      // 4294967300 wrapped to a step of 4; max_hamming 50 passed here
       // and was refused only by Detector::Create.
       {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"step": 4294967300}})",
        "\"step\" is out of range"},

@@ -27,7 +27,7 @@ inline int RoundToInt(float v) {
 }
 // For coordinates from a homography or a fit, which can be anything: values
 // beyond +-2^30 (and NaN, taken as the lower bound) are clamped first, so
-// that the casts are defined (issue 12); such points lie outside any frame.
+// that the casts are defined; such points lie outside any frame.
 inline int RoundToInt(double v) {
   constexpr double kLimit = 1073741824.0;
   return RoundToInt(static_cast<float>(v > -kLimit ? (v < kLimit ? v : kLimit) : -kLimit));

@@ -1,4 +1,4 @@
-// The side-by-side comparison (issue 7): render the data set, run every
+// The side-by-side comparison: render the data set, run every
 // detector on every frame, score, and write the report (the paper's Tables
 // 1-4 and Figure 9, corner error, false detections on tag-free frames).
 #ifndef CHROMATAG_BENCH_COMPARISON_H_

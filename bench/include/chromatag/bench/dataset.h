@@ -6,11 +6,11 @@
 // photographs. A share of the frames holds no tag at all.
 //
 // Two sets (DatasetKind):
-// - "classic" (issue 7): 16h5 only, a 2-cell quiet zone, sizes of about
+// - "classic": 16h5 only, a 2-cell quiet zone, sizes of about
 //   15-200 px, two colour conditions (white-balanced, and a strong tungsten
 //   cast), exposure x0.55-1.1, blur, noise added to the 8-bit values, JPEG
 //   70-95 on every frame. Kinder than a camera; kept pixel-identical.
-// - "camera" (issue 10): as hard as real cameras. 16h5 and 36h11 on
+// - "camera": as hard as real cameras. 16h5 and 36h11 on
 //   alternate frames, a 1-cell quiet zone on 40 % of the cards, sizes of
 //   about 12-250 px, the tags printed four ways (PrintKind: the default
 //   palette exactly and through a CMYK press, the paper's iccv17 shades and

@@ -1,4 +1,4 @@
-// The colour-calibration sheet (issue 6): four ChromaTags in the corners to
+// The colour-calibration sheet: four ChromaTags in the corners to
 // find the sheet in a photo, the palette's colours repeated across the page,
 // a grey ramp, bare-paper patches for the white, and a grid of candidate reds
 // and greens around the palette, all in a pseudo-random order fixed by the

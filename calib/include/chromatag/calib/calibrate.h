@@ -1,6 +1,6 @@
 // `chromatag calibrate` as a library call: measure every photo of the
 // calibration sheet, fit the printer per photo, derive detector thresholds,
-// choose a palette, bake a printer LUT, and lay out the report (issue 6).
+// choose a palette, bake a printer LUT, and lay out the report.
 #ifndef CHROMATAG_CALIB_CALIBRATE_H_
 #define CHROMATAG_CALIB_CALIBRATE_H_
 

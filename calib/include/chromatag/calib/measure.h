@@ -1,6 +1,6 @@
 // Measuring a photo of the calibration sheet: locate it, sample every patch
 // robustly, flag the patches that cannot be trusted, and express the colours
-// in CIELAB relative to the paper white (issue 6, step 1).
+// in CIELAB relative to the paper white (the calibration's step 1).
 #ifndef CHROMATAG_CALIB_MEASURE_H_
 #define CHROMATAG_CALIB_MEASURE_H_
 

@@ -1,6 +1,6 @@
 // Choosing a palette from the printed candidates: the reds and greens whose
 // worst-case a* gap and b* shade gaps, as printed and photographed, are the
-// largest (issue 6, step 3).
+// largest (the calibration's step 3).
 #ifndef CHROMATAG_CALIB_PALETTE_CHOICE_H_
 #define CHROMATAG_CALIB_PALETTE_CHOICE_H_
 

@@ -1,5 +1,5 @@
 // A model of "RGB sent to the printer -> colour measured in the photo",
-// fitted with Ceres (issue 6, step 2).
+// fitted with Ceres (the calibration's step 2).
 //
 // Per channel a monotone tone curve (piecewise linear over kToneSegments equal
 // steps of the gamma-encoded value, endpoints fixed at 0 and 1), then the sRGB

@@ -1,5 +1,5 @@
 // The colour margins a printed palette leaves the detector, and detector
-// thresholds derived from them (issue 6, step 3).
+// thresholds derived from them (the calibration's step 3).
 //
 // The detector seeds on an a* rise above ADiffThresh (green to red), scans
 // until pixels differ from the reference red by more than BorderThresh, and

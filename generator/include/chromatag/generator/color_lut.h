@@ -1,6 +1,6 @@
 // A printer colour correction as a 3D LUT file (.cube and the other formats
 // OpenColorIO reads), applied to the palette's sRGB before it is written.
-// The calibration tool (issue 6) writes such files.
+// The calibration tool writes such files.
 #ifndef CHROMATAG_GENERATOR_COLOR_LUT_H_
 #define CHROMATAG_GENERATOR_COLOR_LUT_H_
 

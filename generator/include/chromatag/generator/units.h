@@ -1,5 +1,5 @@
 // Physical lengths and page sizes as users type them: "40mm", "1.5in",
-// "a4", "210x297mm". Issue 3 builds the tag and sheet renderer on these.
+// "a4", "210x297mm"; the tag and sheet renderer takes its sizes in these.
 #ifndef CHROMATAG_GENERATOR_UNITS_H_
 #define CHROMATAG_GENERATOR_UNITS_H_
 

@@ -1,5 +1,5 @@
 // `chromatag verify --print`: checking the printed sheet itself from scans
-// and photos of its pages (issue 13). The file's own round trip
+// and photos of its pages. The file's own round trip
 // (sheet_check.h) proves that the file decodes; this finds what printing did
 // to it: a page shrunk by "fit to page", a stretched axis, shades washed out
 // until the detector cannot split them, a tag printed with its shades
