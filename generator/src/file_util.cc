@@ -10,10 +10,14 @@
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
+#include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 
 namespace chromatag {
@@ -79,16 +83,19 @@ void SyncFolder(const std::string& folder) {
 // stem S (".chromatag-XXXXXX", made in the first target's folder):
 //   S.journal              locked (flock) while its writer lives; its lines:
 //                          "target PATH" for each target, synced before any
-//                          new file exists; "old I" for each target that had
-//                          a file, and "commit" once every new file is whole;
+//                          new file exists; "new I DEV INO" for each new file
+//                          and "old I DEV INO" for each target that had a
+//                          file, then "commit" once every new file is whole;
 //                          "rollback" if a rename failed after that
 //   <target's folder>/S.I      the new contents of target I
 //   <target's folder>/S.I.old  a hard link to target I's old file
-// A writer killed (SIGKILL, power loss) leaves its journal, and the next
-// write into that folder finishes it: before "commit" nothing was replaced,
-// so the new files go; after it the renames are completed; after
-// "rollback" the old files are put back. Either way the targets end as one
-// whole set, old or new, and nothing of the write is left.
+// A writer killed (SIGKILL, power loss) leaves its journal, and the first
+// write of a later process into that folder finishes it: before "commit"
+// nothing was replaced, so the new files go; after it the renames are
+// completed; after "rollback" the old files are put back. A target is only
+// ever replaced or removed when it is still the very file the journal
+// recorded (device and inode): a newer write since, or a journal that was
+// planted, cannot make it touch anything else.
 constexpr char kJournalHeader[] = "chromatag write journal 1\n";
 constexpr char kJournalCommit[] = "commit\n";
 constexpr char kJournalSuffix[] = ".journal";
@@ -143,6 +150,19 @@ bool Exists(const std::string& path) {
   return lstat(path.c_str(), &st) == 0;
 }
 
+struct FileId {
+  dev_t dev = 0;
+  ino_t ino = 0;
+  bool operator==(const FileId& other) const { return dev == other.dev && ino == other.ino; }
+};
+
+// The file at `path` (not followed through a symlink), if any.
+std::optional<FileId> IdOf(const std::string& path) {
+  struct stat st;
+  if (lstat(path.c_str(), &st) != 0) return std::nullopt;
+  return FileId{st.st_dev, st.st_ino};
+}
+
 // Finishes the write whose journal is `journal`, unless its writer still
 // holds it, it is not this user's, or it is not a journal.
 void FinishInterruptedWrite(const std::string& journal) {
@@ -154,24 +174,36 @@ void FinishInterruptedWrite(const std::string& journal) {
     close(fd);
     return;
   }
+  // Finished (and unlinked) by another process while this one waited.
+  if (fstat(fd, &st) != 0 || st.st_nlink == 0) {
+    close(fd);
+    return;
+  }
   std::string text(static_cast<size_t>(st.st_size), '\0');
   const bool read_all = pread(fd, text.data(), text.size(), 0) == st.st_size;
   if (!read_all || text.rfind(kJournalHeader, 0) != 0) {
+    // Killed before its first line: nothing else of the write exists yet.
+    // (A minute's grace: a live writer has its lock, but be sure.)
+    if (read_all && text.empty() && time(nullptr) - st.st_mtime > 60) unlink(journal.c_str());
     close(fd);
     return;
   }
   std::vector<std::string> targets;
-  std::set<size_t> had_old;
+  std::map<size_t, FileId> fresh_ids, old_ids;
   bool committed = false, rolled_back = false;
   for (size_t at = sizeof(kJournalHeader) - 1; at < text.size();) {
     const size_t end = text.find('\n', at);
     if (end == std::string::npos) break;  // A line cut short: not written whole.
     const std::string line = text.substr(at, end - at);
     at = end + 1;
+    unsigned long long index = 0, dev = 0, ino = 0;
+    char kind[4] = {0};
     if (line.rfind("target ", 0) == 0) {
       if (!committed) targets.push_back(UnescapeLine(line.substr(7)));
-    } else if (line.rfind("old ", 0) == 0) {
-      had_old.insert(std::strtoull(line.c_str() + 4, nullptr, 10));
+    } else if (std::sscanf(line.c_str(), "%3s %llu %llu %llu", kind, &index, &dev, &ino) == 4 &&
+               (std::strcmp(kind, "new") == 0 || std::strcmp(kind, "old") == 0)) {
+      const FileId id{static_cast<dev_t>(dev), static_cast<ino_t>(ino)};
+      (kind[0] == 'n' ? fresh_ids : old_ids)[index] = id;
     } else if (line == "commit") {
       committed = true;
     } else if (line == "rollback") {
@@ -180,19 +212,27 @@ void FinishInterruptedWrite(const std::string& journal) {
   }
   std::string stem = fs::path(journal).filename().string();
   stem.resize(stem.size() - (sizeof(kJournalSuffix) - 1));
+  const auto is = [](const std::optional<FileId>& id, const std::map<size_t, FileId>& ids,
+                     size_t i) { return id && ids.count(i) && *id == ids.at(i); };
   std::vector<std::string> folders;
   for (size_t i = 0; i < targets.size(); ++i) {
     const std::string fresh = NewName(targets[i], stem, i), old = OldName(targets[i], stem, i);
+    const auto target_id = IdOf(targets[i]), fresh_id = IdOf(fresh), old_id = IdOf(old);
     if (rolled_back) {
-      if (had_old.count(i) && Exists(old))
-        rename(old.c_str(), targets[i].c_str());
-      else if (!had_old.count(i) && !Exists(fresh))
-        unlink(targets[i].c_str());  // Renamed into place where no file was.
-    } else if (committed && Exists(fresh)) {
-      rename(fresh.c_str(), targets[i].c_str());
+      // The new file leaves only where it is in place; the old comes back.
+      if (is(target_id, fresh_ids, i)) {
+        if (is(old_id, old_ids, i))
+          rename(old.c_str(), targets[i].c_str());
+        else if (!old_ids.count(i))
+          unlink(targets[i].c_str());
+      }
+    } else if (committed && is(fresh_id, fresh_ids, i)) {
+      // Completed only over the very file the write replaced (or none).
+      const bool unchanged = old_ids.count(i) ? is(target_id, old_ids, i) : !target_id;
+      if (unchanged) rename(fresh.c_str(), targets[i].c_str());
     }
-    unlink(fresh.c_str());
-    unlink(old.c_str());
+    if (!committed || is(IdOf(fresh), fresh_ids, i)) unlink(fresh.c_str());
+    if (!committed || is(IdOf(old), old_ids, i)) unlink(old.c_str());
     folders.push_back(Folder(targets[i]));
   }
   for (const std::string& folder : folders) SyncFolder(folder);
@@ -208,10 +248,10 @@ void FinishInterruptedWritesIn(const std::string& folder) {
   static std::set<std::string> done;
   std::error_code ec;
   const std::string key = fs::weakly_canonical(folder, ec).string();
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (!done.insert(ec ? folder : key).second) return;
-  }
+  // Held through the recovery: another thread's write into the folder waits
+  // until it is finished.
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!done.insert(ec ? folder : key).second) return;
   std::vector<std::string> journals;
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
@@ -301,24 +341,38 @@ bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* err
   if (flock(journal_fd, LOCK_EX) != 0 || !WriteAll(journal_fd, listing) || fsync(journal_fd) != 0)
     return abandon(files[0].path, std::strerror(errno));
   SyncFolder(Folder(files[0].path));
+  std::string commit;  // The lines that follow the targets, "commit" last.
+  const auto record = [&](const char* kind, size_t index, const std::string& path) {
+    const auto id = IdOf(path);
+    if (!id) return false;
+    commit += std::string(kind) + " " + std::to_string(index) + " " +
+              std::to_string(static_cast<unsigned long long>(id->dev)) + " " +
+              std::to_string(static_cast<unsigned long long>(id->ino)) + "\n";
+    return true;
+  };
   for (; made < files.size(); ++made) {
     std::string why;
-    if (!WriteNewFile(NewName(files[made].path, stem, made), files[made].contents, &why)) {
-      unlink(NewName(files[made].path, stem, made).c_str());  // A part written, if any.
-      return abandon(files[made].path, why);
+    const std::string fresh = NewName(files[made].path, stem, made);
+    if (!WriteNewFile(fresh, files[made].contents, &why) || !record("new", made, fresh)) {
+      unlink(fresh.c_str());  // A part written, if any.
+      return abandon(files[made].path, why.empty() ? std::strerror(errno) : why);
     }
   }
   // Hard links to the targets that exist, so that a rename failing half way
   // can put the earlier ones back.
-  std::string commit;
   for (; linked < files.size(); ++linked) {
     if (!Exists(files[linked].path)) continue;
-    if (link(files[linked].path.c_str(), OldName(files[linked].path, stem, linked).c_str()) != 0)
-      return abandon(files[linked].path, std::strerror(errno));
+    const std::string old = OldName(files[linked].path, stem, linked);
+    if (link(files[linked].path.c_str(), old.c_str()) != 0 || !record("old", linked, old)) {
+      const std::string why = std::strerror(errno);
+      if (Exists(old)) unlink(old.c_str());
+      return abandon(files[linked].path, why);
+    }
     had_old[linked] = true;
-    commit += "old " + std::to_string(linked) + "\n";
   }
-  // The commit point: from here an interrupted write is completed, not undone.
+  // The commit point: from here an interrupted write is completed, not
+  // undone. The new names are made durable first.
+  for (const std::string& folder : folders) SyncFolder(folder);
   commit += kJournalCommit;
   if (!WriteAll(journal_fd, commit) || fsync(journal_fd) != 0)
     return abandon(files[0].path, std::strerror(errno));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -157,6 +158,14 @@ TEST(FileUtilTest, AWriteKilledAnywhereIsFinishedByTheNextOne) {
 TEST(FileUtilTest, InterruptedWritesAreUndoneCompletedOrRolledBack) {
   const std::string root = ::testing::TempDir() + "/atomic_states_" + std::to_string(getpid());
   fs::remove_all(root);
+  // "new I DEV INO" / "old I DEV INO" for a file, as the writer records it.
+  const auto id_line = [](const char* kind, int index, const std::string& path) {
+    struct stat st;
+    EXPECT_EQ(lstat(path.c_str(), &st), 0) << path;
+    return std::string(kind) + " " + std::to_string(index) + " " + std::to_string(st.st_dev) +
+           " " + std::to_string(st.st_ino) + "\n";
+  };
+  // `tail` follows the ID lines: "", "commit\n" or "commit\nrollback\n".
   const auto setup = [&](const std::string& name, const std::string& tail) {
     const std::string dir = root + "/" + name;
     fs::create_directories(dir);
@@ -166,31 +175,33 @@ TEST(FileUtilTest, InterruptedWritesAreUndoneCompletedOrRolledBack) {
     fs::create_hard_link(dir + "/a", dir + "/.chromatag-AbC123.0.old");
     std::ofstream(dir + "/.chromatag-AbC123.journal")
         << "chromatag write journal 1\ntarget " << dir << "/a\ntarget " << dir << "/b\n"
-        << tail;
+        << id_line("new", 0, dir + "/.chromatag-AbC123.0")
+        << id_line("new", 1, dir + "/.chromatag-AbC123.1")
+        << id_line("old", 0, dir + "/.chromatag-AbC123.0.old") << tail;
     return dir;
   };
   // Killed before the commit: nothing was replaced; the new files go.
-  std::string dir = setup("before", "old 0\n");
+  std::string dir = setup("before", "");
   ASSERT_TRUE(WriteFilesAtomically({{dir + "/other", "x"}}));
   EXPECT_EQ(Read(dir + "/a"), "old a");
   EXPECT_FALSE(fs::exists(dir + "/b"));
   EXPECT_TRUE(Leftovers(dir).empty());
   // Killed after the commit, a renamed: the write is completed.
-  dir = setup("after", "old 0\ncommit\n");
+  dir = setup("after", "commit\n");
   fs::rename(dir + "/.chromatag-AbC123.0", dir + "/a");
   ASSERT_TRUE(WriteFilesAtomically({{dir + "/other", "x"}}));
   EXPECT_EQ(Read(dir + "/a"), "new a");
   EXPECT_EQ(Read(dir + "/b"), "new b");
   EXPECT_TRUE(Leftovers(dir).empty());
   // Killed while undoing a failed rename (b renamed in, a not): old files back.
-  dir = setup("undo", "old 0\ncommit\nrollback\n");
+  dir = setup("undo", "commit\nrollback\n");
   fs::rename(dir + "/.chromatag-AbC123.1", dir + "/b");
   ASSERT_TRUE(WriteFilesAtomically({{dir + "/other", "x"}}));
   EXPECT_EQ(Read(dir + "/a"), "old a");
   EXPECT_FALSE(fs::exists(dir + "/b"));
   EXPECT_TRUE(Leftovers(dir).empty());
   // A journal its writer still holds is left alone.
-  dir = setup("live", "old 0\n");
+  dir = setup("live", "");
   const int fd = open((dir + "/.chromatag-AbC123.journal").c_str(), O_RDONLY);
   ASSERT_EQ(flock(fd, LOCK_EX), 0);
   const pid_t child = fork();
@@ -200,6 +211,26 @@ TEST(FileUtilTest, InterruptedWritesAreUndoneCompletedOrRolledBack) {
   EXPECT_EQ(WEXITSTATUS(status), 0);
   EXPECT_EQ(Leftovers(dir).size(), 4u);
   close(fd);
+  // Committed, but a newer write has replaced b since: the stale new file
+  // does not overwrite it.
+  dir = setup("newer", "commit\n");
+  fs::rename(dir + "/.chromatag-AbC123.0", dir + "/a");
+  std::ofstream(dir + "/b") << "newer b";
+  ASSERT_TRUE(WriteFilesAtomically({{dir + "/other", "x"}}));
+  EXPECT_EQ(Read(dir + "/b"), "newer b");
+  EXPECT_TRUE(Leftovers(dir).empty());
+  // A planted journal (unpacked from an archive, so owned by the user)
+  // naming a file elsewhere to roll back: the file is not the journal's, so
+  // it is left alone.
+  const std::string victim = root + "/victim.txt";
+  std::ofstream(victim) << "precious";
+  dir = root + "/planted";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/.chromatag-aaaaaa.journal")
+      << "chromatag write journal 1\ntarget " << victim << "\ncommit\nrollback\n";
+  ASSERT_TRUE(WriteFilesAtomically({{dir + "/s.pdf", "x"}}));
+  EXPECT_EQ(Read(victim), "precious");
+  EXPECT_TRUE(Leftovers(dir).empty());
   fs::remove_all(root);
 }
 
