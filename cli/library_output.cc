@@ -28,6 +28,7 @@ namespace {
 
 std::FILE* g_tool_err = nullptr;
 int g_tool_fd = -1;
+int g_pipe_fd = -1;  // The read end, drained by Drain (and by a crash).
 
 // The last kKept bytes the libraries wrote, as a ring: read by the fatal
 // signal handler with plain loads (a line torn by a concurrent write is
@@ -46,16 +47,33 @@ void WriteAll(int fd, const char* data, size_t n) {
   }
 }
 
-[[maybe_unused]] void OnFatalSignal(int signal) {
-  // Only async-signal-safe calls: write, signal, raise.
+void Keep(const char* data, size_t n) {
+  size_t written = g_written.load(std::memory_order_relaxed);
+  for (size_t i = 0; i < n; ++i) g_kept[(written + i) % kKept] = data[i];
+  g_written.store(written + n, std::memory_order_relaxed);
+}
+
+void OnFatalSignal(int signal) {
+  // Only async-signal-safe calls: fcntl, read, write, signal, raise. What
+  // was written just before the crash ("terminate called after ...") may
+  // still be in the pipe: read it first.
+  const int pipe_fd = g_pipe_fd;
+  if (pipe_fd >= 0 && fcntl(pipe_fd, F_SETFL, fcntl(pipe_fd, F_GETFL) | O_NONBLOCK) == 0) {
+    char buffer[512];
+    for (ssize_t n; (n = read(pipe_fd, buffer, sizeof buffer)) > 0;)
+      Keep(buffer, static_cast<size_t>(n));
+  }
   const size_t written = g_written.load(std::memory_order_relaxed);
   if (written > 0 && g_tool_fd >= 0) {
     static const char kHead[] = "chromatag: what libraries printed before the crash:\n";
     WriteAll(g_tool_fd, kHead, sizeof(kHead) - 1);
-    const size_t n = written < kKept ? written : kKept;
-    const size_t start = written % kKept;
-    if (written > kKept) WriteAll(g_tool_fd, g_kept + start, kKept - start);
-    WriteAll(g_tool_fd, g_kept, written < kKept ? n : start);
+    if (written >= kKept) {  // The ring is full: from the oldest byte on.
+      const size_t start = written % kKept;
+      WriteAll(g_tool_fd, g_kept + start, kKept - start);
+      WriteAll(g_tool_fd, g_kept, start);
+    } else {
+      WriteAll(g_tool_fd, g_kept, written);
+    }
     WriteAll(g_tool_fd, "\n", 1);
   }
   std::signal(signal, SIG_DFL);
@@ -68,9 +86,7 @@ void Drain(int fd) {
     const ssize_t n = read(fd, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) return;
-    size_t written = g_written.load(std::memory_order_relaxed);
-    for (ssize_t i = 0; i < n; ++i) g_kept[(written + static_cast<size_t>(i)) % kKept] = buffer[i];
-    g_written.store(written + static_cast<size_t>(n), std::memory_order_relaxed);
+    Keep(buffer, static_cast<size_t>(n));
   }
 }
 
@@ -100,11 +116,13 @@ void CaptureLibraryOutput() {
   std::setvbuf(tool_err, nullptr, _IONBF, 0);  // As stderr: nothing held back.
   g_tool_err = tool_err;
   g_tool_fd = tool_fd;
+  g_pipe_fd = pipe_fds[0];
   std::thread(Drain, pipe_fds[0]).detach();
 #ifdef CHROMATAG_SANITIZED
-  // The sanitizer's reports go where the tool's messages go; its own
-  // handlers stay.
+  // The sanitizer's reports go where the tool's messages go, and it keeps
+  // its own handlers but for abort (which it leaves alone by default).
   __sanitizer_set_report_fd(reinterpret_cast<void*>(static_cast<intptr_t>(tool_fd)));
+  std::signal(SIGABRT, OnFatalSignal);
 #else
   for (int signal : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(signal, OnFatalSignal);
 #endif

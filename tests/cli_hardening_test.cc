@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -305,6 +306,18 @@ TEST_F(CliHardeningTest, LibraryLinesStayOutOfTheToolsOutput) {
       {"CHROMATAG_LIBRARY_OUTPUT=1", CHROMATAG_CLI_PATH, "detect", dir_ + "/damaged.jpg"});
   EXPECT_NE(through.err.find("Corrupt JPEG data"), std::string::npos) << through.err;
   EXPECT_EQ(through.exit_code, 0);
+  // A crash shows what the libraries printed: the damaged JPEG is read,
+  // then the tool waits on a stream that never answers and is aborted.
+  const auto crash = testing::RunCommand(
+      "/bin/sh", {"-c",
+                  "\"$0\" detect \"$1\" udp://127.0.0.1:9 >/dev/null & pid=$!; sleep 3; "
+                  "kill -ABRT $pid; wait $pid",
+                  CHROMATAG_CLI_PATH, dir_ + "/damaged.jpg"});
+  EXPECT_EQ(crash.exit_code, 128 + SIGABRT) << crash.err;
+  EXPECT_NE(
+      crash.err.find("chromatag: what libraries printed before the crash:\nCorrupt JPEG data"),
+      std::string::npos)
+      << crash.err;
 }
 
 // A file named to set the terminal's title: the table shows the escapes as
