@@ -403,6 +403,13 @@ TEST_F(PrintCheckTest, PhotoTiltedAboutOneAxisSaysTheShapeWasNotChecked) {
   EXPECT_TRUE(r.geometry_checked);
   EXPECT_NEAR(r.aspect, 1.0 / 1.04, 0.003);
   EXPECT_EQ(r.grade, Grade::kFail) << AllProblems(r);
+  // A stretch far beyond even that loose error bar still fails.
+  const cv::Mat gross =
+      PrintAndPhotograph(images_->pages[1], PxPerMm(), press_->AsPrintFn(), {1.0, 1.6}, camera);
+  r = CheckPrintImage(*record_, gross, {"gross"}, *detector_, PrintCheckOptions());
+  EXPECT_GT(2 * r.aspect_error, PrintCheckOptions().max_aspect_error) << r.aspect_error;
+  EXPECT_EQ(r.grade, Grade::kFail) << r.aspect << " ± " << 2 * r.aspect_error << AllProblems(r);
+  EXPECT_TRUE(r.geometry_checked);
 }
 
 TEST_F(PrintCheckTest, ReportsDrawEveryImage) {

@@ -506,6 +506,7 @@ int ChoosePage(const SheetRecord& record, const std::vector<const Detection*>& m
 
 void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageResult* r,
                std::vector<Finding>* findings) {
+  r->geometry_checked = true;  // Unless a branch below says otherwise.
   if (r->scan) {
     const double tol = o.max_scale_error;
     const double ex = std::max(0.001, 2 * r->scale_x_error),
@@ -536,6 +537,10 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
         Format("the page's shape was not checked: only %d tag%s fit, too few to judge its aspect "
                "(4 or more)",
                r->tags_in_fit, r->tags_in_fit == 1 ? "" : "s"));
+  } else if (std::abs(r->aspect - 1.0) > o.max_aspect_error + 2 * r->aspect_error) {
+    Add(findings, Grade::kFail,
+        Format("stretched: the page's x scale over its y scale is %.3f ± %.3f (allowed 1 ± %.3f)",
+               r->aspect, 2 * r->aspect_error, o.max_aspect_error));
   } else if (2 * r->aspect_error > o.max_aspect_error) {
     // The view leaves the aspect too loose to catch a stretch of the
     // tolerance's size (a tilt about one image axis leaves the focal length
@@ -547,14 +552,6 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
                "where 1 ± %.3f is allowed (the view does not fix the camera's focal length); "
                "give --camera, add a photo tilted about both axes or face on, or scan the page",
                r->aspect, 2 * r->aspect_error, o.max_aspect_error));
-  } else {
-    const double allowed = o.max_aspect_error + 2 * r->aspect_error;
-    if (std::abs(r->aspect - 1.0) > allowed) {
-      Add(findings, Grade::kFail,
-          Format("stretched: the page's x scale over its y scale is %.3f ± %.3f (allowed 1 ± "
-                 "%.3f)",
-                 r->aspect, 2 * r->aspect_error, o.max_aspect_error));
-    }
   }
   if (r->tags_in_fit >= 3 && r->rms_mm > 0.5 * o.max_position_error_mm) {
     Add(findings, Grade::kWarn,

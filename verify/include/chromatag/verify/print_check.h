@@ -132,10 +132,12 @@ struct PrintPageResult {
   double aspect_error = 0.0;
   double focal_px = 0.0;
   std::string focal_source;
-  // Whether the page's shape (scale or aspect) was measured well enough to
-  // judge: false for a photo with too few tags, or whose view leaves the
-  // aspect's uncertainty over the tolerance (then a warning says so).
-  bool geometry_checked = true;
+  // Whether the page's shape (scale or aspect) was judged: false for an
+  // image whose page was not recognised or whose tags fit no layout, and
+  // for a photo with too few tags or whose view leaves the aspect's
+  // uncertainty over the tolerance without showing it off (then a warning
+  // says so).
+  bool geometry_checked = false;
   Grade grade = Grade::kPass;         // The page's and its tags' worst.
   std::vector<std::string> problems;  // About the page as a whole.
   std::vector<Grade> problem_grades;  // Each problem's own.
