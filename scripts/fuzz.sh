@@ -38,9 +38,12 @@ done
 # The Python module's array conversions: random arrays from a script (the
 # module is the one `make build` made; a crash of the interpreter fails).
 python_dir=${CHROMATAG_PYTHON_DIR:-build/python}
+# The interpreter the module was built for.
+python=$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' build/CMakeCache.txt 2>/dev/null || true)
+python=${python:-/usr/bin/python3}
 if ls "$python_dir"/chromatag/_chromatag*.so >/dev/null 2>&1; then
   echo "fuzz_python_arrays: $seconds s"
-  if ! PYTHONPATH="$python_dir" /usr/bin/python3 tests/fuzz/fuzz_python_arrays.py "$seconds" \
+  if ! PYTHONPATH="$python_dir" "$python" tests/fuzz/fuzz_python_arrays.py "$seconds" \
       >"$build/fuzz_python_arrays.log" 2>&1; then
     echo "fuzz_python_arrays FOUND A FAILURE: $build/fuzz_python_arrays.log" >&2
     tail -n 30 "$build/fuzz_python_arrays.log" >&2

@@ -89,7 +89,8 @@ std::string EncodePng(cairo_surface_t* surface, double dpi) {
 
 std::string RasterPageProblem(double width_mm, double height_mm, double dpi) {
   const double w_in = width_mm / 25.4, h_in = height_mm / 25.4;
-  const double w_px = w_in * dpi, h_px = h_in * dpi;
+  // Rounded as the drawing's surface is made.
+  const double w_px = std::round(w_in * dpi), h_px = std::round(h_in * dpi);
   const auto budget = static_cast<double>(kMaxImagePixels);
   if (w_px * h_px <= budget && std::max(w_px, h_px) <= kMaxRasterSidePx) return "";
   const double fit = std::floor(std::min(std::sqrt(budget / std::max(w_in * h_in, 1e-12)),

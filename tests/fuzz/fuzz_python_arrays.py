@@ -78,9 +78,13 @@ def random_value(rng):
                        (1.0, 2.0, 3.0, 4.0), (float('nan'),) * 4, np.zeros(4), {}])
 
 
-def one_case(rng, detector, array):
-    """Calls one entry point; returns nothing, raises only accepted errors."""
-    kind = rng.randint(0, 7)
+KINDS = 8
+
+
+def one_case(rng, detector, array, kind=None):
+    """Calls one entry point (`kind`, or a random one) with `array`; returns
+    nothing, raises only accepted errors."""
+    kind = rng.randrange(KINDS) if kind is None else kind
     try:
         if kind == 0:
             detector.detect(array)
@@ -116,9 +120,9 @@ def main():
     print(f'fuzz_python_arrays: {seconds:g} s, seed {seed}', flush=True)
     detector = chromatag.Detector()
     runs = 0
-    for make in SEEDS:
-        for _ in range(8):
-            one_case(rng, detector, make())
+    for make in SEEDS:  # Every seed through every entry point.
+        for kind in range(KINDS):
+            one_case(rng, detector, make(), kind)
             runs += 1
     end = time.monotonic() + seconds
     while time.monotonic() < end:

@@ -133,8 +133,12 @@ std::optional<SheetPages> SheetPages::Open(const SheetRecord& record, double dpi
         const double w_mm = box.width() / 72.0 * 25.4, h_mm = box.height() / 72.0 * 25.4;
         const std::string problem = PageSizeProblem(i, w_mm, h_mm, dpi);
         if (!problem.empty()) return fail(problem);
-        pages.sizes_.emplace_back(static_cast<int>(std::ceil(w_mm / 25.4 * dpi)),
-                                  static_cast<int>(std::ceil(h_mm / 25.4 * dpi)));
+        // As poppler draws it: rounded, and turned by the page's /Rotate.
+        const int w = static_cast<int>(std::floor(w_mm / 25.4 * dpi + 0.5));
+        const int h = static_cast<int>(std::floor(h_mm / 25.4 * dpi + 0.5));
+        const bool turned = page->orientation() == poppler::page::landscape ||
+                            page->orientation() == poppler::page::seascape;
+        pages.sizes_.emplace_back(turned ? h : w, turned ? w : h);
       }
       break;
     }
