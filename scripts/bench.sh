@@ -12,9 +12,9 @@
 #
 # --quick         small comparisons (400 frames each, 2 calibration trials; about a minute)
 # --publish       also copy each comparison's report and figures to docs/benchmarks/
-#                 (the camera set's to docs/benchmarks/camera/) and its tables into
-#                 docs/benchmarks.md, between that set's markers; the calibration
-#                 report to docs/benchmarks/camera-calibration.md
+#                 (the camera set's to docs/benchmarks/camera/); the calibration
+#                 report to docs/benchmarks/camera-calibration.md. docs/benchmarks.md
+#                 quotes the headline figures from these reports, by hand
 # --publish-only  publish the results already in BUILD_DIR/bench-results/, run nothing
 # BENCH_LABEL     what is measured, for the report (default: git describe --always --dirty)
 set -euo pipefail
@@ -58,12 +58,10 @@ if [[ $run == 1 ]]; then
     --out "$results/camera-calibration"
 fi
 
-# publish SET DOCS_SUBDIR MARKER_NAME: copies $results/SET to docs/DOCS_SUBDIR and
-# puts its report into docs/benchmarks.md between
-# "<!-- MARKER_NAME: begin ... -->" and "<!-- MARKER_NAME: end -->" only.
+# publish SET DOCS_SUBDIR: copies $results/SET's report and figures to docs/DOCS_SUBDIR.
 publish() {
-  local set=$1 subdir=$2 marker=$3
-  local from=$results/$set to=$root/docs/$subdir doc=$root/docs/benchmarks.md
+  local set=$1 subdir=$2
+  local from=$results/$set to=$root/docs/$subdir
   if [[ ! -f $from/report.md ]]; then
     echo "bench.sh: no $from/report.md; the $set set is not published" >&2
     return
@@ -71,23 +69,6 @@ publish() {
   mkdir -p "$to"
   cp "$from"/report.md "$from"/*.png "$from"/examples.jpg "$to"/
   echo "Copied the $set comparison's report and figures to docs/$subdir/"
-  local begin="<!-- $marker: begin (scripts/bench.sh --publish replaces what follows) -->"
-  local end="<!-- $marker: end -->"
-  if grep -qxF "$begin" "$doc" && grep -qxF "$end" "$doc"; then
-    local report spliced
-    report=$(mktemp)
-    spliced=$(mktemp)
-    sed -E "s#\]\(((fig9|examples)[^)]*)\)#]($subdir/\1)#g" "$from/report.md" > "$report"
-    awk -v begin="$begin" -v end="$end" -v report="$report" '
-      $0 == begin { print; while ((getline line < report) > 0) print line; skip = 1; next }
-      $0 == end { skip = 0 }
-      !skip { print }' "$doc" > "$spliced"
-    cat "$spliced" > "$doc"
-    rm -f "$report" "$spliced"
-    echo "Replaced the $set results in docs/benchmarks.md"
-  else
-    echo "docs/benchmarks.md has no $marker markers; left it alone" >&2
-  fi
 }
 
 # The calibration comparison is a page of its own: its report, as written.
@@ -102,7 +83,7 @@ publish_calibration() {
 }
 
 if [[ $publish == 1 ]]; then
-  publish classic benchmarks "tag_comparison results"
-  publish camera benchmarks/camera "tag_comparison camera results"
+  publish classic benchmarks
+  publish camera benchmarks/camera
   publish_calibration
 fi
