@@ -162,8 +162,8 @@ TEST(FileUtilTest, InterruptedWritesAreUndoneCompletedOrRolledBack) {
   const auto id_line = [](const char* kind, int index, const std::string& path) {
     struct stat st;
     EXPECT_EQ(lstat(path.c_str(), &st), 0) << path;
-    return std::string(kind) + " " + std::to_string(index) + " " + std::to_string(st.st_dev) +
-           " " + std::to_string(st.st_ino) + "\n";
+    return std::string(kind) + " " + std::to_string(index) + " " + std::to_string(st.st_dev) + " " +
+           std::to_string(st.st_ino) + "\n";
   };
   // `tail` follows the ID lines: "", "commit\n" or "commit\nrollback\n".
   const auto setup = [&](const std::string& name, const std::string& tail) {
