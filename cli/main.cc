@@ -1,4 +1,5 @@
 // chromatag: print, detect and calibrate ChromaTag fiducial markers.
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <cstdarg>
 #include <cstdio>
@@ -6,7 +7,9 @@
 #include <iostream>
 #include <opencv2/core/utils/logger.hpp>
 #include <streambuf>
+#include <string>
 
+#include "chromatag/families/input_file.h"
 #include "chromatag/families/version.h"
 #include "commands.h"
 #include "library_output.h"
@@ -103,6 +106,18 @@ class EscapingBuffer : public std::streambuf {
 }  // namespace chromatag::cli
 
 int main(int argc, char** argv) {
+  // OpenCV's own image budget, a second line behind DecodeImage's: OpenCV
+  // reads OPENCV_IO_MAX_IMAGE_PIXELS once, as its library loads, before
+  // main. So the commands that decode images set it to kMaxImagePixels and
+  // run the tool again (one exec); a value the user set is kept.
+  const std::string command = argc > 1 ? argv[1] : "";
+  if ((command == "detect" || command == "verify" || command == "calibrate" ||
+       command == "calibrate-camera") &&
+      std::getenv("OPENCV_IO_MAX_IMAGE_PIXELS") == nullptr &&
+      setenv("OPENCV_IO_MAX_IMAGE_PIXELS", std::to_string(chromatag::kMaxImagePixels).c_str(), 0) ==
+          0) {
+    execv("/proc/self/exe", argv);  // Returns only if it failed: go on as is.
+  }
   // Libraries' own lines kept apart from the tool's (library_output.h).
   chromatag::cli::CaptureLibraryOutput();
   // Never freed: the standard streams flush through them at exit.

@@ -320,6 +320,23 @@ TEST_F(CliHardeningTest, LibraryLinesStayOutOfTheToolsOutput) {
       << crash.err;
 }
 
+// OpenCV's own image budget is the tool's (a second line behind the header
+// check), and one the user sets is kept: OpenCV then refuses to decode.
+TEST_F(CliHardeningTest, OpenCvHoldsTheSameImageBudget) {
+  const auto env = testing::RunCommand(
+      "/bin/sh", {"-c",
+                  "\"$0\" detect udp://127.0.0.1:9 >/dev/null 2>&1 & pid=$!; sleep 2; "
+                  "tr '\\0' '\\n' < /proc/$pid/environ; kill $pid; wait $pid",
+                  CHROMATAG_CLI_PATH});
+  EXPECT_NE(env.out.find("OPENCV_IO_MAX_IMAGE_PIXELS=268435456\n"), std::string::npos) << env.out;
+  const auto small = testing::RunCommand(
+      "/usr/bin/env",
+      {"OPENCV_IO_MAX_IMAGE_PIXELS=1000", CHROMATAG_CLI_PATH, "detect", dir_ + "/page.png"});
+  EXPECT_EQ(small.exit_code, 1) << small.err;
+  EXPECT_NE(small.err.find("cannot read image"), std::string::npos) << small.err;
+  EXPECT_EQ(Chromatag({"detect", dir_ + "/page.png"}).exit_code, 0);
+}
+
 // A file named to set the terminal's title: the table shows the escapes as
 // text, the JSON as JSON escapes; no raw control byte reaches the terminal.
 TEST_F(CliHardeningTest, NamesWithTerminalEscapesAreShownEscaped) {

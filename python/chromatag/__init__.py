@@ -7,7 +7,14 @@
 
 See docs/python.md.
 """
-from ._chromatag import (  # noqa: F401
+import os as _os
+
+# OpenCV's own image budget, a second line behind the module's own checks:
+# OpenCV reads it once, when its library loads with the extension below (so
+# it has no effect if cv2 was imported first). A value already set is kept.
+_os.environ.setdefault("OPENCV_IO_MAX_IMAGE_PIXELS", str(1 << 28))
+
+from ._chromatag import (  # noqa: E402,F401
     Board,
     BoardPose,
     BoardTag,

@@ -422,6 +422,17 @@ def test_public_names_are_listed_and_documented():
     assert chromatag.Detection.green_corners.__doc__ and chromatag.Detection.as_dict.__doc__
 
 
+def test_opencv_holds_the_same_image_budget():
+    # Set before the extension (and OpenCV with it) loaded; a user's value kept.
+    import subprocess
+    import sys
+    assert os.environ.get("OPENCV_IO_MAX_IMAGE_PIXELS") == str(1 << 28)
+    code = "import os, chromatag; print(os.environ['OPENCV_IO_MAX_IMAGE_PIXELS'])"
+    env = dict(os.environ, OPENCV_IO_MAX_IMAGE_PIXELS="1000")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert out.stdout.strip() == "1000", out.stderr
+
+
 def test_hostile_arrays_and_arguments_are_named_errors():
     zero = np.zeros((1, 1, 3), np.uint8)
     detector = chromatag.Detector()
