@@ -162,7 +162,7 @@ TEST(DetectorSceneTest, UnblurredCornersAreSubPixelOverSizesRotationsAndTilts) {
 }
 
 // Blur, sensor noise and colour casts: still found and decoded; corners a
-// little worse. Known weak spot (docs/benchmarks.md): Gaussian blur of 1.5 px
+// little worse. Known weak spot (seen at commit 9854092): Gaussian blur of 1.5 px
 // and more loses some 60-110 px tags at BuildPolygon and PolyToQuad.
 TEST(DetectorSceneTest, SurvivesBlurNoiseAndColourCasts) {
   auto detector = MakeDetector();

@@ -55,7 +55,7 @@ struct Detection {
   // (image_from_tag). The black/white border is the tag's strongest edge and
   // a luminance one; the inner ones are weaker, and cameras blur their
   // chroma (JPEG 4:2:0, demosaicing), so located on their own edges they
-  // came out worse (docs/benchmarks.md, "Corner error"). Lens distortion
+  // came out worse (commit 16bcecd). Lens distortion
   // across one tag is not modelled here.
   std::array<cv::Point2d, 4> green_corners;
   std::array<cv::Point2d, 4> red_corners;

@@ -59,7 +59,7 @@ struct DetectorOptions {
   // FindADiff's rows: every row_step-th row; 0 (the default) means every
   // step-th, as in the paper. A red region shorter than this can fall between
   // two sampled rows, so larger misses more of the smallest and steepest tags
-  // and is faster. Measured with 5 (docs/benchmarks.md, AMD EPYC): median
+  // and is faster. Measured with 5 (commit 68e2a46, AMD EPYC): median
   // time 8-17 % less on tag-free frames and 4-7 % less on frames with a tag;
   // 2,155 tags found instead of 2,156 on the camera set, 5,989 instead of
   // 6,001 on the classic one (the lost ones nearly all under 30 px or seen at
@@ -98,7 +98,7 @@ struct DetectorOptions {
   // blurred by the optics, demosaicing or JPEG's 4:2:0 chroma spreads over
   // two samples, and on a dim card or a washed-out print neither step then
   // reaches ADiffThresh. Measured on 3,000 camera-set frames
-  // (docs/benchmarks.md): iccv17 16h5 tags from 30 px up to 60 degrees
+  // (commit b4834fa): iccv17 16h5 tags from 30 px up to 60 degrees
   // 86.3 -> 90.1 % found, iccv17 faded to 0.8 79.1 -> 89.9 %, for 16 % more
   // candidates in natural scenes (green next to red); paired on 1,500 frames
   // after AprilTag 3 and ArUco, the tag-free median time +3.7 us (+7 %), with
