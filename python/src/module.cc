@@ -95,6 +95,7 @@ cv::Mat ColourImage(const py::object& object, py::object* keep) {
   const int channels = static_cast<int>(contiguous.shape(2));
   cv::Mat mat(rows, cols, CV_8UC(channels), const_cast<uint8_t*>(contiguous.data()));
   if (channels == 3) return mat;
+  if (mat.empty()) return cv::Mat(rows, cols, CV_8UC3);  // Nothing to convert (0 rows or columns).
   cv::Mat three;
   cv::cvtColor(mat, three, cv::COLOR_BGRA2BGR);  // Drops the 4th channel whatever the order.
   return three;

@@ -444,6 +444,10 @@ def test_hostile_arrays_and_arguments_are_named_errors():
             detector.detect(np.broadcast_to(zero, shape))
     # A view within the budget is still read (copied once).
     assert detector.detect(np.broadcast_to(zero, (64, 64, 3))) == []
+    # Empty images of 3 or 4 channels hold no tag (found by fuzz_python_arrays:
+    # an empty BGRA one reached OpenCV's cvtColor).
+    for shape in ((0, 0, 3), (5, 0, 3), (5, 0, 4), (0, 5, 4)):
+        assert detector.detect(np.zeros(shape, np.uint8)) == []
     cases = [
         (lambda: chromatag.Detector(tag_size="40mm"), "tag_size must be a number .metres., not str '40mm'"),
         (lambda: chromatag.Detector(step=2**70), "option step must be a number that fits in 64 bits"),

@@ -34,6 +34,7 @@ SEEDS = [
     lambda: np.zeros((10, 10, 3), np.uint8)[::-1, ::2],
     lambda: np.zeros((10, 10, 4), np.uint8),
     lambda: np.asfortranarray(np.zeros((20, 30, 3), np.uint8)),
+    lambda: np.zeros((5, 0, 4), np.uint8),
     lambda: np.array(b'not an image'),
     lambda: np.zeros((3, 3), object),
 ]
