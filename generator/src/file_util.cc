@@ -145,11 +145,6 @@ std::string OldName(const std::string& target, const std::string& stem, size_t i
   return NewName(target, stem, index) + ".old";
 }
 
-bool Exists(const std::string& path) {
-  struct stat st;
-  return lstat(path.c_str(), &st) == 0;
-}
-
 struct FileId {
   dev_t dev = 0;
   ino_t ino = 0;
@@ -361,11 +356,11 @@ bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* err
   // Hard links to the targets that exist, so that a rename failing half way
   // can put the earlier ones back.
   for (; linked < files.size(); ++linked) {
-    if (!Exists(files[linked].path)) continue;
+    if (!IdOf(files[linked].path)) continue;
     const std::string old = OldName(files[linked].path, stem, linked);
     if (link(files[linked].path.c_str(), old.c_str()) != 0 || !record("old", linked, old)) {
       const std::string why = std::strerror(errno);
-      if (Exists(old)) unlink(old.c_str());
+      if (IdOf(old)) unlink(old.c_str());
       return abandon(files[linked].path, why);
     }
     had_old[linked] = true;
