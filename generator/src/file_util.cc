@@ -177,9 +177,13 @@ void FinishInterruptedWrite(const std::string& journal) {
   std::string text(static_cast<size_t>(st.st_size), '\0');
   const bool read_all = pread(fd, text.data(), text.size(), 0) == st.st_size;
   if (!read_all || text.rfind(kJournalHeader, 0) != 0) {
-    // Killed before its first line: nothing else of the write exists yet.
-    // (A minute's grace: a live writer has its lock, but be sure.)
-    if (read_all && text.empty() && time(nullptr) - st.st_mtime > 60) unlink(journal.c_str());
+    // Killed before its first line was whole: nothing else of the write
+    // exists yet. Its writer, were it alive, would hold the lock this process
+    // has (a writer that locks after this unlink sees the journal gone and
+    // makes another).
+    const std::string header = kJournalHeader;
+    if (read_all && header.compare(0, text.size(), text) == 0 && text.size() < header.size())
+      unlink(journal.c_str());
     close(fd);
     return;
   }
@@ -313,11 +317,28 @@ bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* err
   }
   for (const std::string& folder : folders) FinishInterruptedWritesIn(folder);
 
-  // The journal, naming the targets, synced before any new file exists.
-  std::string journal = Folder(files[0].path) + "/.chromatag-XXXXXX" + kJournalSuffix;
-  const int journal_fd =
-      mkostemps(journal.data(), static_cast<int>(sizeof(kJournalSuffix) - 1), O_CLOEXEC);
-  if (journal_fd < 0) return fail(files[0].path, std::strerror(errno));
+  // The journal, naming the targets, synced before any new file exists. It
+  // is locked before anything is written to it; another process may find it
+  // empty and unlocked in between and remove it, so it is made again then.
+  std::string journal;
+  int journal_fd = -1;
+  for (int attempt = 0; journal_fd < 0; ++attempt) {
+    journal = Folder(files[0].path) + "/.chromatag-XXXXXX" + kJournalSuffix;
+    journal_fd = mkostemps(journal.data(), static_cast<int>(sizeof(kJournalSuffix) - 1), O_CLOEXEC);
+    if (journal_fd < 0) return fail(files[0].path, std::strerror(errno));
+    struct stat st;
+    if (flock(journal_fd, LOCK_EX) != 0 || fstat(journal_fd, &st) != 0) {
+      const std::string why = std::strerror(errno);
+      unlink(journal.c_str());
+      close(journal_fd);
+      return fail(files[0].path, why);
+    }
+    if (st.st_nlink == 0) {
+      close(journal_fd);
+      journal_fd = -1;
+      if (attempt == 100) return fail(files[0].path, "its folder's journal kept being removed");
+    }
+  }
   std::string stem = fs::path(journal).filename().string();
   stem.resize(stem.size() - (sizeof(kJournalSuffix) - 1));
   std::string listing = kJournalHeader;
@@ -333,7 +354,7 @@ bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* err
     close(journal_fd);
     return fail(path, why);
   };
-  if (flock(journal_fd, LOCK_EX) != 0 || !WriteAll(journal_fd, listing) || fsync(journal_fd) != 0)
+  if (!WriteAll(journal_fd, listing) || fsync(journal_fd) != 0)
     return abandon(files[0].path, std::strerror(errno));
   SyncFolder(Folder(files[0].path));
   std::string commit;  // The lines that follow the targets, "commit" last.

@@ -231,6 +231,15 @@ TEST(FileUtilTest, InterruptedWritesAreUndoneCompletedOrRolledBack) {
   ASSERT_TRUE(WriteFilesAtomically({{dir + "/s.pdf", "x"}}));
   EXPECT_EQ(Read(victim), "precious");
   EXPECT_TRUE(Leftovers(dir).empty());
+  // Killed before its first line was whole (empty, or half a header): gone
+  // at once. A file of that name that is not a journal is not ours to remove.
+  dir = root + "/unwritten";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/.chromatag-empty00.journal") << "";
+  std::ofstream(dir + "/.chromatag-half00.journal") << "chromatag write jo";
+  std::ofstream(dir + "/.chromatag-other0.journal") << "someone else's notes";
+  ASSERT_TRUE(WriteFilesAtomically({{dir + "/s.pdf", "x"}}));
+  EXPECT_EQ(Leftovers(dir), std::vector<std::string>{".chromatag-other0.journal"});
   fs::remove_all(root);
 }
 
