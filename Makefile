@@ -18,8 +18,10 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
-# The main job on a built-in default.
-demo: build
+# The main job on a built-in default. Only the tool and its libraries are
+# built; tests and benchmarks wait for `make test` and `make bench`.
+demo: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target chromatag
 	@scripts/demo.sh $(CHROMATAG)
 
 test: build
