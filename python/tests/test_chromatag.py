@@ -208,6 +208,24 @@ def test_camera_from_a_file_and_the_fisheye_model(tmp_path):
         chromatag.Detector(camera_file=str(path), camera_model="fisheye")
     with pytest.raises(chromatag.Error, match="missing.yaml"):
         chromatag.Detector(camera_file=str(tmp_path / "missing.yaml"))
+    # The file's intrinsics, as OpenCV's functions take them.
+    camera = chromatag.read_camera(str(path))
+    np.testing.assert_array_equal(camera["camera_matrix"], k)
+    np.testing.assert_array_equal(camera["dist_coeffs"], [0.1, 0, 0, 0])
+    assert camera["camera_model"] == "fisheye"
+    assert camera["image_size"] == (480, 400)
+    assert camera["rms_px"] is None
+    with pytest.raises(chromatag.Error, match="missing.yaml"):
+        chromatag.read_camera(str(tmp_path / "missing.yaml"))
+
+
+def test_one_default_family_set_and_one_table_of_option_names():
+    # Both families, as in C++ and the CLI.
+    assert chromatag.Detector().families == ["16h5", "36h11"]
+    assert chromatag.Detector(row_step=5, two_step_rises=True).families == ["16h5", "36h11"]
+    # The benchmarks' switches are not options; the error lists the names.
+    with pytest.raises(chromatag.Error, match="unknown option \"refine_corners\".*row_step"):
+        chromatag.Detector(refine_corners=False)
 
 
 @pytest.mark.parametrize("offset_m", [0.0, 0.01])
