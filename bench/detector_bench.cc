@@ -10,6 +10,7 @@
 
 #include "chromatag/bench/dataset.h"
 #include "chromatag/detector/detector.h"
+#include "stage_switches.h"
 #include "synthetic_scene.h"
 
 namespace chromatag {
@@ -130,8 +131,9 @@ void BM_CameraSet(benchmark::State& state, bool with_tags, bool cold) {
   }
   DetectorOptions options;
   options.families = {"16h5", "36h11"};
-  if (getenv("NOREFINE")) options.refine_corners = false;
-  auto detector = Detector::Create(options);
+  internal::StageSwitches switches;
+  if (getenv("NOREFINE")) switches.refine_corners = false;
+  auto detector = internal::CreateDetector(options, switches);
   DetectionResult result;
   StageTotals totals;
   size_t next = 0;

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--seed", seed, "data set seed")->capture_default_str();
   auto* off_option =
-      app.add_option("--off", off, "the DetectorOptions switch that the second setting turns off")
+      app.add_option("--off", off, "the detector's addition that the second setting turns off")
           ->check(CLI::IsMember({"quads_from_scans", "grow_regions", "refine_corners"}));
   auto* on_option =
       app.add_option("--on", on, "the DetectorOptions switch that the second setting turns on")
@@ -61,15 +61,17 @@ int main(int argc, char** argv) {
   DetectorOptions a;
   a.families = setup.families;
   DetectorOptions b = a;
+  internal::StageSwitches b_switches;
   if (!off.empty()) {
-    (off == "quads_from_scans" ? b.quads_from_scans
-     : off == "grow_regions"   ? b.grow_regions
-                               : b.refine_corners) = false;
+    (off == "quads_from_scans" ? b_switches.quads_from_scans
+     : off == "grow_regions"   ? b_switches.grow_regions
+                               : b_switches.refine_corners) = false;
   } else {
     b.two_step_rises = true;
   }
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const auto pairs = RunPairedTiming(*setup.dataset, a, b, *setup.apriltag, *setup.aruco, threads);
+  const auto pairs =
+      RunPairedTiming(*setup.dataset, a, b, b_switches, *setup.apriltag, *setup.aruco, threads);
   std::printf(
       "pair_timing --set %s --frames %d --seed %llu: defaults (A) against %s %s (B), "
       "medians in us\n\n",

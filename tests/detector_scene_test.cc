@@ -15,6 +15,7 @@
 #include "chromatag/detector/detector.h"
 #include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
+#include "stage_switches.h"
 #include "synthetic_scene.h"
 
 namespace chromatag {
@@ -429,8 +430,9 @@ TEST(DetectorSceneTest, FastPathFindsWhatBuildPolygonFinds) {
   auto fast = MakeDetector();
   DetectorOptions options;
   options.families = {"16h5", "36h11"};
-  options.quads_from_scans = false;
-  auto slow = Detector::Create(options);
+  internal::StageSwitches no_fast_path;
+  no_fast_path.quads_from_scans = false;
+  auto slow = internal::CreateDetector(options, no_fast_path);
   ASSERT_TRUE(slow);
   int views = 0, fast_found = 0;
   for (const std::string name : {"16h5", "36h11"}) {

@@ -806,11 +806,12 @@ TEST(PairTimingTest, TimesBothSettingsOnEveryFrame) {
   ASSERT_TRUE(dataset);
   DetectorOptions a;
   a.families = {"16h5", "36h11"};
-  DetectorOptions b = a;
-  b.quads_from_scans = false;
+  internal::StageSwitches no_fast_path;
+  no_fast_path.quads_from_scans = false;
   auto apriltag = MakeAprilTagDetector(a.families);
   auto aruco = MakeArucoDetector(a.families);
-  const std::vector<PairedFrame> pairs = RunPairedTiming(*dataset, a, b, *apriltag, *aruco, 2);
+  const std::vector<PairedFrame> pairs =
+      RunPairedTiming(*dataset, a, a, no_fast_path, *apriltag, *aruco, 2);
   ASSERT_EQ(pairs.size(), 6u);
   int found = 0;
   for (size_t i = 0; i < pairs.size(); ++i) {

@@ -15,9 +15,12 @@ using Clock = std::chrono::steady_clock;
 }  // namespace
 
 std::vector<PairedFrame> RunPairedTiming(const Dataset& dataset, const DetectorOptions& a,
-                                         const DetectorOptions& b, TagDetector& apriltag,
-                                         TagDetector& aruco, int render_threads) {
-  const std::unique_ptr<Detector> detectors[2] = {Detector::Create(a), Detector::Create(b)};
+                                         const DetectorOptions& b,
+                                         const internal::StageSwitches& b_switches,
+                                         TagDetector& apriltag, TagDetector& aruco,
+                                         int render_threads) {
+  const std::unique_ptr<Detector> detectors[2] = {Detector::Create(a),
+                                                  internal::CreateDetector(b, b_switches)};
   if (!detectors[0] || !detectors[1]) return {};
   const int total = dataset.options().num_frames;
   constexpr int kChunk = 64;

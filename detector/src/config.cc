@@ -34,6 +34,46 @@ int Integer(const Json& value, const std::string& key) {
   return value.get<int>();
 }
 
+// The options a config file names, in the order it is written: the one
+// table that reading, writing and the list of allowed names share (Python's
+// keyword arguments go through it too). Each has one of the three kinds.
+struct Field {
+  const char* name;
+  int DetectorOptions::*integer;
+  double DetectorOptions::*number;
+  bool DetectorOptions::*flag;
+};
+
+constexpr Field Int(const char* name, int DetectorOptions::*member) {
+  return {name, member, nullptr, nullptr};
+}
+constexpr Field Num(const char* name, double DetectorOptions::*member) {
+  return {name, nullptr, member, nullptr};
+}
+constexpr Field Flag(const char* name, bool DetectorOptions::*member) {
+  return {name, nullptr, nullptr, member};
+}
+
+// "families" comes first and is read apart (a list of names).
+constexpr Field kFields[] = {
+    Int("step", &DetectorOptions::step),
+    Int("row_step", &DetectorOptions::row_step),
+    Num("adiff_thresh", &DetectorOptions::adiff_thresh),
+    Num("border_thresh", &DetectorOptions::border_thresh),
+    Int("border_run", &DetectorOptions::border_run),
+    Flag("two_step_rises", &DetectorOptions::two_step_rises),
+    Num("max_green_a", &DetectorOptions::max_green_a),
+    Num("conv_thresh", &DetectorOptions::conv_thresh),
+    Int("max_hamming", &DetectorOptions::max_hamming),
+    Num("min_decision_margin", &DetectorOptions::min_decision_margin),
+};
+
+std::string AllowedNames() {
+  std::string out = "families";
+  for (const Field& field : kFields) out += std::string(", ") + field.name;
+  return out;
+}
+
 void Apply(const Json& options, DetectorOptions* out) {
   if (!options.is_object()) throw ConfigError{"\"options\" must be an object"};
   for (const auto& [key, value] : options.items()) {
@@ -44,60 +84,48 @@ void Apply(const Json& options, DetectorOptions* out) {
         if (!f.is_string()) throw ConfigError{"\"families\" must hold names: \"16h5\", \"36h11\""};
         out->families.push_back(f.get<std::string>());
       }
-    } else if (key == "step") {
-      out->step = Integer(value, key);
-    } else if (key == "row_step") {
-      out->row_step = Integer(value, key);
-    } else if (key == "adiff_thresh") {
-      out->adiff_thresh = Number(value, key);
-    } else if (key == "border_thresh") {
-      out->border_thresh = Number(value, key);
-    } else if (key == "border_run") {
-      out->border_run = Integer(value, key);
-    } else if (key == "max_green_a") {
-      out->max_green_a = Number(value, key);
-    } else if (key == "conv_thresh") {
-      out->conv_thresh = Number(value, key);
-    } else if (key == "max_hamming") {
-      out->max_hamming = Integer(value, key);
-    } else if (key == "min_decision_margin") {
-      out->min_decision_margin = Number(value, key);
-    } else if (key == "two_step_rises") {
-      if (!value.is_boolean()) throw ConfigError{"\"two_step_rises\" must be true or false"};
-      out->two_step_rises = value.get<bool>();
-    } else if (key == "refine_corners") {
-      if (!value.is_boolean()) throw ConfigError{"\"refine_corners\" must be true or false"};
-      out->refine_corners = value.get<bool>();
+      continue;
+    }
+    const Field* field = nullptr;
+    for (const Field& f : kFields) field = key == f.name ? &f : field;
+    if (!field)
+      throw ConfigError{"unknown option \"" + key + "\" (allowed: " + AllowedNames() + ")"};
+    if (field->integer) {
+      out->*field->integer = Integer(value, key);
+    } else if (field->number) {
+      out->*field->number = Number(value, key);
     } else {
-      throw ConfigError{"unknown option \"" + key +
-                        "\" (allowed: families, step, row_step, adiff_thresh, border_thresh, "
-                        "border_run, two_step_rises, max_green_a, conv_thresh, max_hamming, "
-                        "min_decision_margin, refine_corners)"};
+      if (!value.is_boolean()) throw ConfigError{"\"" + key + "\" must be true or false"};
+      out->*field->flag = value.get<bool>();
     }
   }
 }
 
 }  // namespace
 
+std::vector<std::string> DetectorConfigFieldNames() {
+  std::vector<std::string> names = {"families"};
+  for (const Field& field : kFields) names.push_back(field.name);
+  return names;
+}
+
 std::string DetectorConfigToJson(const DetectorOptions& options,
                                  const std::vector<std::string>& fields,
                                  const std::string& provenance_json) {
-  const Json all = {{"families", options.families},
-                    {"step", options.step},
-                    {"row_step", options.row_step},
-                    {"adiff_thresh", options.adiff_thresh},
-                    {"border_thresh", options.border_thresh},
-                    {"border_run", options.border_run},
-                    {"two_step_rises", options.two_step_rises},
-                    {"max_green_a", options.max_green_a},
-                    {"conv_thresh", options.conv_thresh},
-                    {"max_hamming", options.max_hamming},
-                    {"min_decision_margin", options.min_decision_margin},
-                    {"refine_corners", options.refine_corners}};
+  const auto wanted = [&](const std::string& name) {
+    return fields.empty() || std::find(fields.begin(), fields.end(), name) != fields.end();
+  };
   Json chosen = Json::object();
-  for (const auto& [key, value] : all.items()) {
-    if (fields.empty() || std::find(fields.begin(), fields.end(), key) != fields.end())
-      chosen[key] = value;
+  if (wanted("families")) chosen["families"] = options.families;
+  for (const Field& field : kFields) {
+    if (!wanted(field.name)) continue;
+    if (field.integer) {
+      chosen[field.name] = options.*field.integer;
+    } else if (field.number) {
+      chosen[field.name] = options.*field.number;
+    } else {
+      chosen[field.name] = options.*field.flag;
+    }
   }
   Json root = {{"schema", kDetectorConfigSchema}, {"schema_version", 1}, {"options", chosen}};
   if (!provenance_json.empty()) root["calibration"] = Json::parse(provenance_json);

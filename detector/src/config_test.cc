@@ -7,7 +7,7 @@ namespace {
 
 TEST(DetectorConfigTest, RoundTripsEveryField) {
   DetectorOptions options;
-  options.families = {"16h5", "36h11"};
+  options.families = {"36h11"};
   options.step = 3;
   options.row_step = 5;
   options.adiff_thresh = 12.5;
@@ -17,7 +17,6 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   options.conv_thresh = 0.9;
   options.max_hamming = 1;
   options.min_decision_margin = 1.5;
-  options.refine_corners = false;
   options.two_step_rises = true;
   DetectorOptions back;
   std::string error;
@@ -33,7 +32,25 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   EXPECT_DOUBLE_EQ(back.conv_thresh, 0.9);
   EXPECT_EQ(back.max_hamming, 1);
   EXPECT_DOUBLE_EQ(back.min_decision_margin, 1.5);
-  EXPECT_FALSE(back.refine_corners);
+}
+
+// One table of names: the file written holds each name once, an unknown
+// name is refused with all of them listed, and benchmark switches are not
+// options.
+TEST(DetectorConfigTest, OneTableNamesEveryField) {
+  const std::string text = DetectorConfigToJson(DetectorOptions{});
+  DetectorOptions options;
+  std::string error;
+  EXPECT_FALSE(ParseDetectorConfig(
+      R"({"schema": "chromatag-detector-config", "schema_version": 1,
+          "options": {"refine_corners": false}})",
+      &options, &error));
+  for (const std::string& name : DetectorConfigFieldNames()) {
+    EXPECT_NE(text.find("\"" + name + "\""), std::string::npos) << name;
+    EXPECT_NE(error.find(name), std::string::npos) << error;
+  }
+  EXPECT_EQ(DetectorConfigFieldNames().size(), 11u);
+  EXPECT_NE(error.find("unknown option \"refine_corners\""), std::string::npos) << error;
 }
 
 TEST(DetectorConfigTest, SubsetKeepsTheCallersOtherValues) {

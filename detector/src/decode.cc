@@ -748,12 +748,11 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
   return false;
 }
 
-bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
+bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
                      const std::vector<FamilyDecoder>& families, Candidate* candidate,
                      Detection* detection, RejectReason* why) {
   if (Decode(image, options, families, *candidate, detection, why)) return true;
-  if (*why != RejectReason::kNoFamilyFits || !options.refine_corners ||
-      !RefineInnerQuads(image, candidate))
+  if (*why != RejectReason::kNoFamilyFits || !refine_sides || !RefineInnerQuads(image, candidate))
     return false;
   RejectReason again;
   return Decode(image, options, families, *candidate, detection, &again);

@@ -200,12 +200,12 @@ TEST(DecodeTest, DecodeCandidateLocatesInnerRingsThatFitNoFamily) {
     RejectReason why;
     EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why));
     EXPECT_EQ(why, RejectReason::kNoFamilyFits) << entry.family->name();
-    DetectorOptions no_sides;
-    no_sides.refine_corners = false;
     Candidate unrefined = candidate;
-    EXPECT_FALSE(DecodeCandidate(view, no_sides, families, &unrefined, &detection, &why));
+    EXPECT_FALSE(DecodeCandidate(view, DetectorOptions{}, /*refine_sides=*/false, families,
+                                 &unrefined, &detection, &why));
     EXPECT_EQ(why, RejectReason::kNoFamilyFits);
-    ASSERT_TRUE(DecodeCandidate(view, DetectorOptions{}, families, &candidate, &detection, &why))
+    ASSERT_TRUE(DecodeCandidate(view, DetectorOptions{}, /*refine_sides=*/true, families,
+                                &candidate, &detection, &why))
         << entry.family->name() << ": " << RejectReasonName(why);
     EXPECT_EQ(detection.family, entry.family.get());
     EXPECT_EQ(detection.id, id);

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "chromatag/detector/pose.h"
+#include "stage_switches.h"
 #include "stages.h"
 
 namespace chromatag {
@@ -90,6 +91,7 @@ Stage StageOf(RejectReason reason) {
 
 struct Detector::Impl {
   DetectorOptions options;
+  internal::StageSwitches switches;
   std::vector<internal::FamilyDecoder> families;
   const ColorTable* table = nullptr;
 };
@@ -166,10 +168,31 @@ Detector::~Detector() = default;
 
 const DetectorOptions& Detector::options() const { return impl_->options; }
 
+namespace internal {
+
+struct DetectorAccess {
+  static std::unique_ptr<Detector> Create(const DetectorOptions& options,
+                                          const StageSwitches& switches, std::string* error);
+};
+
+std::unique_ptr<Detector> CreateDetector(const DetectorOptions& options,
+                                         const StageSwitches& switches, std::string* error) {
+  return DetectorAccess::Create(options, switches, error);
+}
+
+}  // namespace internal
+
 std::unique_ptr<Detector> Detector::Create(const DetectorOptions& options, std::string* error) {
+  return internal::DetectorAccess::Create(options, internal::StageSwitches{}, error);
+}
+
+std::unique_ptr<Detector> internal::DetectorAccess::Create(const DetectorOptions& options,
+                                                           const StageSwitches& switches,
+                                                           std::string* error) {
   if (!options.IsValid(error)) return nullptr;
-  auto impl = std::make_unique<Impl>();
+  auto impl = std::make_unique<Detector::Impl>();
   impl->options = options;
+  impl->switches = switches;
   for (const std::string& name : options.families) {
     internal::FamilyDecoder entry;
     entry.family = TagFamily::Load(name, error);
@@ -205,6 +228,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   result->summary = DetectorSummary{};
   if (image.empty() || image.type() != CV_8UC3) return;
   const DetectorOptions& options = impl_->options;
+  const internal::StageSwitches& switches = impl_->switches;
   impl_->table->Prefetch(/*coarse=*/!internal::RowScanComputesA(options));
   const internal::ImageView view(image, order, *impl_->table);
   Scratch& scratch = ThreadScratch();
@@ -241,18 +265,20 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       // The fast path's time goes to the stages it stands in for; what it
       // abandons is not a rejection, since the slow path takes it up.
       auto decode = [&](RejectReason* reason) {
-        return internal::DecodeCandidate(view, options, impl_->families, &candidate, &detection,
-                                         reason);
+        return internal::DecodeCandidate(view, options, switches.refine_corners, impl_->families,
+                                         &candidate, &detection, reason);
       };
       auto fast_path = [&] {
-        if (!options.quads_from_scans || !options.refine_corners) return false;
+        if (!switches.quads_from_scans || !switches.refine_corners) return false;
         RejectReason ignored;
         const bool found =
             timed(Stage::kBuildPolygon,
                   [&] { return internal::QuadsFromScans(view, options, &candidate); }) &&
-            timed(
-                Stage::kPolyToQuad,
-                [&] { return internal::NestedAndRefined(view, options, &candidate, &ignored); }) &&
+            timed(Stage::kPolyToQuad,
+                  [&] {
+                    return internal::NestedAndRefined(view, switches.refine_corners, &candidate,
+                                                      &ignored);
+                  }) &&
             timed(Stage::kDecode, [&] { return decode(&ignored); });
         if (found) ++summary.fast_path_detections;
         return found;
@@ -261,7 +287,10 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
         return run_stage(Stage::kBuildPolygon,
                          [&] { return internal::BuildPolygon(view, options, &candidate, &why); }) &&
                run_stage(Stage::kPolyToQuad,
-                         [&] { return internal::PolyToQuad(view, options, &candidate, &why); }) &&
+                         [&] {
+                           return internal::PolyToQuad(view, switches.refine_corners, &candidate,
+                                                       &why);
+                         }) &&
                run_stage(Stage::kDecode, [&] { return decode(&why); });
       };
       if (!run_stage(Stage::kInitialScan,
@@ -274,7 +303,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
         if (options.report_rejected) rejection = Rejection(candidate, seed, why);
         const bool after_scan = StageOf(why) != Stage::kInitialScan;
         bool grown = false;
-        if (options.grow_regions && internal::WorthGrowing(candidate, why)) {
+        if (switches.grow_regions && internal::WorthGrowing(candidate, why)) {
           grown = run_stage(Stage::kGrowRegion, [&] {
             return internal::GrowRegion(view, options, impl_->families, &candidate, &detection,
                                         &why);

@@ -117,7 +117,7 @@ bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
   return QuadFromSides(sides, quad) && IsConvexClockwise(*quad);
 }
 
-bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+bool PolyToQuad(const ImageView& image, bool refine_sides, Candidate* candidate,
                 RejectReason* why) {
   for (int ring = 0; ring < kNumRings; ++ring) {
     if (!FitQuad(candidate->points[ring], &candidate->quads[ring])) {
@@ -125,10 +125,10 @@ bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidat
       return false;
     }
   }
-  return NestedAndRefined(image, options, candidate, why);
+  return NestedAndRefined(image, refine_sides, candidate, why);
 }
 
-bool NestedAndRefined(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+bool NestedAndRefined(const ImageView& image, bool refine_sides, Candidate* candidate,
                       RejectReason* why) {
   // Nested, each ring smaller than the one outside it.
   const double outer = QuadArea(candidate->quads[kBlackWhite]);
@@ -138,7 +138,7 @@ bool NestedAndRefined(const ImageView& image, const DetectorOptions& options, Ca
     *why = RejectReason::kNotNested;
     return false;
   }
-  if (options.refine_corners && !RefineOuterQuad(image, candidate)) {
+  if (refine_sides && !RefineOuterQuad(image, candidate)) {
     *why = RejectReason::kRefineFailed;
     return false;
   }

@@ -45,7 +45,7 @@ TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
   Candidate candidate;
   ASSERT_TRUE(ScanAndBuildPolygon(view, seed, &candidate));
   RejectReason why;
-  ASSERT_TRUE(PolyToQuad(view, DetectorOptions{}, &candidate, &why))
+  ASSERT_TRUE(PolyToQuad(view, /*refine_sides=*/true, &candidate, &why))
       << "PolyToQuad rejected: " << RejectReasonName(why);
   auto expect_near = [&](int ring, double limit, const char* when) {
     const Quad& fitted = candidate.quads[ring];

@@ -230,12 +230,11 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
 
 // 4. PolyToQuad: a quad per polygon (FitQuad: the hull cut to four corners,
 // a line per side, their intersections); then NestedAndRefined.
-bool PolyToQuad(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
-                RejectReason* why);
+bool PolyToQuad(const ImageView& image, bool refine_sides, Candidate* candidate, RejectReason* why);
 
 // PolyToQuad's second half: false (and *why) unless the three quads are
-// nested, each inside the next; then (if enabled) RefineOuterQuad.
-bool NestedAndRefined(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+// nested, each inside the next; then, if `refine_sides`, RefineOuterQuad.
+bool NestedAndRefined(const ImageView& image, bool refine_sides, Candidate* candidate,
                       RejectReason* why);
 
 // The fast path from InitialScan to the sub-pixel sides
@@ -382,9 +381,9 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
 
 // Decode for a candidate whose inner quads are still rough (from the scans or
 // the polygons; only the outer one has its sub-pixel sides): where they fit
-// no family's proportions, RefineInnerQuads (if options.refine_corners) and
-// Decode once more. The first reason stands if that fails too.
-bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
+// no family's proportions, RefineInnerQuads (if `refine_sides`) and Decode
+// once more. The first reason stands if that fails too.
+bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
                      const std::vector<FamilyDecoder>& families, Candidate* candidate,
                      Detection* detection, RejectReason* why);
 

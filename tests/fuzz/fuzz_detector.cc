@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "chromatag/detector/detector.h"
+#include "stage_switches.h"
 
 namespace {
 
@@ -21,14 +22,15 @@ const chromatag::Detector* DetectorFor(uint8_t choice) {
                                     : std::vector<std::string>{"36h11"};
     options.step = (choice & 2) ? 1 : 4;
     options.row_step = (choice & 3) == 1 ? 5 : 0;  // Rows apart from columns.
-    options.refine_corners = (choice & 4) == 0;
-    options.two_step_rises = (choice & 3) == 3;  // With step 1 and every row.
+    options.two_step_rises = (choice & 3) == 3;    // With step 1 and every row.
     options.report_rejected = true;
     if (choice & 4) {
       options.camera = chromatag::CameraIntrinsics{300, 300, 40, 30, {0.1, -0.05, 0, 0}};
       options.tag_size = 0.05;
     }
-    slot = chromatag::Detector::Create(options);
+    chromatag::internal::StageSwitches switches;
+    switches.refine_corners = (choice & 4) == 0;
+    slot = chromatag::internal::CreateDetector(options, switches);
   }
   return slot.get();
 }

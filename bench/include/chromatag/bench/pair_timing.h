@@ -16,6 +16,7 @@
 #include "chromatag/bench/competitors.h"
 #include "chromatag/bench/dataset.h"
 #include "chromatag/detector/options.h"
+#include "stage_switches.h"
 
 namespace chromatag::bench {
 
@@ -28,9 +29,12 @@ struct PairedFrame {
 
 // Times `a` and `b` on every frame of `dataset` as above (frames rendered a
 // chunk at a time on `render_threads` threads, then timed on this one).
+// `b_switches` turns some of the detector's additions off in b.
 std::vector<PairedFrame> RunPairedTiming(const Dataset& dataset, const DetectorOptions& a,
-                                         const DetectorOptions& b, TagDetector& apriltag,
-                                         TagDetector& aruco, int render_threads);
+                                         const DetectorOptions& b,
+                                         const internal::StageSwitches& b_switches,
+                                         TagDetector& apriltag, TagDetector& aruco,
+                                         int render_threads);
 
 struct PairedMedians {
   int frames = 0;

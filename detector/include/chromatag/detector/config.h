@@ -24,11 +24,14 @@ namespace chromatag {
 
 inline constexpr const char* kDetectorConfigSchema = "chromatag-detector-config";
 
-// Writes `fields` of `options` (names as in the file; empty: every colour and
-// scan field: families, step, row_step, adiff_thresh, border_thresh, border_run,
-// conv_thresh, max_hamming, min_decision_margin, refine_corners; never the
-// camera or tag size, which belong to a rig, not a print) with `provenance`
-// (a JSON object's text, or empty) as "calibration".
+// The names "options" may hold, as in the file: every DetectorOptions field
+// but report_rejected (a run's choice), camera and tag_size (a rig's, not a
+// print's). Python's Detector takes the same names as keyword arguments.
+std::vector<std::string> DetectorConfigFieldNames();
+
+// Writes `fields` of `options` (names as in DetectorConfigFieldNames; empty:
+// all of them) with `provenance` (a JSON object's text, or empty) as
+// "calibration".
 std::string DetectorConfigToJson(const DetectorOptions& options,
                                  const std::vector<std::string>& fields = {},
                                  const std::string& provenance_json = "");

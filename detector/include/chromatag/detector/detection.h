@@ -69,7 +69,7 @@ struct Detection {
 // Algorithm 1's stages, in order, then the second path: a candidate whose red
 // is enclosed by green but which the ring scans or later stages lost has its
 // black square grown on a grid of pixels, its inner rings placed from it and
-// fitted on their edges, and is decoded again (DetectorOptions::grow_regions).
+// fitted on their edges, and is decoded again.
 enum class Stage { kFindADiff = 0, kInitialScan, kBuildPolygon, kPolyToQuad, kDecode, kGrowRegion };
 inline constexpr int kNumStages = 6;
 const char* StageName(Stage stage);  // "FindADiff", ..., "GrowRegion"
@@ -80,12 +80,13 @@ struct DetectorSummary {
   // quads count as BuildPolygon, its sub-pixel sides as PolyToQuad and its
   // reads as Decode.
   std::array<double, kNumStages> stage_time_us{};
-  // Candidates abandoned by each stage. FindADiff counts seeds whose rise
-  // the coarse prefilter let through but the accurate a* did not confirm.
+  // Candidates abandoned by each stage. FindADiff counts rises its fast row
+  // scan (an a* good to a few units) suggested but the exact a* did not
+  // confirm.
   // What the fast path abandons is not counted: the stages take it up.
   std::array<int, kNumStages> rejected{};
   int seeds = 0;  // Candidates handed to InitialScan.
-  // Candidates the fast path (DetectorOptions::quads_from_scans) took from
+  // Candidates the fast path (eight ring scans to a quad) took from
   // InitialScan to a detection, without BuildPolygon.
   int fast_path_detections = 0;
   double total_time_us = 0.0;

@@ -19,6 +19,10 @@
 
 namespace chromatag {
 
+namespace internal {
+struct DetectorAccess;
+}  // namespace internal
+
 // Channel order of a 3-channel 8-bit frame: OpenCV's imread gives BGR.
 enum class PixelOrder { kBgr, kRgb };
 
@@ -41,6 +45,7 @@ class Detector {
   const DetectorOptions& options() const;
 
  private:
+  friend struct internal::DetectorAccess;  // The benchmarks' stage switches.
   struct Impl;
   explicit Detector(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;

@@ -48,8 +48,9 @@ inline constexpr double kMaxGreenALimit = 100.0;
 double DecisionMarginFactor(const TagFamily& family, int hamming);
 
 struct DetectorOptions {
-  // Families to look for: "16h5", "36h11" or both.
-  std::vector<std::string> families = {"16h5"};
+  // Families to look for: "16h5", "36h11" or both. Both by default, as in
+  // the CLI and the Python module: a tag of either family is found.
+  std::vector<std::string> families = {"16h5", "36h11"};
 
   // N: FindADiff samples every N-th row and column, in pixels. Tag cells must
   // be at least N/2 pixels wide to be seen. Range [1, 64]; smaller finds
@@ -57,14 +58,11 @@ struct DetectorOptions {
   int step = 4;
 
   // FindADiff's rows: every row_step-th row; 0 (the default) means every
-  // step-th, as in the paper. A red region shorter than this can fall between
-  // two sampled rows, so larger misses more of the smallest and steepest tags
-  // and is faster. Measured with 5 (commit 68e2a46, AMD EPYC): median
-  // time 8-17 % less on tag-free frames and 4-7 % less on frames with a tag;
-  // 2,155 tags found instead of 2,156 on the camera set, 5,989 instead of
-  // 6,001 on the classic one (the lost ones nearly all under 30 px or seen at
-  // 64 degrees and more). A speed knob; `step` is not (other than 4 it loses
-  // FindADiff's fastest path).
+  // step-th, as in the paper. The speed knob (as AprilTag's quad_decimate
+  // is): a red region shorter than this can fall between two sampled rows,
+  // so larger is faster and misses more of the smallest and steepest tags
+  // (docs/calibration.md gives the measured trade). `step` is not a speed
+  // knob: other than 4 it loses FindADiff's fastest path.
   // Range 0 or [1, 64].
   int row_step = 0;
 
@@ -94,16 +92,13 @@ struct DetectorOptions {
 
   // FindADiff's second kind of rise (not in the paper): also seed where a*
   // rises by more than ADiffThresh over two samples from a green one, with
-  // both steps rising (detector/src/stages.h, SeedsAt). A red/green border
-  // blurred by the optics, demosaicing or JPEG's 4:2:0 chroma spreads over
-  // two samples, and on a dim card or a washed-out print neither step then
-  // reaches ADiffThresh. Measured on 3,000 camera-set frames
-  // (commit b4834fa): iccv17 16h5 tags from 30 px up to 60 degrees
-  // 86.3 -> 90.1 % found, iccv17 faded to 0.8 79.1 -> 89.9 %, for 16 % more
-  // candidates in natural scenes (green next to red); paired on 1,500 frames
-  // after AprilTag 3 and ArUco, the tag-free median time +3.7 us (+7 %), with
-  // a tag +8.9 us. Off by default; `chromatag calibrate` turns it on for
-  // prints whose red/green a* gap is thin.
+  // both steps rising. A red/green border blurred by the optics, demosaicing
+  // or JPEG's 4:2:0 chroma spreads over two samples, and on a dim card or a
+  // washed-out print neither step then reaches ADiffThresh. It finds more of
+  // those tags for more candidates in natural scenes (green next to red) and
+  // a few per cent more time (docs/calibration.md gives the measured trade).
+  // Off by default; `chromatag calibrate` turns it on for prints whose
+  // red/green a* gap is thin.
   bool two_step_rises = false;
 
   // ConvThresh: BuildPolygon stops when polygon area over the area it could
@@ -125,27 +120,6 @@ struct DetectorOptions {
   // read (max_hamming) is judged by how well its code fits the cells
   // instead, and reports the margin of the read it replaced.
   double min_decision_margin = 2.0;
-
-  // Sub-pixel corners (PolyToQuad's second half): least-squares lines through
-  // edge points found along each side, intersected. Off gives the corners of
-  // the clustered polygon, about a pixel off; useful only to measure the gain.
-  bool refine_corners = true;
-
-  // The fast path from InitialScan to the sub-pixel sides: the four
-  // diagonal ring scans added to InitialScan's four axis ones, and each
-  // ring's quad from those eight border points, the side of each point told
-  // by its edge direction. A candidate it cannot finish (no four sides, or a
-  // later stage fails) goes on through BuildPolygon's greedy scans as
-  // before. Used only with refine_corners (its quads are a start for the
-  // sub-pixel sides, not corners to report). Off gives the paper's way alone.
-  bool quads_from_scans = true;
-
-  // The second path (Stage::kGrowRegion): a candidate whose red is enclosed
-  // by green but which the ring scans or a later stage lose has its black
-  // square grown on a grid of pixels and its rings fitted on their edges.
-  // Costs time only where such candidates exist; off gives the paper's
-  // Algorithm 1 alone.
-  bool grow_regions = true;
 
   // Report every rejected candidate (DetectionResult::rejected): where it
   // was, which stage abandoned it and why. Off costs nothing.
