@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 #include <numeric>
 
 #include <opencv2/calib3d.hpp>
@@ -13,7 +11,6 @@
 
 #include "chromatag/detector/camera.h"
 #include "chromatag/families/color.h"
-#include "chromatag/families/input_file.h"
 
 namespace chromatag {
 namespace {
@@ -809,42 +806,6 @@ std::string NoPageProblem(const SheetRecord& record, const DetectionResult& resu
 }
 
 }  // namespace
-
-namespace internal {
-
-std::string Format(const char* format, ...) {
-  char buffer[512];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buffer, sizeof(buffer), format, args);
-  va_end(args);
-  return buffer;
-}
-
-bool SheetIsSane(const SheetRecord& record, std::string* why) {
-  constexpr double kMaxPageMm = 10000.0;
-  if (!(record.tag_size_mm > 0 && record.tag_size_mm <= kMaxPageMm)) {
-    *why = Format("its tag size %g mm is outside (0, 10000] mm", record.tag_size_mm);
-    return false;
-  }
-  if (!(record.page.width_mm > 0 && record.page.width_mm <= kMaxPageMm &&
-        record.page.height_mm > 0 && record.page.height_mm <= kMaxPageMm)) {
-    *why = Format("its page %g x %g mm is outside (0, 10000] mm a side", record.page.width_mm,
-                  record.page.height_mm);
-    return false;
-  }
-  return true;
-}
-
-std::string Utf8OrReplaced(const std::string& text) {
-  if (IsValidUtf8(text)) return text;
-  std::string out = text;
-  for (char& c : out)
-    if (static_cast<unsigned char>(c) >= 0x80) c = '?';
-  return out;
-}
-
-}  // namespace internal
 
 bool PrintCheckOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& why) {
