@@ -38,7 +38,7 @@ BENCHMARK_CAPTURE(BM_DecoderBuild, 16h5, "16h5")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_DecoderBuild, 36h11, "36h11")->Unit(benchmark::kMillisecond);
 
 // The exact formula, for scale: the detector converts with its compact
-// ColorTable (detector/color_table.h) instead.
+// ColorTable (detector/src/kernels/color_table.h) instead.
 void BM_SrgbToLabExact(benchmark::State& state) {
   uint8_t v = 0;
   for (auto _ : state) {

@@ -6,7 +6,8 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "avx2_kernels.h"
+#include "kernels/kernels.h"
+#include "kernels/scalar.h"
 #include "stages.h"
 
 namespace chromatag::internal {
@@ -133,104 +134,10 @@ struct CellSample {
   float shade = 0;  // b* + kShadeLightness L*.
 };
 
-// The grid's point k = j * samples + i: centre + s_i du + t_j dv, with s_i
-// and t_j = `spread`[i] and `spread`[j] (from -1 to 1).
-struct CellGrid {
-  cv::Point2d centre, du, dv;
-  int samples = 0;
-  std::array<double, 8> spread{};
-};
-
-void AddGridPoint(const ImageView& image, const CellGrid& grid, int k, PixelSums* sums) {
-  const double s = grid.spread[k % grid.samples], t = grid.spread[k / grid.samples];
-  const cv::Point2d p = grid.centre + s * grid.du + t * grid.dv;
-  const int x = RoundToInt(p.x), y = RoundToInt(p.y);
-  if (!image.Contains(x, y)) return;
-  const uint8_t* px = image.Pixel(x, y);
-  sums->r += image.R(px);
-  sums->g += image.G(px);
-  sums->b += image.B(px);
-  ++sums->n;
-}
-
-#ifdef CHROMATAG_HAVE_AVX2_PATHS
-// RoundToInt(static_cast<float>(v)) of eight doubles, `lo` the first four.
-__attribute__((target("avx2"))) inline __m256i RoundDoublesToInt8(__m256d lo, __m256d hi) {
-  return RoundToInt8(_mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo)));
-}
-
-// AddGridPoint for the points [0, returned), eight at a time: the same
-// coordinates in the same double and float arithmetic, the same rounding and
-// frame test, so the same sums. The frame's last pixel (a 32-bit read there
-// would pass its end) is left to AddGridPoint. The frame's byte offsets fit
-// in 32 bits.
-__attribute__((target("avx2"))) int AddGridPointsAvx2(const ImageView& image, const CellGrid& grid,
-                                                      int count, PixelSums* sums) {
-  const __m256d cx = _mm256_set1_pd(grid.centre.x), cy = _mm256_set1_pd(grid.centre.y);
-  const __m256d dux = _mm256_set1_pd(grid.du.x), duy = _mm256_set1_pd(grid.du.y);
-  const __m256d dvx = _mm256_set1_pd(grid.dv.x), dvy = _mm256_set1_pd(grid.dv.y);
-  const __m256i zero = _mm256_setzero_si256(), byte = _mm256_set1_epi32(0xFF);
-  const __m256i last_x = _mm256_set1_epi32(image.width() - 1),
-                last_y = _mm256_set1_epi32(image.height() - 1);
-  const __m256i step = _mm256_set1_epi32(static_cast<int>(image.step()));
-  const __m128i r_shift = _mm_cvtsi32_si128(8 * image.r_offset()),
-                b_shift = _mm_cvtsi32_si128(8 * image.b_offset());
-  const int* base = reinterpret_cast<const int*>(image.data());
-  __m256i r = zero, g = zero, b = zero;
-  int k = 0;
-  alignas(32) double s[8], t[8];
-  for (; k + 8 <= count; k += 8) {
-    for (int l = 0; l < 8; ++l) {
-      s[l] = grid.spread[(k + l) % grid.samples];
-      t[l] = grid.spread[(k + l) / grid.samples];
-    }
-    __m256d x[2], y[2];
-    for (int h = 0; h < 2; ++h) {
-      const __m256d sv = _mm256_load_pd(s + 4 * h), tv = _mm256_load_pd(t + 4 * h);
-      x[h] = _mm256_add_pd(_mm256_add_pd(cx, _mm256_mul_pd(sv, dux)), _mm256_mul_pd(tv, dvx));
-      y[h] = _mm256_add_pd(_mm256_add_pd(cy, _mm256_mul_pd(sv, duy)), _mm256_mul_pd(tv, dvy));
-    }
-    const __m256i px = RoundDoublesToInt8(x[0], x[1]), py = RoundDoublesToInt8(y[0], y[1]);
-    const __m256i outside = _mm256_or_si256(
-        _mm256_or_si256(_mm256_cmpgt_epi32(zero, px), _mm256_cmpgt_epi32(zero, py)),
-        _mm256_or_si256(_mm256_cmpgt_epi32(px, last_x), _mm256_cmpgt_epi32(py, last_y)));
-    const __m256i at_last =
-        _mm256_and_si256(_mm256_cmpeq_epi32(px, last_x), _mm256_cmpeq_epi32(py, last_y));
-    if (!_mm256_testz_si256(at_last, at_last)) {
-      const unsigned lanes =
-          static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(at_last)));
-      for (int l = 0; l < 8; ++l) {
-        if (lanes >> l & 1u) AddGridPoint(image, grid, k + l, sums);
-      }
-    }
-    const __m256i read =
-        _mm256_andnot_si256(_mm256_or_si256(outside, at_last), _mm256_set1_epi32(-1));
-    const __m256i offset = _mm256_add_epi32(_mm256_mullo_epi32(py, step),
-                                            _mm256_mullo_epi32(px, _mm256_set1_epi32(3)));
-    const __m256i words = _mm256_mask_i32gather_epi32(zero, base, offset, read, 1);
-    r = _mm256_add_epi32(r, _mm256_and_si256(_mm256_srl_epi32(words, r_shift), byte));
-    g = _mm256_add_epi32(g, _mm256_and_si256(_mm256_srli_epi32(words, 8), byte));
-    b = _mm256_add_epi32(b, _mm256_and_si256(_mm256_srl_epi32(words, b_shift), byte));
-    sums->n +=
-        __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(read))));
-  }
-  alignas(32) int lanes[3][8];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[0]), r);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[1]), g);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[2]), b);
-  for (int l = 0; l < 8; ++l) {
-    sums->r += lanes[0][l];
-    sums->g += lanes[1][l];
-    sums->b += lanes[2][l];
-  }
-  return k;
-}
-#endif
-
 }  // namespace
 
 PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du, cv::Point2d dv,
-                      int samples, bool scalar) {
+                      int samples) {
   CellGrid grid;
   grid.centre = centre;
   grid.du = du;
@@ -240,12 +147,9 @@ PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du
   PixelSums sums;
   const int count = grid.samples * grid.samples;
   int k = 0;
-#ifdef CHROMATAG_HAVE_AVX2_PATHS
-  if (!scalar && CpuHasAvx2() && image.OffsetsFit32()) {
-    k = AddGridPointsAvx2(image, grid, count, &sums);
+  if (image.kernels().add_grid_points && image.OffsetsFit32()) {
+    k = image.kernels().add_grid_points(image, grid, count, &sums);
   }
-#endif
-  (void)scalar;
   for (; k < count; ++k) AddGridPoint(image, grid, k, &sums);
   return sums;
 }

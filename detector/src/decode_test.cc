@@ -212,9 +212,10 @@ TEST(DecodeTest, DecodeCandidateLocatesInnerRingsThatFitNoFamily) {
   }
 }
 
-// SumCellGrid (eight points at a time with AVX2 where it can) gives exactly
-// the scalar sums: grids anywhere in the frame, turned and sheared, partly
-// or wholly outside it, and over its last pixel, in either channel order.
+// SumCellGrid with each path's kernels (eight points at a time with AVX2)
+// gives exactly the scalar sums: grids anywhere in the frame, turned and
+// sheared, partly or wholly outside it, and over its last pixel, in either
+// channel order.
 TEST(SumCellGridTest, MatchesTheScalarSums) {
   cv::Mat image(47, 71, CV_8UC3);
   cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(256));
@@ -223,13 +224,14 @@ TEST(SumCellGridTest, MatchesTheScalarSums) {
   int partly_outside = 0, over_last_pixel = 0;
   for (PixelOrder order : {PixelOrder::kBgr, PixelOrder::kRgb}) {
     const ImageView view(image, order, ColorTable::Get());
+    const ImageView scalar(image, order, ColorTable::Get(), Kernels::ForPath(KernelPath::kScalar));
     for (int trial = 0; trial < 4000; ++trial) {
       cv::Point2d centre(px(rng), py(rng));
       if (trial % 10 == 0) centre = {70.0 + d(rng) / 3, 46.0 + d(rng) / 3};  // The last pixel.
       const cv::Point2d du(d(rng), d(rng)), dv(d(rng), d(rng));
       const int samples = 2 + trial % 7;
       const PixelSums fast = SumCellGrid(view, centre, du, dv, samples);
-      const PixelSums slow = SumCellGrid(view, centre, du, dv, samples, /*scalar=*/true);
+      const PixelSums slow = SumCellGrid(scalar, centre, du, dv, samples);
       ASSERT_EQ(fast.n, slow.n) << "trial " << trial;
       ASSERT_EQ(fast.r, slow.r) << "trial " << trial;
       ASSERT_EQ(fast.g, slow.g) << "trial " << trial;

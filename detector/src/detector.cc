@@ -93,7 +93,9 @@ struct Detector::Impl {
   DetectorOptions options;
   internal::StageSwitches switches;
   std::vector<internal::FamilyDecoder> families;
-  const ColorTable* table = nullptr;
+  const internal::ColorTable* table = nullptr;
+  // The vector kernels for this CPU, chosen once here (kernels/kernels.h).
+  const internal::Kernels* kernels = nullptr;
 };
 
 namespace {
@@ -211,7 +213,8 @@ std::unique_ptr<Detector> internal::DetectorAccess::Create(const DetectorOptions
   // once each.
   impl->options.families.clear();
   for (const auto& entry : impl->families) impl->options.families.push_back(entry.family->name());
-  impl->table = &ColorTable::Get();
+  impl->table = &internal::ColorTable::Get();
+  impl->kernels = &internal::Kernels::ForCpu();
   return std::unique_ptr<Detector>(new Detector(std::move(impl)));
 }
 
@@ -229,8 +232,8 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   if (image.empty() || image.type() != CV_8UC3) return;
   const DetectorOptions& options = impl_->options;
   const internal::StageSwitches& switches = impl_->switches;
-  impl_->table->Prefetch(/*coarse=*/!internal::RowScanComputesA(options));
-  const internal::ImageView view(image, order, *impl_->table);
+  const internal::ImageView view(image, order, *impl_->table, *impl_->kernels);
+  impl_->table->Prefetch(/*coarse=*/!internal::RowScanComputesA(view, options));
   Scratch& scratch = ThreadScratch();
   scratch.areas.clear();
   scratch.rejected.clear();
@@ -250,10 +253,9 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
     return passed;
   };
 
-  const int row_step = options.sampled_row_step();
-  for (int y = 0; y < view.height(); y += row_step) {
-    internal::RowCursor cursor;
-    cursor.y = y;
+  const int num_rows = internal::NumSampledRows(view.height(), options);
+  for (int row = 0; row < num_rows; ++row) {
+    internal::RowCursor cursor = internal::SampledRow(view.height(), options, row);
     cv::Point seed;
     while (internal::FindADiff(view, options, scratch.areas, &cursor, &seed,
                                &summary.rejected[static_cast<int>(Stage::kFindADiff)])) {

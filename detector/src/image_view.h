@@ -1,5 +1,6 @@
 // Read-only access to a caller's 8-bit 3-channel frame, in either channel
-// order, with colour conversions through the ColorTable. Internal.
+// order, with colour conversions through the ColorTable and the detector's
+// vector kernels (kernels/kernels.h). Internal.
 #ifndef CHROMATAG_DETECTOR_SRC_IMAGE_VIEW_H_
 #define CHROMATAG_DETECTOR_SRC_IMAGE_VIEW_H_
 
@@ -10,8 +11,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "chromatag/detector/color_table.h"
 #include "chromatag/detector/detector.h"
+#include "kernels/color_table.h"
+#include "kernels/kernels.h"
 
 namespace chromatag::internal {
 
@@ -44,31 +46,19 @@ struct ChannelWeights {
 inline constexpr ChannelWeights kGray{1, 1, 1};            // Black/white, green/black.
 inline constexpr ChannelWeights kRedMinusGreen{1, -1, 0};  // Red/green.
 
-// ImageView::SampleLine's vector path (image_view.cc): the first multiple of
-// eight of the n samples, for the gray (R + G + B) or the R - G channel;
-// returns how many it did (0 without AVX2). The caller guarantees that each
-// sample's four pixels lie inside the frame and that a read of two bytes
-// past the lower right one does too (BilinearEdgeChannel8).
-int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray, float x, float y,
-                   float dx, float dy, int n, float* out);
-
-// ImageView::FirstNotClearlyAbove's vector path (image_view.cc): returns the
-// first step it could not decide, `first` without AVX2. Every step before it
-// lies inside the frame with a coarse a* above `above`.
-int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height, int r_offset,
-                             const int8_t* table, float x, float y, float dx, float dy, int first,
-                             int last, float above);
-
 class ImageView {
  public:
-  ImageView(const cv::Mat& image, PixelOrder order, const ColorTable& table)
+  // `kernels`: the detector's (Kernels::ForCpu), or a given path's in tests.
+  ImageView(const cv::Mat& image, PixelOrder order, const ColorTable& table,
+            const Kernels& kernels = Kernels::ForCpu())
       : data_(image.data),
         step_(image.step[0]),
         width_(image.cols),
         height_(image.rows),
         r_(order == PixelOrder::kRgb ? 0 : 2),
         b_(order == PixelOrder::kRgb ? 2 : 0),
-        table_(&table) {}
+        table_(&table),
+        kernels_(&kernels) {}
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -82,6 +72,7 @@ class ImageView {
   size_t step() const { return step_; }
   int b_offset() const { return b_; }
   const ColorTable& table() const { return *table_; }
+  const Kernels& kernels() const { return *kernels_; }
 
   // Coarse a* (ColorTable::CoarseA): within ColorTable::kCoarseErrorBound of
   // A(x, y), one table read. The scans use it to pass over pixels that are
@@ -94,7 +85,8 @@ class ImageView {
   // whose pixel (RoundToInt of (x, y) + k (dx, dy)) lies outside the frame
   // or has a coarse a* not above `above`; last + 1 if there is none. The
   // same pixels and comparisons as a loop over CoarseA; after the first
-  // kScalarSteps, eight steps at a time where the CPU has AVX2.
+  // kScalarSteps, eight steps at a time by the vector kernel where there is
+  // one (Kernels::first_not_clearly_above).
   static constexpr int kScalarSteps = 8;
   int FirstNotClearlyAbove(float x, float y, float dx, float dy, int first, int last,
                            float above) const {
@@ -108,9 +100,9 @@ class ImageView {
     for (const int scalar_end = std::min(last, first + kScalarSteps - 1); k <= scalar_end; ++k) {
       if (stops(k)) return k;
     }
-    if (last - k >= 7 && OffsetsFit32()) {
-      k = FirstNotClearlyAboveAvx2(data_, step_, width_, height_, r_, table_->coarse_a_table(), x,
-                                   y, dx, dy, k, last, above);
+    if (last - k >= 7 && kernels_->first_not_clearly_above && OffsetsFit32()) {
+      k = kernels_->first_not_clearly_above(data_, step_, width_, height_, r_,
+                                            table_->coarse_a_table(), x, y, dx, dy, k, last, above);
     }
     for (; k <= last; ++k) {
       if (stops(k)) return k;
@@ -206,10 +198,11 @@ class ImageView {
     const bool gray = w.r == 1 && w.g == 1 && w.b == 1;
     const bool red_minus_green = w.r == 1 && w.g == -1 && w.b == 0;
     int done = 0;
-    // Eight samples at a time with AVX2 where its reads stay inside the
-    // frame and its byte offsets fit in 32 bits.
-    if ((gray || red_minus_green) && OffsetsFit32() && VectorReadsInside(x, y, last_x, last_y)) {
-      done = SampleLineAvx2(data_, step_, r_, gray, x, y, dx, dy, n, out);
+    // Eight samples at a time by the vector kernel where there is one, its
+    // reads stay inside the frame and its byte offsets fit in 32 bits.
+    if ((gray || red_minus_green) && kernels_->sample_line && OffsetsFit32() &&
+        VectorReadsInside(x, y, last_x, last_y)) {
+      done = kernels_->sample_line(data_, step_, r_, gray, x, y, dx, dy, n, out);
     }
     if (gray) {
       SampleLineWith(x, y, dx, dy, done, n, out, [](const uint8_t* px, int, int) {
@@ -251,6 +244,7 @@ class ImageView {
   int r_;
   int b_;
   const ColorTable* table_;
+  const Kernels* kernels_;
 };
 
 }  // namespace chromatag::internal

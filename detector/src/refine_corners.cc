@@ -16,14 +16,13 @@
 #include <array>
 #include <cmath>
 
-#include "avx2_kernels.h"
+#include "kernels/kernels.h"
+#include "kernels/scalar.h"
 #include "stages.h"
 
 namespace chromatag::internal {
 namespace {
 
-constexpr float kProfileStep = 0.5f;        // Pixels between profile samples.
-constexpr int kMaxProfileSteps = 8;         // Samples either side: 4 px.
 constexpr int kMinProfiles = 5;             // Per side, however short.
 constexpr int kReportedOuterProfiles = 10;  // Per side, for the reported corners.
 
@@ -61,29 +60,6 @@ bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
     points->resize(kept);
   }
   return true;
-}
-
-// The gray channel (R + G + B, 0 to 765) in linear light: the three values'
-// mean decoded with sRGB's curve (exact for neutral pixels, as black and
-// white are), linearly interpolated between whole values (LinearGray and
-// LinearGray8 read the same table with the same arithmetic).
-const float* LinearGrayTable() {
-  static const std::array<float, 768> table = [] {
-    std::array<float, 768> t{};
-    for (int i = 0; i < 768; ++i) {
-      const double e = std::min(1.0, i / 765.0);
-      t[i] = static_cast<float>(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
-    }
-    return t;
-  }();
-  return table.data();
-}
-
-float LinearGray(float gray) {
-  const float* table = LinearGrayTable();
-  const float x = std::min(std::max(gray, 0.f), 765.f);
-  const int i = static_cast<int>(x);
-  return table[i] + (x - static_cast<float>(i)) * (table[i + 1] - table[i]);
 }
 
 }  // namespace
@@ -156,227 +132,27 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
   return true;
 }
 
-#ifdef CHROMATAG_HAVE_AVX2_PATHS
-namespace {
-
-// The lanes whose profile has a sample i (`length` samples each).
-__attribute__((target("avx2"))) inline __m256 BelowLength(__m256i length, int i) {
-  return _mm256_castsi256_ps(_mm256_cmpgt_epi32(length, _mm256_set1_epi32(i)));
-}
-
-// EdgePoint for up to eight profiles at once, one per lane (each with its
-// own position, direction and window): the same floats, comparisons and
-// choices as EdgePoint for each, so the same edge points. Profiles cut short by the frame, or whose
-// reads would pass the frame's last byte, are left to EdgePoint. `channel` is kGray or
-// kRedMinusGreen, and the frame's byte offsets fit in 32 bits. On the
-// camera set, side refinement took about a third less time than with
-// EdgePoint profile by profile: the per-profile bookkeeping, the sampling
-// and the two level reads are shared across the lanes.
-// LinearGray on eight values.
-__attribute__((target("avx2"))) inline __m256 LinearGray8(__m256 gray, const float* table) {
-  const __m256 x = _mm256_min_ps(_mm256_max_ps(gray, _mm256_setzero_ps()), _mm256_set1_ps(765.f));
-  const __m256i i = _mm256_cvttps_epi32(x);
-  const __m256 low = _mm256_i32gather_ps(table, i, 4);
-  const __m256 high = _mm256_i32gather_ps(table, _mm256_add_epi32(i, _mm256_set1_epi32(1)), 4);
-  const __m256 t = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
-  return _mm256_add_ps(low, _mm256_mul_ps(t, _mm256_sub_ps(high, low)));
-}
-
-__attribute__((target("avx2"))) void EdgePoints8(const ImageView& image,
-                                                 const ChannelWeights& channel, int polarity,
-                                                 const ProfileSpec* spec, int count,
-                                                 float min_contrast, ProfileEdge* out,
-                                                 bool linear) {
-  const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
-  // Per lane: the profile's first sample, its length and half-length. Lanes
-  // not in the vector path read a safe pixel and are ignored.
-  alignas(32) float start_x[8], start_y[8], step_x[8], step_y[8];
-  alignas(32) int length[8], steps[8];
-  bool in_vector[8];
-  int longest = 0;
-  for (int l = 0; l < 8; ++l) {
-    in_vector[l] = false;
-    start_x[l] = start_y[l] = 1.f;
-    step_x[l] = step_y[l] = 0.f;
-    length[l] = steps[l] = 0;
-    if (l >= count) continue;
-    out[l].found = false;
-    const float ox = static_cast<float>(spec[l].outward.x) * kProfileStep,
-                oy = static_cast<float>(spec[l].outward.y) * kProfileStep;
-    const int s = static_cast<int>(
-        std::min<double>(kMaxProfileSteps, std::ceil(spec[l].half / kProfileStep)));
-    const int n = 2 * s + 1;
-    const float first = static_cast<float>(-s);
-    const float x = static_cast<float>(spec[l].middle.x) + first * ox;
-    const float y = static_cast<float>(spec[l].middle.y) + first * oy;
-    const float last_x = x + static_cast<float>(n - 1) * ox;
-    const float last_y = y + static_cast<float>(n - 1) * oy;
-    // Where ImageView::SampleLine fails, so does EdgePoint.
-    if (!image.SegmentInside(x, y, last_x, last_y)) continue;
-    if (!image.VectorReadsInside(x, y, last_x, last_y)) {
-      out[l].found = EdgePoint(image, channel, polarity, spec[l], min_contrast, &out[l].edge,
-                               linear ? Halfway::kLinearLight : Halfway::kEncoded);
-      continue;
-    }
-    in_vector[l] = true;
-    start_x[l] = x;
-    start_y[l] = y;
-    step_x[l] = ox;
-    step_y[l] = oy;
-    length[l] = n;
-    steps[l] = s;
-    longest = std::max(longest, n);
-  }
-  if (longest == 0) return;
-
-  const __m256i step = _mm256_set1_epi32(static_cast<int>(image.step()));
-  const __m128i red_shift = _mm_cvtsi32_si128(8 * image.r_offset());
-  const __m256 vx = _mm256_load_ps(start_x), vy = _mm256_load_ps(start_y);
-  const __m256 vox = _mm256_load_ps(step_x), voy = _mm256_load_ps(step_y);
-  const __m256i vlength = _mm256_load_si256(reinterpret_cast<const __m256i*>(length));
-  __m256 profile[2 * kMaxProfileSteps + 1];
-  for (int k = 0; k < longest; ++k) {
-    const __m256 fk = _mm256_set1_ps(static_cast<float>(k));
-    const __m256 inside = BelowLength(vlength, k);
-    // Past a lane's own end, its first sample is read again (and ignored).
-    const __m256 px = _mm256_blendv_ps(vx, _mm256_add_ps(vx, _mm256_mul_ps(fk, vox)), inside);
-    const __m256 py = _mm256_blendv_ps(vy, _mm256_add_ps(vy, _mm256_mul_ps(fk, voy)), inside);
-    profile[k] = BilinearEdgeChannel8(image.data(), step, px, py, gray, red_shift);
-    if (linear) profile[k] = LinearGray8(profile[k], LinearGrayTable());
-  }
-
-  // The steepest change the right way round; the first of equals.
-  const __m256 vpolarity = _mm256_set1_ps(static_cast<float>(polarity));
-  __m256 steepest_change = _mm256_set1_ps(-1.f);
-  __m256 steepest = _mm256_castsi256_ps(_mm256_set1_epi32(1));
-  for (int i = 1; i + 1 < longest; ++i) {
-    const __m256 change = _mm256_mul_ps(vpolarity, _mm256_sub_ps(profile[i + 1], profile[i - 1]));
-    const __m256 steeper = _mm256_and_ps(BelowLength(vlength, i + 1),
-                                         _mm256_cmp_ps(change, steepest_change, _CMP_GT_OQ));
-    steepest_change = _mm256_blendv_ps(steepest_change, change, steeper);
-    steepest = _mm256_blendv_ps(steepest, _mm256_castsi256_ps(_mm256_set1_epi32(i)), steeper);
-  }
-  alignas(32) float change_lane[8];
-  alignas(32) int steepest_lane[8];
-  _mm256_store_ps(change_lane, steepest_change);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(steepest_lane), _mm256_castps_si256(steepest));
-
-  // The two levels, half a cell either side of the steepest change.
-  alignas(32) float in_x[8], in_y[8], out_x[8], out_y[8], mid[8];
-  alignas(32) double centre[8];
-  bool read_levels[8], has_mid[8];
-  for (int l = 0; l < 8; ++l) {
-    read_levels[l] = has_mid[l] = false;
-    in_x[l] = in_y[l] = out_x[l] = out_y[l] = 1.f;
-    mid[l] = 0.f;
-    centre[l] = 0.0;
-    if (!in_vector[l] || !(change_lane[l] > 0.f)) continue;
-    centre[l] = (steepest_lane[l] - steps[l]) * kProfileStep;
-    const cv::Point2d in = spec[l].middle + (centre[l] - spec[l].level_offset) * spec[l].outward;
-    const cv::Point2d out = spec[l].middle + (centre[l] + spec[l].level_offset) * spec[l].outward;
-    const float ix = static_cast<float>(in.x), iy = static_cast<float>(in.y);
-    const float ux = static_cast<float>(out.x), uy = static_cast<float>(out.y);
-    // Where ImageView::Sample fails, so does EdgePoint; a level whose vector
-    // read would pass the frame's end (its lower right pixel is the frame's
-    // last) is read by Sample itself.
-    if (!image.CanSample(ix, iy) || !image.CanSample(ux, uy)) continue;
-    if (!image.VectorReadsInside(ix, iy, ix, iy) || !image.VectorReadsInside(ux, uy, ux, uy)) {
-      float inside = 0, outside = 0;
-      image.Sample(ix, iy, channel, &inside);
-      image.Sample(ux, uy, channel, &outside);
-      if (std::abs(outside - inside) < min_contrast) continue;
-      mid[l] =
-          linear ? 0.5f * (LinearGray(inside) + LinearGray(outside)) : 0.5f * (inside + outside);
-      has_mid[l] = true;
-      continue;
-    }
-    in_x[l] = ix, in_y[l] = iy, out_x[l] = ux, out_y[l] = uy;
-    read_levels[l] = true;
-  }
-  alignas(32) float inside[8], outside[8];
-  _mm256_store_ps(inside, BilinearEdgeChannel8(image.data(), step, _mm256_load_ps(in_x),
-                                               _mm256_load_ps(in_y), gray, red_shift));
-  _mm256_store_ps(outside, BilinearEdgeChannel8(image.data(), step, _mm256_load_ps(out_x),
-                                                _mm256_load_ps(out_y), gray, red_shift));
-  for (int l = 0; l < 8; ++l) {
-    if (!read_levels[l] || std::abs(outside[l] - inside[l]) < min_contrast) continue;
-    mid[l] = linear ? 0.5f * (LinearGray(inside[l]) + LinearGray(outside[l]))
-                    : 0.5f * (inside[l] + outside[l]);
-    has_mid[l] = true;
-  }
-
-  // The crossing of the halfway level nearest the steepest change, compared
-  // in double as EdgePoint does; lanes without a level pair never cross.
-  const __m256 vmid = _mm256_load_ps(mid);
-  const __m256 vsteps =
-      _mm256_cvtepi32_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(steps)));
-  const __m256 vprofile_step = _mm256_set1_ps(kProfileStep);
-  alignas(32) int may_cross[8];
-  for (int l = 0; l < 8; ++l) may_cross[l] = has_mid[l] ? -1 : 0;
-  const __m256 vmay_cross =
-      _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(may_cross)));
-  const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFFLL));
-  __m256d centre_half[2] = {_mm256_load_pd(centre), _mm256_load_pd(centre + 4)};
-  __m256d best[2], best_distance[2];
-  for (int h = 0; h < 2; ++h) {
-    best[h] = _mm256_set1_pd(1e300);
-    best_distance[h] = _mm256_and_pd(_mm256_sub_pd(best[h], centre_half[h]), abs_mask);
-  }
-  for (int i = 1; i < longest; ++i) {
-    const __m256 previous = profile[i - 1], v = profile[i];
-    const __m256 straddles =
-        _mm256_cmp_ps(_mm256_mul_ps(_mm256_sub_ps(previous, vmid), _mm256_sub_ps(v, vmid)),
-                      _mm256_setzero_ps(), _CMP_LE_OQ);
-    const __m256 crosses =
-        _mm256_and_ps(_mm256_and_ps(vmay_cross, BelowLength(vlength, i)),
-                      _mm256_and_ps(straddles, _mm256_cmp_ps(previous, v, _CMP_NEQ_UQ)));
-    if (_mm256_testz_ps(crosses, crosses)) continue;
-    const __m256 at = _mm256_add_ps(
-        _mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(static_cast<float>(i - 1)), vsteps),
-                      vprofile_step),
-        _mm256_div_ps(_mm256_mul_ps(vprofile_step, _mm256_sub_ps(vmid, previous)),
-                      _mm256_sub_ps(v, previous)));
-    const __m128 at_half[2] = {_mm256_castps256_ps128(at), _mm256_extractf128_ps(at, 1)};
-    const __m128i crosses_half[2] = {_mm256_castsi256_si128(_mm256_castps_si256(crosses)),
-                                     _mm256_extracti128_si256(_mm256_castps_si256(crosses), 1)};
-    for (int h = 0; h < 2; ++h) {
-      const __m256d at_d = _mm256_cvtps_pd(at_half[h]);
-      const __m256d distance = _mm256_and_pd(_mm256_sub_pd(at_d, centre_half[h]), abs_mask);
-      const __m256d nearer =
-          _mm256_and_pd(_mm256_castsi256_pd(_mm256_cvtepi32_epi64(crosses_half[h])),
-                        _mm256_cmp_pd(distance, best_distance[h], _CMP_LT_OQ));
-      best[h] = _mm256_blendv_pd(best[h], at_d, nearer);
-      best_distance[h] = _mm256_blendv_pd(best_distance[h], distance, nearer);
-    }
-  }
-  alignas(32) double best_lane[8];
-  _mm256_store_pd(best_lane, best[0]);
-  _mm256_store_pd(best_lane + 4, best[1]);
-  for (int l = 0; l < 8; ++l) {
-    if (!has_mid[l] || best_lane[l] > 1e299) continue;
-    out[l].found = true;
-    out[l].edge = spec[l].middle + best_lane[l] * spec[l].outward;
-  }
-}
-
-}  // namespace
-#endif
-
 void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polarity,
                 const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out,
                 Halfway halfway) {
   int done = 0;
-#ifdef CHROMATAG_HAVE_AVX2_PATHS
   const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
   const bool red_minus_green = channel.r == 1 && channel.g == -1 && channel.b == 0;
   const bool linear = gray && halfway == Halfway::kLinearLight;
-  if (CpuHasAvx2() && (gray || red_minus_green) && image.OffsetsFit32()) {
+  const Kernels& kernels = image.kernels();
+  if (kernels.edge_points8 && (gray || red_minus_green) && image.OffsetsFit32()) {
     for (; done < count; done += 8) {
-      EdgePoints8(image, channel, polarity, spec + done, std::min(8, count - done), min_contrast,
-                  out + done, linear);
+      // The profiles the kernel leaves over, one by one.
+      unsigned left_over =
+          kernels.edge_points8(image, channel, polarity, spec + done, std::min(8, count - done),
+                               min_contrast, out + done, linear);
+      for (; left_over; left_over &= left_over - 1) {
+        const int l = done + __builtin_ctz(left_over);
+        out[l].found =
+            EdgePoint(image, channel, polarity, spec[l], min_contrast, &out[l].edge, halfway);
+      }
     }
   }
-#endif
   for (; done < count; ++done) {
     out[done].found =
         EdgePoint(image, channel, polarity, spec[done], min_contrast, &out[done].edge, halfway);

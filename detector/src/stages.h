@@ -69,48 +69,60 @@ struct DetectedArea {
 // prefilter lets through are listed (ScanRow); later calls walk that list.
 struct RowCursor {
   int y = 0;
+  // The row's place among the frame's `num_rows` sampled rows and the next
+  // one's y (-1 after the last), for FindADiff's prefetches; SampledRow sets
+  // them (a cursor without them prefetches nothing).
+  int row = 0;
+  int num_rows = 0;
+  int next_y = -1;
   bool sampled = false;
   const int* rises = nullptr;  // Sample indices i that may rise from i - 1.
   int num_rises = 0;
   int next = 0;  // Next entry of `rises` to look at.
 };
 
-// How FindADiff's row scan finds the samples that may rise. Each is a
-// conservative prefilter of the accurate rise (none is ever missed); they
-// differ in speed and in how many false rises they let through:
-// - kComputedAAvx512: a* computed in 16-bit lanes (ColorTable::FastA, within
-//   kFastAErrorBound), 32 samples at a time. AVX-512 with byte permutes
-//   (VBMI), N = 4 only.
-// - kCoarseAvx2: the coarse a* table, eight samples at a time. AVX2.
-// - kCoarseScalar: the coarse a* table, one sample at a time. Anywhere.
-// kWidest is the first of these the CPU and N allow; FindADiff uses it.
-enum class RowScanPath { kWidest, kComputedAAvx512, kCoarseAvx2, kCoarseScalar };
+// The frame's sampled rows, y = 0, r, 2 r, ... below `height` (r =
+// DetectorOptions::sampled_row_step): their number, and a cursor at the
+// start of row number `row` of them. The one row schedule: Detect walks it,
+// and FindADiff prefetches by it.
+inline int NumSampledRows(int height, const DetectorOptions& options) {
+  const int row_step = options.sampled_row_step();
+  return (height + row_step - 1) / row_step;
+}
+inline RowCursor SampledRow(int height, const DetectorOptions& options, int row) {
+  RowCursor cursor;
+  cursor.row = row;
+  cursor.num_rows = NumSampledRows(height, options);
+  cursor.y = row * options.sampled_row_step();
+  cursor.next_y = row + 1 < cursor.num_rows ? cursor.y + options.sampled_row_step() : -1;
+  return cursor;
+}
 
-// The rise in ColorTable::FastA units that kComputedAAvx512 lets through: a
+// How FindADiff's row scan finds the samples that may rise, by the kernels'
+// path (kernels/kernels.h). Each is a conservative prefilter of the accurate
+// rise (none is ever missed); they differ in speed and in how many false
+// rises they let through:
+// - with AVX-512 (VBMI) and N = 4: a* computed in 16-bit lanes
+//   (ColorTable::FastA, within kFastAErrorBound), 32 samples at a time;
+// - otherwise the coarse a* table, eight samples at a time with AVX2, else
+//   one at a time.
+
+// The rise in ColorTable::FastA units that the computed a* lets through: a
 // true rise above `adiff_thresh` shows at least this much, as each of the two
 // samples' FastA is within kFastAErrorBound of its accurate a*.
 int ComputedARiseThreshold(double adiff_thresh);
-// The FastA below which kComputedAAvx512 takes a sample two back as green
+// The FastA below which the computed a* takes a sample two back as green
 // (SeedsAt): every sample whose accurate a* is below kTwoStepGreenA.
 int ComputedAGreenLimit();
 // The FastA above which it takes a sample as red enough to end such a rise:
 // every sample whose accurate a* is at least kTwoStepMinRedA.
 int ComputedATwoStepRedFloor();
 
-// Whether this CPU can take `path` (kWidest and kCoarseScalar always).
-bool RowScanPathAvailable(RowScanPath path);
-
-// The computed a* (ColorTable::FastA units) of row y's samples as the
-// kComputedAAvx512 path computes them, for tests; false (and `a` left as it
-// is) where that path is not taken (RowScanComputesA).
-bool ComputedARow(const ImageView& image, const DetectorOptions& options, int y,
-                  std::vector<int16_t>* a);
-
-// Whether FindADiff computes a* (kComputedAAvx512) with these options on this
-// CPU. Then its row scan does not read the coarse a* table, and FindADiff
-// brings the table in for the later stages a few lines per sampled row
+// Whether FindADiff computes a* with these options and the view's kernels.
+// Then its row scan does not read the coarse a* table, and FindADiff brings
+// the table in for the later stages a few lines per sampled row
 // (ColorTable::PrefetchCoarseLines) instead of Detect streaming it first.
-bool RowScanComputesA(const DetectorOptions& options);
+bool RowScanComputesA(const ImageView& image, const DetectorOptions& options);
 
 // FindADiff's second kind of rise (DetectorOptions::two_step_rises; not in
 // the paper): sample i seeds when
@@ -150,10 +162,9 @@ inline bool SeedsAt(const DetectorOptions& options, LabF lab, float before, floa
 // most) with the indices i (x = i N) that may seed (SeedsAt: a* rising from
 // sample i - 1 by more than ADiffThresh, or, with two_step_rises, from a
 // green sample i - 2 in two steps), in order, and returns their number. `coarse` is
-// scratch of one entry per sample. A path the CPU or N cannot take falls
-// back to the next one.
-int ScanRow(const ImageView& image, const DetectorOptions& options, int y, RowScanPath path,
-            int32_t* coarse, int* rises);
+// scratch of one entry per sample.
+int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32_t* coarse,
+            int* rises);
 
 // A family the detector looks for, with its decoder.
 struct FamilyDecoder {
@@ -330,6 +341,10 @@ struct SideSearch {
 // searched `half` pixels either way along `outward` (the side's outward unit
 // normal), the two levels read `level_offset` either side of the steepest
 // change.
+// A profile's samples lie kProfileStep pixels apart, at most
+// kMaxProfileSteps either side of its middle (4 px).
+inline constexpr float kProfileStep = 0.5f;
+inline constexpr int kMaxProfileSteps = 8;
 struct ProfileSpec {
   cv::Point2d middle;
   cv::Point2d outward;
@@ -350,7 +365,7 @@ bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polari
                const ProfileSpec& spec, float min_contrast, cv::Point2d* edge,
                Halfway halfway = Halfway::kEncoded);
 // EdgePoint for each of `count` profiles, into out[0 .. count); eight at a
-// time where the CPU has AVX2, with the same results.
+// time by the view's vector kernel where it has one, with the same results.
 void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polarity,
                 const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out,
                 Halfway halfway = Halfway::kEncoded);
@@ -364,13 +379,13 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad);
 // Decode reads each cell as the mean colour of a samples x samples grid of
 // pixels: the ones nearest to centre + s du + t dv, s and t evenly from -1 to
 // 1 (samples from 2 to 8). SumCellGrid sums their R, G and B and counts them,
-// points outside the frame skipped; eight points at a time where the CPU has
-// AVX2 (unless `scalar`), with the same sums.
+// points outside the frame skipped; eight points at a time by the view's
+// vector kernel where it has one, with the same sums.
 struct PixelSums {
   int r = 0, g = 0, b = 0, n = 0;
 };
 PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du, cv::Point2d dv,
-                      int samples, bool scalar = false);
+                      int samples);
 
 // 5. Decode: picks the family whose ring proportions match, reads every
 // payload cell in b*, splits each colour at its own midpoint, looks the code

@@ -28,7 +28,7 @@ enum class PixelOrder { kBgr, kRgb };
 
 class Detector {
  public:
-  // Loads the families and builds the decoders and colour tables. Returns
+  // Loads the families and builds the decoders and colour conversions. Returns
   // nullptr and sets *error for options that fail DetectorOptions::IsValid.
   static std::unique_ptr<Detector> Create(const DetectorOptions& options,
                                           std::string* error = nullptr);

@@ -1,4 +1,4 @@
-#include "chromatag/detector/color_table.h"
+#include "kernels/color_table.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 
 #include "chromatag/families/color.h"
 
-namespace chromatag {
+namespace chromatag::internal {
 namespace {
 
 // Every one of the 16.7 million 8-bit colours against the exact formula
@@ -106,4 +106,4 @@ TEST(ColorTableTest, IsKilobytesNotMegabytes) {
 }
 
 }  // namespace
-}  // namespace chromatag
+}  // namespace chromatag::internal

@@ -1,4 +1,5 @@
 // Compact 8-bit sRGB -> CIELAB tables for the detector (spec section 5).
+// Internal to the detector (kernels.h says what else lives here).
 //
 // The authors hashed every 8-bit colour (384 MiB, 3 s to build). Here two
 // small tables do the work, built from the exact formulas of
@@ -24,15 +25,15 @@
 //
 // A ColorTable is immutable after construction and safe to share between
 // threads.
-#ifndef CHROMATAG_DETECTOR_COLOR_TABLE_H_
-#define CHROMATAG_DETECTOR_COLOR_TABLE_H_
+#ifndef CHROMATAG_DETECTOR_SRC_KERNELS_COLOR_TABLE_H_
+#define CHROMATAG_DETECTOR_SRC_KERNELS_COLOR_TABLE_H_
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-namespace chromatag {
+namespace chromatag::internal {
 
 // L*, a*, b* in single precision (true CIELAB, D65).
 struct LabF {
@@ -147,6 +148,6 @@ class ColorTable {
   FastATables fast_a_;
 };
 
-}  // namespace chromatag
+}  // namespace chromatag::internal
 
-#endif  // CHROMATAG_DETECTOR_COLOR_TABLE_H_
+#endif  // CHROMATAG_DETECTOR_SRC_KERNELS_COLOR_TABLE_H_

@@ -1,11 +1,11 @@
-#include "chromatag/detector/color_table.h"
+#include "kernels/color_table.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "chromatag/families/color.h"
 
-namespace chromatag {
+namespace chromatag::internal {
 namespace {
 
 // CIE 1976 f(), as in families/color.cc.
@@ -144,4 +144,4 @@ void ColorTable::PrefetchCoarseLines(int first, int count) const {
   for (int line = std::max(first, 0); line < end; ++line) __builtin_prefetch(line0 + 64 * line);
 }
 
-}  // namespace chromatag
+}  // namespace chromatag::internal

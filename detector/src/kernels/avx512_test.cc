@@ -1,0 +1,51 @@
+#include "kernels/avx512.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "kernels/color_table.h"
+#include "kernels/kernels.h"
+
+namespace chromatag::internal {
+namespace {
+
+#ifdef CHROMATAG_HAVE_X86_KERNELS
+// The AVX-512 row scan computes exactly ColorTable::FastA, for every one of
+// the 16.7 million colours (a row per red and green level, one sample per
+// blue level at N = 4), in both pixel orders for some red levels.
+TEST(Avx512KernelTest, ComputedAIsFastAForEveryColour) {
+  if (!Kernels::Available(KernelPath::kAvx512)) GTEST_SKIP() << "this CPU has no AVX-512 with VBMI";
+  const ColorTable& table = ColorTable::Get();
+  std::vector<uint8_t> row(12 * 256, 0);
+  std::vector<int16_t> a(256);
+  long mismatches = 0;
+  for (int red = 0; red < 256; ++red) {
+    for (int r_offset : {2, 0}) {
+      if (r_offset == 0 && red % 51 != 0) continue;
+      const int b_offset = 2 - r_offset;
+      for (int green = 0; green < 256; ++green) {
+        for (int blue = 0; blue < 256; ++blue) {
+          row[12 * blue + r_offset] = static_cast<uint8_t>(red);
+          row[12 * blue + 1] = static_cast<uint8_t>(green);
+          row[12 * blue + b_offset] = static_cast<uint8_t>(blue);
+        }
+        const RowSampler sampler{
+            row.data(), static_cast<int>(row.size()), 256, 12, r_offset, b_offset, nullptr, 0, 0, 0,
+            0};
+        ComputedARowAvx512(sampler, table.fast_a_tables(), a.data());
+        for (int blue = 0; blue < 256; ++blue) {
+          if (a[blue] != table.FastA(red, green, blue) && ++mismatches <= 5) {
+            ADD_FAILURE() << "colour (" << red << ", " << green << ", " << blue << "): kernel "
+                          << a[blue] << ", FastA " << table.FastA(red, green, blue);
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+#endif
+
+}  // namespace
+}  // namespace chromatag::internal
