@@ -66,6 +66,7 @@ struct CellGrid {
   std::array<double, 8> spread{};
 };
 
+// One path's kernels.
 struct Kernels {
   KernelPath path = KernelPath::kScalar;
 

@@ -4,6 +4,7 @@
 #ifndef CHROMATAG_DETECTOR_SRC_KERNELS_SCALAR_H_
 #define CHROMATAG_DETECTOR_SRC_KERNELS_SCALAR_H_
 
+#include <algorithm>
 #include <cstdint>
 
 #include "image_view.h"
