@@ -59,12 +59,13 @@ bool AlreadyScanned(const std::vector<cv::Point2f>& directions, cv::Point2f dire
 
 }  // namespace
 
-bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+bool BuildPolygon(const ImageView& image, const DetectorOptions& options,
+                  RingScanBuffers* scan_buffers, PolygonBuffers* buffers, Candidate* candidate,
                   RejectReason* why) {
   auto& outer = candidate->points[kBlackWhite];
-  thread_local std::vector<cv::Point2f> hull;
+  std::vector<cv::Point2f>& hull = buffers->hull;
   for (int scan = 0; scan < kMaxScans; ++scan) {
-    ClockwiseHull(outer, &hull);
+    ClockwiseHull(outer, &buffers->sorted, &hull);
     if (hull.size() < 3) {
       *why = RejectReason::kPolygonScan;
       return false;
@@ -98,7 +99,7 @@ bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candid
     RingHits hits;
     candidate->scan_directions.push_back(best_direction);
     if (!ScanRings(image, options, candidate->centre, best_direction, candidate->reference_red,
-                   &hits)) {
+                   scan_buffers, &hits)) {
       *why = RejectReason::kPolygonScan;
       return false;
     }

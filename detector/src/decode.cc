@@ -473,7 +473,7 @@ bool SoftDecode(const DetectorOptions& options, const FamilyDecoder& entry, Code
 
 bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
               const Candidate& candidate, const cv::Matx33d& image_from_tag, double ring_misfit,
-              Detection* detection, RejectReason* why) {
+              SideFitBuffers* buffers, Detection* detection, RejectReason* why) {
   const TagFamily& family = *entry.family;
   const int d = family.payload_width();
   const int cells = family.black_square_cells();
@@ -597,7 +597,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   // moved to where the black ring's width says the edges lie (stages.h,
   // RefineReportedQuad). If that fails, the stages' corners are reported.
   Quad reported = candidate.quads[kBlackWhite];
-  RefineReportedQuad(image, cells, &reported);
+  RefineReportedQuad(image, cells, buffers, &reported);
   for (int i = 0; i < 4; ++i) detection->corners[i] = reported[(i + k) % 4];
   detection->image_from_tag = UnitSquareToQuad(detection->corners);
   // Inner corners in the same order, where the tag's proportions put them
@@ -626,7 +626,7 @@ std::vector<Code> SwappedCodes(const TagFamily& family) {
 
 bool Decode(const ImageView& image, const DetectorOptions& options,
             const std::vector<FamilyDecoder>& families, const Candidate& candidate,
-            Detection* detection, RejectReason* why) {
+            SideFitBuffers* buffers, Detection* detection, RejectReason* why) {
   *why = RejectReason::kNoFamilyFits;
   const cv::Matx33d image_from_tag = UnitSquareToQuad(candidate.quads[kBlackWhite]);
   // The ring proportions tell the families apart (red centre 2 of 6 cells for
@@ -644,7 +644,7 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
   for (size_t i = 0; i < n; ++i) {
     // The first family's reason is kept: it fits the rings best.
     RejectReason reason;
-    if (DecodeAs(image, options, *fits[i].second, candidate, image_from_tag, fits[i].first,
+    if (DecodeAs(image, options, *fits[i].second, candidate, image_from_tag, fits[i].first, buffers,
                  detection, &reason))
       return true;
     if (i == 0) *why = reason;
@@ -653,13 +653,14 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
 }
 
 bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
-                     const std::vector<FamilyDecoder>& families, Candidate* candidate,
-                     Detection* detection, RejectReason* why) {
-  if (Decode(image, options, families, *candidate, detection, why)) return true;
-  if (*why != RejectReason::kNoFamilyFits || !refine_sides || !RefineInnerQuads(image, candidate))
+                     const std::vector<FamilyDecoder>& families, SideFitBuffers* buffers,
+                     Candidate* candidate, Detection* detection, RejectReason* why) {
+  if (Decode(image, options, families, *candidate, buffers, detection, why)) return true;
+  if (*why != RejectReason::kNoFamilyFits || !refine_sides ||
+      !RefineInnerQuads(image, buffers, candidate))
     return false;
   RejectReason again;
-  return Decode(image, options, families, *candidate, detection, &again);
+  return Decode(image, options, families, *candidate, buffers, detection, &again);
 }
 
 }  // namespace chromatag::internal

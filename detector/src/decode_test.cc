@@ -71,6 +71,7 @@ std::vector<FamilyDecoder> Families(const std::vector<std::string>& names) {
 // Every kept 16h5 ID, drawn upright, decodes as itself, unturned, with no bit
 // corrected, its corners the black square's from the top-left on.
 TEST(DecodeTest, EveryKept16h5IdReadsAsItself) {
+  Scratch scratch;
   const auto families = Families({"16h5", "36h11"});
   const TagFamily& family = *families[0].family;
   for (int id : family.kept_ids()) {
@@ -79,7 +80,8 @@ TEST(DecodeTest, EveryKept16h5IdReadsAsItself) {
     const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
     Detection detection;
     RejectReason why;
-    ASSERT_TRUE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why))
+    ASSERT_TRUE(
+        Decode(view, DetectorOptions{}, families, candidate, &scratch.side_fit, &detection, &why))
         << "ID " << id << ": " << RejectReasonName(why);
     EXPECT_EQ(detection.family, &family);
     EXPECT_EQ(detection.id, id);
@@ -92,6 +94,7 @@ TEST(DecodeTest, EveryKept16h5IdReadsAsItself) {
 
 // 36h11 tags are told from 16h5 by their ring proportions and decode too.
 TEST(DecodeTest, Kept36h11IdsReadAsThemselves) {
+  Scratch scratch;
   const auto families = Families({"16h5", "36h11"});
   const TagFamily& family = *families[1].family;
   const std::vector<int>& ids = family.kept_ids();
@@ -101,7 +104,8 @@ TEST(DecodeTest, Kept36h11IdsReadAsThemselves) {
     const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
     Detection detection;
     RejectReason why;
-    ASSERT_TRUE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why))
+    ASSERT_TRUE(
+        Decode(view, DetectorOptions{}, families, candidate, &scratch.side_fit, &detection, &why))
         << "ID " << ids[i] << ": " << RejectReasonName(why);
     EXPECT_EQ(detection.family, &family);
     EXPECT_EQ(detection.id, ids[i]);
@@ -112,6 +116,7 @@ TEST(DecodeTest, Kept36h11IdsReadAsThemselves) {
 // 16h5 several complements lie one or two bits from another ID (14's from
 // 25). Sharp and upright, none of them may decode.
 TEST(DecodeTest, SwappedShadesNeverDecode) {
+  Scratch scratch;
   const auto families = Families({"16h5", "36h11"});
   const TagFamily& family = *families[0].family;
   for (int id : family.kept_ids()) {
@@ -120,7 +125,8 @@ TEST(DecodeTest, SwappedShadesNeverDecode) {
     const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
     Detection detection;
     RejectReason why;
-    EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why))
+    EXPECT_FALSE(
+        Decode(view, DetectorOptions{}, families, candidate, &scratch.side_fit, &detection, &why))
         << "swapped ID " << id << " read as " << detection.id;
   }
 }
@@ -130,6 +136,7 @@ TEST(DecodeTest, SwappedShadesNeverDecode) {
 // (kSwappedPrint) must refuse them: none decodes at any blur, and the rule
 // is what refuses some of them.
 TEST(DecodeTest, BlurredSwappedShadesNeverDecode) {
+  Scratch scratch;
   const auto families = Families({"16h5", "36h11"});
   const TagFamily& family = *families[0].family;
   std::map<RejectReason, int> reasons;
@@ -158,7 +165,8 @@ TEST(DecodeTest, BlurredSwappedShadesNeverDecode) {
       const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
       Detection detection;
       RejectReason why;
-      EXPECT_FALSE(Decode(view, DetectorOptions{}, families, small, &detection, &why))
+      EXPECT_FALSE(
+          Decode(view, DetectorOptions{}, families, small, &scratch.side_fit, &detection, &why))
           << "swapped ID " << id << " trial " << trial << " read as " << detection.id;
       ++reasons[why];
     }
@@ -168,6 +176,7 @@ TEST(DecodeTest, BlurredSwappedShadesNeverDecode) {
 
 // Inner rings where neither family puts them: no family fits.
 TEST(DecodeTest, RingsOutOfProportionFitNoFamily) {
+  Scratch scratch;
   const auto families = Families({"16h5", "36h11"});
   Candidate candidate;
   const cv::Mat image =
@@ -178,7 +187,8 @@ TEST(DecodeTest, RingsOutOfProportionFitNoFamily) {
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Detection detection;
   RejectReason why;
-  EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why));
+  EXPECT_FALSE(
+      Decode(view, DetectorOptions{}, families, candidate, &scratch.side_fit, &detection, &why));
   EXPECT_EQ(why, RejectReason::kNoFamilyFits);
 }
 
@@ -186,6 +196,7 @@ TEST(DecodeTest, RingsOutOfProportionFitNoFamily) {
 // finds no family whose proportions they fit; DecodeCandidate moves them onto
 // their edges and reads the tag. Not with the sub-pixel sides switched off.
 TEST(DecodeTest, DecodeCandidateLocatesInnerRingsThatFitNoFamily) {
+  Scratch scratch;
   const auto families = Families({"16h5", "36h11"});
   for (const FamilyDecoder& entry : families) {
     const int id = entry.family->kept_ids()[3];
@@ -198,14 +209,15 @@ TEST(DecodeTest, DecodeCandidateLocatesInnerRingsThatFitNoFamily) {
     const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
     Detection detection;
     RejectReason why;
-    EXPECT_FALSE(Decode(view, DetectorOptions{}, families, candidate, &detection, &why));
+    EXPECT_FALSE(
+        Decode(view, DetectorOptions{}, families, candidate, &scratch.side_fit, &detection, &why));
     EXPECT_EQ(why, RejectReason::kNoFamilyFits) << entry.family->name();
     Candidate unrefined = candidate;
     EXPECT_FALSE(DecodeCandidate(view, DetectorOptions{}, /*refine_sides=*/false, families,
-                                 &unrefined, &detection, &why));
+                                 &scratch.side_fit, &unrefined, &detection, &why));
     EXPECT_EQ(why, RejectReason::kNoFamilyFits);
     ASSERT_TRUE(DecodeCandidate(view, DetectorOptions{}, /*refine_sides=*/true, families,
-                                &candidate, &detection, &why))
+                                &scratch.side_fit, &candidate, &detection, &why))
         << entry.family->name() << ": " << RejectReasonName(why);
     EXPECT_EQ(detection.family, entry.family.get());
     EXPECT_EQ(detection.id, id);

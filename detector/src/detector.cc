@@ -108,14 +108,8 @@ double MicrosecondsSince(Clock::time_point start) {
 
 // Per-thread scratch space, so that Detect allocates nothing once warm and
 // several threads can share one Detector.
-struct Scratch {
-  internal::Candidate candidate;
-  std::vector<internal::DetectedArea> areas;
-  std::vector<internal::RejectedRegion> rejected;
-};
-
-Scratch& ThreadScratch() {
-  thread_local Scratch scratch;
+internal::Scratch& ThreadScratch() {
+  thread_local internal::Scratch scratch;
   return scratch;
 }
 
@@ -234,7 +228,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   const internal::StageSwitches& switches = impl_->switches;
   const internal::ImageView view(image, order, *impl_->table, *impl_->kernels);
   impl_->table->Prefetch(/*coarse=*/!internal::RowScanComputesA(view, options));
-  Scratch& scratch = ThreadScratch();
+  internal::Scratch& scratch = ThreadScratch();
   scratch.areas.clear();
   scratch.rejected.clear();
   DetectorSummary& summary = result->summary;
@@ -268,6 +262,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       // abandons is not a rejection, since the slow path takes it up.
       auto decode = [&](RejectReason* reason) {
         return internal::DecodeCandidate(view, options, switches.refine_corners, impl_->families,
+                                         &scratch.side_fit,
                                          &candidate, &detection, reason);
       };
       auto fast_path = [&] {
@@ -275,10 +270,13 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
         RejectReason ignored;
         const bool found =
             timed(Stage::kBuildPolygon,
-                  [&] { return internal::QuadsFromScans(view, options, &candidate); }) &&
+                  [&] {
+                    return internal::QuadsFromScans(view, options, &scratch.ring_scan, &candidate);
+                  }) &&
             timed(Stage::kPolyToQuad,
                   [&] {
-                    return internal::NestedAndRefined(view, switches.refine_corners, &candidate,
+                    return internal::NestedAndRefined(view, switches.refine_corners,
+                                                      &scratch.side_fit, &candidate,
                                                       &ignored);
                   }) &&
             timed(Stage::kDecode, [&] { return decode(&ignored); });
@@ -287,18 +285,22 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       };
       auto slow_path = [&] {
         return run_stage(Stage::kBuildPolygon,
-                         [&] { return internal::BuildPolygon(view, options, &candidate, &why); }) &&
+                         [&] {
+                           return internal::BuildPolygon(view, options, &scratch.ring_scan,
+                                                         &scratch.polygon, &candidate, &why);
+                         }) &&
                run_stage(Stage::kPolyToQuad,
                          [&] {
-                           return internal::PolyToQuad(view, switches.refine_corners, &candidate,
-                                                       &why);
+                           return internal::PolyToQuad(view, switches.refine_corners,
+                                                       &scratch.quad_fit, &scratch.side_fit,
+                                                       &candidate, &why);
                          }) &&
                run_stage(Stage::kDecode, [&] { return decode(&why); });
       };
       if (!run_stage(Stage::kInitialScan,
                      [&] {
-                       return internal::InitialScan(view, options, seed, &candidate,
-                                                    &scratch.rejected, &why);
+                       return internal::InitialScan(view, options, seed, &scratch.ring_scan,
+                                                    &candidate, &scratch.rejected, &why);
                      }) ||
           !(fast_path() || slow_path())) {
         RejectedCandidate rejection;
@@ -307,8 +309,9 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
         bool grown = false;
         if (switches.grow_regions && internal::WorthGrowing(candidate, why)) {
           grown = run_stage(Stage::kGrowRegion, [&] {
-            return internal::GrowRegion(view, options, impl_->families, &candidate, &detection,
-                                        &why);
+            return internal::GrowRegion(view, options, impl_->families, &scratch.region,
+                                        &scratch.quad_fit, &scratch.side_fit, &candidate,
+                                        &detection, &why);
           });
           rejection.grown = true;
           rejection.grow_reason = why;

@@ -55,10 +55,11 @@ cv::Point2f PolygonCentroid(const cv::Point2f* polygon, size_t n) {
   return {static_cast<float>(ox + cx / (3.0 * a2)), static_cast<float>(oy + cy / (3.0 * a2))};
 }
 
-void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* hull) {
+void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* sorted_buffer,
+                   std::vector<cv::Point2f>* hull) {
   // Andrew's monotone chain. A turn with a positive cross product is
   // clockwise on screen (y down); collinear and repeated points are dropped.
-  thread_local std::vector<cv::Point2f> sorted;
+  std::vector<cv::Point2f>& sorted = *sorted_buffer;
   sorted.assign(points.begin(), points.end());
   std::sort(sorted.begin(), sorted.end(), [](const cv::Point2f& a, const cv::Point2f& b) {
     return a.x < b.x || (a.x == b.x && a.y < b.y);
@@ -90,8 +91,8 @@ void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point
 }
 
 std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points) {
-  std::vector<cv::Point2f> hull;
-  ClockwiseHull(points, &hull);
+  std::vector<cv::Point2f> sorted, hull;
+  ClockwiseHull(points, &sorted, &hull);
   return hull;
 }
 

@@ -55,6 +55,7 @@ TEST(GeometryTest, HullKeepsOnlyTheCornersClockwise) {
 TEST(GeometryTest, HullMatchesOpenCvOnRandomClouds) {
   cv::RNG rng(7);
   std::vector<cv::Point2f> reused = {{1, 2}, {3, 4}};  // Stale content must go.
+  std::vector<cv::Point2f> sorted = {{5, 6}};          // Likewise.
   for (int trial = 0; trial < 50; ++trial) {
     std::vector<cv::Point2f> points(3 + trial);
     for (auto& p : points) p = {rng.uniform(-100.f, 100.f), rng.uniform(-50.f, 80.f)};
@@ -63,7 +64,7 @@ TEST(GeometryTest, HullMatchesOpenCvOnRandomClouds) {
     const std::vector<cv::Point2f> hull = ClockwiseHull(points);
     EXPECT_TRUE(SamePointSets(hull, expected)) << "trial " << trial;
     ExpectClockwiseConvex(hull);
-    ClockwiseHull(points, &reused);
+    ClockwiseHull(points, &sorted, &reused);
     EXPECT_EQ(reused, hull);
   }
 }

@@ -125,10 +125,10 @@ bool RingLevels(const ImageView& image, const Candidate& candidate, float* chrom
 // `start`. Returns its outline (cells with a neighbour outside) in image
 // pixels, or false if it reaches the window's edge or is too small.
 template <typename Inside>
-bool Grow(const Grid& grid, cv::Point start, int max_cells, Inside&& inside,
+bool Grow(const Grid& grid, cv::Point start, int max_cells, Inside&& inside, RegionBuffers* buffers,
           std::vector<cv::Point2f>* outline) {
-  thread_local std::vector<uint8_t> state;  // 0 unseen, 1 in, 2 out, 3 queued.
-  thread_local std::vector<int> queue;
+  std::vector<uint8_t>& state = buffers->state;  // 0 unseen, 1 in, 2 out, 3 queued.
+  std::vector<int>& queue = buffers->queue;
   state.assign(static_cast<size_t>(grid.width) * grid.height, 0);
   queue.clear();
   auto test = [&](int i, int j) {
@@ -167,8 +167,8 @@ bool Grow(const Grid& grid, cv::Point start, int max_cells, Inside&& inside,
 // row, in row order. Their convex hull is the whole outline's (a hull vertex
 // is extreme in its row), and FitQuad then sorts a few dozen points instead
 // of every cell on the outline: the same quad.
-void RowEnds(const Grid& grid, std::vector<cv::Point2f>* outline) {
-  thread_local std::vector<std::array<float, 2>> ends;  // Per row: least x, greatest x.
+void RowEnds(const Grid& grid, RegionBuffers* buffers, std::vector<cv::Point2f>* outline) {
+  std::vector<std::array<float, 2>>& ends = buffers->row_ends;  // Per row: least x, greatest x.
   ends.assign(grid.height, {1e30f, -1e30f});
   for (const cv::Point2f& p : *outline) {
     auto& row = ends[(static_cast<int>(p.y) - grid.y0) / grid.step];
@@ -211,16 +211,18 @@ bool BoundedAlongRays(const ImageView& image, const Candidate& candidate, int32_
 
 // Places the green/black and red/green borders of a tag of `family` inside
 // the outer quad, from the family's proportions, and fits each on its edge.
-bool PlaceInnerRings(const ImageView& image, const TagFamily& family, Candidate* candidate) {
+bool PlaceInnerRings(const ImageView& image, const TagFamily& family, SideFitBuffers* buffers,
+                     Candidate* candidate) {
   const double cells = family.black_square_cells();
   const cv::Matx33d from_outer = UnitSquareToQuad(candidate->quads[kBlackWhite]);
   const double cell = std::sqrt(QuadArea(candidate->quads[kBlackWhite])) / cells;
   const double half = std::max(1.5, 0.35 * cell);
   Quad green = InsetSquare(from_outer, 1 / cells);
   Quad red = InsetSquare(from_outer, 2 / cells);
-  if (!RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, half}, &green) ||
+  if (!RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, half}, buffers,
+                  &green) ||
       !RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, half},
-                  &red))
+                  buffers, &red))
     return false;
   candidate->quads[kGreenBlack] = green;
   candidate->quads[kRedGreen] = red;
@@ -238,7 +240,8 @@ bool WorthGrowing(const Candidate& candidate, RejectReason why) {
 }
 
 bool GrowRegion(const ImageView& image, const DetectorOptions& options,
-                const std::vector<FamilyDecoder>& families, Candidate* candidate,
+                const std::vector<FamilyDecoder>& families, RegionBuffers* region_buffers,
+                QuadFitBuffers* fit_buffers, SideFitBuffers* side_buffers, Candidate* candidate,
                 Detection* detection, RejectReason* why) {
   *why = RejectReason::kNoQuietZone;
   if (!candidate->enclosed) return false;
@@ -289,28 +292,29 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
                         kBlurAllowancePx) ||
       !Grow(
           grid, start, max_cells, [&](cv::Point p) { return image.Y(p.x, p.y) < threshold_y; },
-          &outline))
+          region_buffers, &outline))
     return false;
 
   *why = RejectReason::kSquareNotQuad;
   Quad outer;
-  RowEnds(grid, &outline);
-  if (!FitQuad(outline, &outer)) return false;
+  RowEnds(grid, region_buffers, &outline);
+  if (!FitQuad(outline, fit_buffers, &outer)) return false;
   if (QuadArea(outer) < kMinAreaRatio * red_area || QuadArea(outer) > kMaxAreaRatio * widened)
     return false;
   const double cell = std::sqrt(QuadArea(outer)) / 8.0;  // Either family: refined next.
   if (!RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, grid.step + 1.5, 1.0},
-                  &outer) ||
-      !RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, 1.5}, &outer))
+                  side_buffers, &outer) ||
+      !RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, 1.5}, side_buffers,
+                  &outer))
     return false;
   candidate->quads[kBlackWhite] = outer;
 
   *why = RejectReason::kNoInnerRings;
   for (const FamilyDecoder& entry : families) {
-    if (!PlaceInnerRings(image, *entry.family, candidate)) continue;
+    if (!PlaceInnerRings(image, *entry.family, side_buffers, candidate)) continue;
     // Decode tells the families apart by the rings' proportions, which now
     // follow this family's.
-    if (Decode(image, options, families, *candidate, detection, why)) return true;
+    if (Decode(image, options, families, *candidate, side_buffers, detection, why)) return true;
   }
   return false;
 }

@@ -180,7 +180,8 @@ bool RejectedRegion::BorderContains(cv::Point2f p) const {
 }
 
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
-                 Candidate* candidate, std::vector<RejectedRegion>* rejected, RejectReason* why) {
+                 RingScanBuffers* buffers, Candidate* candidate,
+                 std::vector<RejectedRegion>* rejected, RejectReason* why) {
   cv::Point2f centre(static_cast<float>(seed.x), static_cast<float>(seed.y));
   candidate->centre = centre;
   candidate->enclosed = false;
@@ -257,7 +258,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     if (iteration == 0 && !converged) {
       for (int i : kEarlyRingDirections) {
         RingHits hits;
-        if (!ScanRings(image, options, centre, kScanDirections[i], reference_red, &hits))
+        if (!ScanRings(image, options, centre, kScanDirections[i], reference_red, buffers, &hits))
           return reject(RejectReason::kRingScan);
       }
     }
@@ -274,7 +275,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   for (int i = 0; i < 8; i += 2) {
     const cv::Point2f direction = kScanDirections[i];
     RingHits hits;
-    if (!ScanRings(image, options, centre, direction, reference_red, &hits))
+    if (!ScanRings(image, options, centre, direction, reference_red, buffers, &hits))
       return reject(RejectReason::kRingScan);
     for (int ring = 0; ring < kNumRings; ++ring)
       candidate->points[ring].push_back(hits.border[ring]);

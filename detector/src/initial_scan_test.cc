@@ -37,9 +37,11 @@ const cv::Point2f kAxes[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
 RejectReason RejectionOf(const cv::Mat& image, cv::Point seed,
                          std::vector<RejectedRegion>* rejected) {
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  Scratch scratch;
   Candidate candidate;
   RejectReason why = RejectReason::kPaleRed;
-  EXPECT_FALSE(InitialScan(view, DetectorOptions{}, seed, &candidate, rejected, &why))
+  EXPECT_FALSE(
+      InitialScan(view, DetectorOptions{}, seed, &scratch.ring_scan, &candidate, rejected, &why))
       << "seed " << seed << " accepted";
   return why;
 }
@@ -47,14 +49,15 @@ RejectReason RejectionOf(const cv::Mat& image, cv::Point seed,
 // Seeded just inside the red's left edge on the centre row, InitialScan
 // converges on the drawn centre and finds each ring's border on each axis.
 TEST(InitialScanTest, FindsTheCentreAndTheRingsOfATagLikePattern) {
+  Scratch scratch;
   const int cx = 100, cy = 90;
   const cv::Mat image = RenderRings({200, 180}, cx, cy);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Candidate candidate;
   std::vector<RejectedRegion> rejected;
   RejectReason why;
-  ASSERT_TRUE(
-      InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, &candidate, &rejected, &why))
+  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, &scratch.ring_scan,
+                          &candidate, &rejected, &why))
       << "rejected for " << static_cast<int>(why);
   const cv::Point2f centre(cx, cy);
   EXPECT_LT(cv::norm(candidate.centre - centre), 1.0) << candidate.centre;
@@ -83,6 +86,7 @@ TEST(InitialScanTest, RejectsASeedOnGreyAsPale) {
 // adds no rejected region. With max_green_a above it (the default, 8, which
 // keeps thin green rings under a tungsten cast) it gets on to the ring scans.
 TEST(InitialScanTest, RejectsRedOnWhiteAtTheFirstScan) {
+  Scratch scratch;
   const cv::Mat image = RenderRings({200, 200}, 100, 100, /*with_green=*/false,
                                     /*with_black=*/false);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
@@ -92,12 +96,13 @@ TEST(InitialScanTest, RejectsRedOnWhiteAtTheFirstScan) {
   Candidate candidate;
   std::vector<RejectedRegion> rejected;
   RejectReason why;
-  ASSERT_FALSE(InitialScan(view, strict, seed, &candidate, &rejected, &why));
+  ASSERT_FALSE(InitialScan(view, strict, seed, &scratch.ring_scan, &candidate, &rejected, &why));
   EXPECT_EQ(why, RejectReason::kNotGreen);
   EXPECT_TRUE(rejected.empty());
   EXPECT_FALSE(candidate.enclosed);
 
-  ASSERT_FALSE(InitialScan(view, DetectorOptions{}, seed, &candidate, &rejected, &why));
+  ASSERT_FALSE(
+      InitialScan(view, DetectorOptions{}, seed, &scratch.ring_scan, &candidate, &rejected, &why));
   EXPECT_NE(why, RejectReason::kNotGreen);
 }
 
@@ -138,6 +143,7 @@ TEST(InitialScanTest, AddsTheRegionRejectedAfterCentring) {
 // checked; a pattern whose black ring is missing on the left passes those, and
 // the final scans, which check all four directions, still reject it.
 TEST(InitialScanTest, FinalScansCheckTheDirectionsTheFirstPassSkips) {
+  Scratch scratch;
   const int cx = 100, cy = 100;
   cv::Mat image = RenderRings({200, 200}, cx, cy);
   // White over the black ring's left side.
@@ -147,9 +153,9 @@ TEST(InitialScanTest, FinalScansCheckTheDirectionsTheFirstPassSkips) {
   // Each axis scan from the drawn centre: only the one to the left fails.
   for (int i = 0; i < 4; ++i) {
     RingHits hits;
-    EXPECT_EQ(
-        ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), kAxes[i], view.A(cx, cy), &hits),
-        i != 2)
+    EXPECT_EQ(ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), kAxes[i], view.A(cx, cy),
+                        &scratch.ring_scan, &hits),
+              i != 2)
         << "direction " << kAxes[i];
   }
   std::vector<RejectedRegion> rejected;

@@ -54,13 +54,15 @@ Line FitSide(const std::vector<cv::Point2f>& hull, const std::vector<int>& label
 // (Visvalingam's simplification). The paper clusters edge directions with
 // k-means instead; started from four quarter turns, that fails on views
 // whose sides meet at 30 degrees or less (steep tilt with perspective).
-bool HullCorners(const std::vector<cv::Point2f>& hull, std::array<int, kSides>* corners) {
+bool HullCorners(const std::vector<cv::Point2f>& hull, QuadFitBuffers* buffers,
+                 std::array<int, kSides>* corners) {
   const int n = static_cast<int>(hull.size());
   if (n < kSides) return false;
   // A ring of the vertices still kept, with each one's triangle: dropping a
   // vertex changes only its two neighbours' triangles.
-  thread_local std::vector<int> prev, next;
-  thread_local std::vector<double> area;
+  std::vector<int>& prev = buffers->prev;
+  std::vector<int>& next = buffers->next;
+  std::vector<double>& area = buffers->area;
   prev.resize(n);
   next.resize(n);
   area.resize(n);
@@ -95,17 +97,17 @@ bool HullCorners(const std::vector<cv::Point2f>& hull, std::array<int, kSides>* 
 
 }  // namespace
 
-bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
+bool FitQuad(const std::vector<cv::Point2f>& points, QuadFitBuffers* buffers, Quad* quad) {
   if (points.size() < 4) return false;
-  thread_local std::vector<cv::Point2f> hull;
-  ClockwiseHull(points, &hull);
+  std::vector<cv::Point2f>& hull = buffers->hull;
+  ClockwiseHull(points, &buffers->sorted, &hull);
   if (hull.size() < 4) return false;
   std::array<int, kSides> corners;
-  if (!HullCorners(hull, &corners)) return false;
+  if (!HullCorners(hull, buffers, &corners)) return false;
   // Hull edge i (from vertex i to i + 1) lies on side k when it lies between
   // corners k and k + 1; sides run clockwise like the hull.
   const int n = static_cast<int>(hull.size());
-  thread_local std::vector<int> label;
+  std::vector<int>& label = buffers->label;
   label.assign(n, 0);
   std::array<Line, kSides> sides;
   for (int k = 0; k < kSides; ++k) {
@@ -117,19 +119,19 @@ bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad) {
   return QuadFromSides(sides, quad) && IsConvexClockwise(*quad);
 }
 
-bool PolyToQuad(const ImageView& image, bool refine_sides, Candidate* candidate,
-                RejectReason* why) {
+bool PolyToQuad(const ImageView& image, bool refine_sides, QuadFitBuffers* fit_buffers,
+                SideFitBuffers* side_buffers, Candidate* candidate, RejectReason* why) {
   for (int ring = 0; ring < kNumRings; ++ring) {
-    if (!FitQuad(candidate->points[ring], &candidate->quads[ring])) {
+    if (!FitQuad(candidate->points[ring], fit_buffers, &candidate->quads[ring])) {
       *why = RejectReason::kNoQuad;
       return false;
     }
   }
-  return NestedAndRefined(image, refine_sides, candidate, why);
+  return NestedAndRefined(image, refine_sides, side_buffers, candidate, why);
 }
 
-bool NestedAndRefined(const ImageView& image, bool refine_sides, Candidate* candidate,
-                      RejectReason* why) {
+bool NestedAndRefined(const ImageView& image, bool refine_sides, SideFitBuffers* buffers,
+                      Candidate* candidate, RejectReason* why) {
   // Nested, each ring smaller than the one outside it.
   const double outer = QuadArea(candidate->quads[kBlackWhite]);
   const double green = QuadArea(candidate->quads[kGreenBlack]);
@@ -138,7 +140,7 @@ bool NestedAndRefined(const ImageView& image, bool refine_sides, Candidate* cand
     *why = RejectReason::kNotNested;
     return false;
   }
-  if (refine_sides && !RefineOuterQuad(image, candidate)) {
+  if (refine_sides && !RefineOuterQuad(image, buffers, candidate)) {
     *why = RejectReason::kRefineFailed;
     return false;
   }

@@ -34,6 +34,7 @@ cv::Mat RenderRings(cv::Size size, const std::array<Quad, kNumRings>& squares) {
 // the inner ones within a pixel (polygon fits); with their own sub-pixel
 // sides, within 0.5 px too.
 TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
+  Scratch scratch;
   const cv::Point2d centre(100.3, 99.6);
   std::array<Quad, kNumRings> truth;
   for (int ring = 0; ring < kNumRings; ++ring)
@@ -45,7 +46,8 @@ TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
   Candidate candidate;
   ASSERT_TRUE(ScanAndBuildPolygon(view, seed, &candidate));
   RejectReason why;
-  ASSERT_TRUE(PolyToQuad(view, /*refine_sides=*/true, &candidate, &why))
+  ASSERT_TRUE(PolyToQuad(view, /*refine_sides=*/true, &scratch.quad_fit, &scratch.side_fit,
+                         &candidate, &why))
       << "PolyToQuad rejected: " << RejectReasonName(why);
   auto expect_near = [&](int ring, double limit, const char* when) {
     const Quad& fitted = candidate.quads[ring];
@@ -60,7 +62,7 @@ TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
   expect_near(kBlackWhite, 0.5, "PolyToQuad");
   expect_near(kGreenBlack, 1.0, "PolyToQuad");
   expect_near(kRedGreen, 1.0, "PolyToQuad");
-  ASSERT_TRUE(RefineInnerQuads(view, &candidate));
+  ASSERT_TRUE(RefineInnerQuads(view, &scratch.side_fit, &candidate));
   for (int ring = 0; ring < kNumRings; ++ring) expect_near(ring, 0.5, "RefineInnerQuads");
 }
 

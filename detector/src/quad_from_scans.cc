@@ -256,7 +256,8 @@ bool RingQuad(RingPoints& ring, const Cuts* hint, Cuts* used, Quad* quad) {
 
 }  // namespace
 
-bool QuadsFromScans(const ImageView& image, const DetectorOptions& options, Candidate* candidate) {
+bool QuadsFromScans(const ImageView& image, const DetectorOptions& options,
+                    RingScanBuffers* buffers, Candidate* candidate) {
   // InitialScan leaves the four axis scans (right, down, left, up: the even
   // kScanDirections); the diagonals fill in between.
   if (candidate->points[kBlackWhite].size() != 4) return false;
@@ -267,7 +268,7 @@ bool QuadsFromScans(const ImageView& image, const DetectorOptions& options, Cand
   for (int k = 1; k < kNumScans; k += 2) {
     RingHits hits;
     if (!ScanRings(image, options, candidate->centre, kScanDirections[k], candidate->reference_red,
-                   &hits))
+                   buffers, &hits))
       return false;
     for (int ring = 0; ring < kNumRings; ++ring) points[ring][k] = hits.border[ring];
   }

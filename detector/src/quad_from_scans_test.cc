@@ -38,6 +38,7 @@ double MaxCornerDistance(const Quad& quad, const Quad& truth) {
 // corners on the outer ring). The edge directions pick the drawn one at every
 // turn, and the sub-pixel sides then land within 0.25 px.
 TEST(QuadsFromScansTest, GivesEachRingsDrawnQuadAtAnyTurn) {
+  Scratch scratch;
   const cv::Point2d centre(100.3, 99.6);
   for (double degrees : {0.0, 10.0, 22.5, 30.0, 45.0, 67.5, 80.0}) {
     std::array<Quad, kNumRings> truth;
@@ -47,22 +48,25 @@ TEST(QuadsFromScansTest, GivesEachRingsDrawnQuadAtAnyTurn) {
     const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
     Candidate candidate;
     RejectReason why;
-    ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {95, 100}, &candidate, nullptr, &why))
+    ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {95, 100}, &scratch.ring_scan, &candidate,
+                            nullptr, &why))
         << degrees << " degrees: " << RejectReasonName(why);
     const auto points_before = candidate.points;
-    ASSERT_TRUE(QuadsFromScans(view, DetectorOptions{}, &candidate)) << degrees << " degrees";
+    ASSERT_TRUE(QuadsFromScans(view, DetectorOptions{}, &scratch.ring_scan, &candidate))
+        << degrees << " degrees";
     // Only the quads are written: BuildPolygon could still start from here.
     EXPECT_EQ(candidate.points, points_before);
     for (int ring = 0; ring < kNumRings; ++ring) {
       EXPECT_LT(MaxCornerDistance(candidate.quads[ring], truth[ring]), 1.5)
           << degrees << " degrees, ring " << ring;
     }
-    ASSERT_TRUE(NestedAndRefined(view, /*refine_sides=*/true, &candidate, &why))
+    ASSERT_TRUE(
+        NestedAndRefined(view, /*refine_sides=*/true, &scratch.side_fit, &candidate, &why))
         << degrees << " degrees: " << RejectReasonName(why);
     EXPECT_LT(MaxCornerDistance(candidate.quads[kBlackWhite], truth[kBlackWhite]), 0.25)
         << degrees << " degrees, after the outer sub-pixel sides";
     // The inner quads stay as the scans left them until asked for.
-    ASSERT_TRUE(RefineInnerQuads(view, &candidate)) << degrees << " degrees";
+    ASSERT_TRUE(RefineInnerQuads(view, &scratch.side_fit, &candidate)) << degrees << " degrees";
     for (int ring = 0; ring < kNumRings; ++ring) {
       EXPECT_LT(MaxCornerDistance(candidate.quads[ring], truth[ring]), 0.25)
           << degrees << " degrees, ring " << ring << " after the sub-pixel sides";
@@ -73,6 +77,7 @@ TEST(QuadsFromScansTest, GivesEachRingsDrawnQuadAtAnyTurn) {
 // Under perspective a side can fall between two scans: with three sides
 // met, there is no quad to give, and BuildPolygon takes over.
 TEST(QuadsFromScansTest, DeclinesWhenAScanMissesASide) {
+  Scratch scratch;
   const cv::Point2d centre(100.3, 99.6);
   // A quad whose short upper side (seen from the centre between 80 and 50
   // degrees anticlockwise of "right") lies between the up and the up-right
@@ -92,21 +97,25 @@ TEST(QuadsFromScansTest, DeclinesWhenAScanMissesASide) {
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Candidate candidate;
   RejectReason why;
-  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {100, 100}, &candidate, nullptr, &why))
+  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {100, 100}, &scratch.ring_scan, &candidate,
+                          nullptr, &why))
       << RejectReasonName(why);
-  EXPECT_FALSE(QuadsFromScans(view, DetectorOptions{}, &candidate));
+  EXPECT_FALSE(QuadsFromScans(view, DetectorOptions{}, &scratch.ring_scan, &candidate));
 }
 
 // It starts from InitialScan's four axis scans and nothing else.
 TEST(QuadsFromScansTest, NeedsExactlyInitialScansFourScans) {
+  Scratch scratch;
   const cv::Mat image = testing::RenderRings({200, 200}, 100, 100, {12, 24, 36});
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Candidate candidate;
   RejectReason why;
-  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {95, 100}, &candidate, nullptr, &why));
-  ASSERT_TRUE(BuildPolygon(view, DetectorOptions{}, &candidate, &why));
+  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {95, 100}, &scratch.ring_scan, &candidate,
+                          nullptr, &why));
+  ASSERT_TRUE(BuildPolygon(view, DetectorOptions{}, &scratch.ring_scan, &scratch.polygon,
+                           &candidate, &why));
   ASSERT_GT(candidate.points[kBlackWhite].size(), 4u);
-  EXPECT_FALSE(QuadsFromScans(view, DetectorOptions{}, &candidate));
+  EXPECT_FALSE(QuadsFromScans(view, DetectorOptions{}, &scratch.ring_scan, &candidate));
 }
 
 }  // namespace

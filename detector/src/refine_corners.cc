@@ -29,9 +29,12 @@ constexpr int kReportedOuterProfiles = 10;  // Per side, for the reported corner
 // Total least squares line through `points`, then once more without points
 // farther than three median residuals (at least half a pixel) from it.
 // Works in place (the kept points are moved to the front): it runs for every
-// side of every ring, and allocating its scratch cost more than the fit.
-bool FitLine(std::vector<cv::Point2d>* points, Line* line) {
-  thread_local std::vector<double> residual, sorted;
+// side of every ring, and allocating its scratch cost more than the fit: the
+// residuals go into the caller's buffers.
+bool FitLine(std::vector<cv::Point2d>* points, std::vector<double>* residual_buffer,
+             std::vector<double>* sorted_buffer, Line* line) {
+  std::vector<double>& residual = *residual_buffer;
+  std::vector<double>& sorted = *sorted_buffer;
   for (int pass = 0; pass < 2; ++pass) {
     if (points->size() < 3) return false;
     cv::Point2d c(0, 0);
@@ -204,8 +207,8 @@ void SideProfiles(const Quad& quad, const SideSearch& search, std::vector<Profil
 // for side i), the corners where they meet, and RefineQuad's checks against
 // the quad they were searched from.
 bool QuadFromEdges(const std::vector<ProfileEdge>& edges, const std::array<int, 5>& first,
-                   const SideSearch& search, Quad* quad) {
-  thread_local std::vector<cv::Point2d> points;
+                   const SideSearch& search, SideFitBuffers* buffers, Quad* quad) {
+  std::vector<cv::Point2d>& points = buffers->points;
   std::array<Line, 4> sides;
   for (int i = 0; i < 4; ++i) {
     points.clear();
@@ -213,7 +216,7 @@ bool QuadFromEdges(const std::vector<ProfileEdge>& edges, const std::array<int, 
       if (edges[j].found) points.push_back(edges[j].edge);
     }
     if (points.size() < 4) return false;
-    if (!FitLine(&points, &sides[i])) return false;
+    if (!FitLine(&points, &buffers->residual, &buffers->sorted, &sides[i])) return false;
   }
   Quad refined;
   if (!QuadFromSides(sides, &refined)) return false;
@@ -231,9 +234,10 @@ bool QuadFromEdges(const std::vector<ProfileEdge>& edges, const std::array<int, 
 
 }  // namespace
 
-bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
-  thread_local std::vector<ProfileSpec> spec;
-  thread_local std::vector<ProfileEdge> edges;
+bool RefineQuad(const ImageView& image, const SideSearch& search, SideFitBuffers* buffers,
+                Quad* quad) {
+  std::vector<ProfileSpec>& spec = buffers->spec;
+  std::vector<ProfileEdge>& edges = buffers->edges;
   std::array<int, 5> first{};
   // The four sides' profiles are read in one batch (EdgePoints fills its
   // lanes across sides), then a line is fitted per side.
@@ -241,7 +245,7 @@ bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad) {
   edges.resize(spec.size());
   EdgePoints(image, search.channel, search.polarity, spec.data(), first[4], search.min_contrast,
              edges.data(), search.halfway);
-  return QuadFromEdges(edges, first, search, quad);
+  return QuadFromEdges(edges, first, search, buffers, quad);
 }
 
 namespace {
@@ -254,7 +258,7 @@ double CellWidth(const Candidate& candidate) {
 
 }  // namespace
 
-bool RefineOuterQuad(const ImageView& image, Candidate* candidate) {
+bool RefineOuterQuad(const ImageView& image, SideFitBuffers* buffers, Candidate* candidate) {
   const double cell = CellWidth(*candidate);
   if (!(cell > 1.0)) return false;
   // The outer border gives the reported corners and the homography. Edge
@@ -270,7 +274,7 @@ bool RefineOuterQuad(const ImageView& image, Candidate* candidate) {
     // The first pass searches up to 4 px either side (the polygon's corners
     // can be that far off); later ones only around the last lines.
     const double max_half = pass == 0 ? 4.0 : 1.5;
-    if (!RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, max_half},
+    if (!RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, max_half}, buffers,
                     &candidate->quads[kBlackWhite]))
       return false;
     double moved = 0;
@@ -281,7 +285,7 @@ bool RefineOuterQuad(const ImageView& image, Candidate* candidate) {
   return true;
 }
 
-bool RefineReportedQuad(const ImageView& image, int cells, Quad* quad) {
+bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad) {
   const double side = std::sqrt(QuadArea(*quad));
   const double cell = side / cells;
   if (!(cell > 1.0)) return false;
@@ -299,7 +303,8 @@ bool RefineReportedQuad(const ImageView& image, int cells, Quad* quad) {
     SideSearch out{kGray, kRisesOutwards, kMinGrayContrast, cell, kReportedOuterProfiles, 1.5};
     SideSearch in{kGray, kFallsOutwards, kMinGreenBlackContrast, cell, kMinProfiles, 2.5};
     out.halfway = in.halfway = halfway;
-    if ((way == 1 && !RefineQuad(image, out, &outer[way])) || !RefineQuad(image, in, &inner[way]))
+    if ((way == 1 && !RefineQuad(image, out, buffers, &outer[way])) ||
+        !RefineQuad(image, in, buffers, &inner[way]))
       return false;
   }
   // Sides (square roots of the areas), linear in the share: the share at
@@ -318,13 +323,13 @@ bool RefineReportedQuad(const ImageView& image, int cells, Quad* quad) {
   return true;
 }
 
-bool RefineInnerQuads(const ImageView& image, Candidate* candidate) {
+bool RefineInnerQuads(const ImageView& image, SideFitBuffers* buffers, Candidate* candidate) {
   const double cell = CellWidth(*candidate);
   if (!(cell > 1.0)) return false;
-  return RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, 2.5},
+  return RefineQuad(image, {kGray, kFallsOutwards, kMinGreenBlackContrast, cell, 10, 2.5}, buffers,
                     &candidate->quads[kGreenBlack]) &&
          RefineQuad(image, {kRedMinusGreen, kFallsOutwards, kMinRedGreenContrast, cell, 10, 2.5},
-                    &candidate->quads[kRedGreen]);
+                    buffers, &candidate->quads[kRedGreen]);
 }
 
 }  // namespace chromatag::internal

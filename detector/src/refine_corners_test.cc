@@ -47,13 +47,14 @@ std::vector<cv::Point2f> AlongSides(const Quad& quad, double spacing) {
 // FitQuad on exact points along a convex quad's sides, with interior points
 // mixed in, returns the quad's corners, clockwise.
 TEST(FitQuadTest, RecoversTheCornersOfAConvexQuad) {
+  Scratch scratch;
   const Quad truth = {{{20.25, 10.5}, {90, 18}, {82.75, 70}, {15, 60.5}}};
   ASSERT_TRUE(IsConvexClockwise(truth));
   std::vector<cv::Point2f> points = AlongSides(truth, 3.0);
   for (cv::Point2f inner : {cv::Point2f(50, 40), cv::Point2f(30, 30), cv::Point2f(70, 55)})
     points.insert(points.begin() + points.size() / 2, inner);
   Quad fitted;
-  ASSERT_TRUE(FitQuad(points, &fitted));
+  ASSERT_TRUE(FitQuad(points, &scratch.quad_fit, &fitted));
   EXPECT_TRUE(IsConvexClockwise(fitted));
   ExpectSameQuad(fitted, truth, 1e-3);
 }
@@ -61,6 +62,7 @@ TEST(FitQuadTest, RecoversTheCornersOfAConvexQuad) {
 // Points a little off the sides (at most 0.2 px along the normal) still give
 // corners within a fraction of a pixel.
 TEST(FitQuadTest, ToleratesNoisyPoints) {
+  Scratch scratch;
   const Quad truth = RotatedSquare({60, 50}, 25, 25);
   cv::RNG rng(3);
   std::vector<cv::Point2f> points;
@@ -72,16 +74,17 @@ TEST(FitQuadTest, ToleratesNoisyPoints) {
     }
   }
   Quad fitted;
-  ASSERT_TRUE(FitQuad(points, &fitted));
+  ASSERT_TRUE(FitQuad(points, &scratch.quad_fit, &fitted));
   ExpectSameQuad(fitted, truth, 0.5);
 }
 
 // Fewer than four points cannot make a quad; neither can points on a line.
 TEST(FitQuadTest, FailsOnTooFewPoints) {
+  Scratch scratch;
   Quad quad;
-  EXPECT_FALSE(FitQuad({}, &quad));
-  EXPECT_FALSE(FitQuad({{0, 0}, {10, 0}, {5, 8}}, &quad));
-  EXPECT_FALSE(FitQuad({{0, 0}, {1, 1}, {2, 2}, {3, 3}, {4, 4}}, &quad));
+  EXPECT_FALSE(FitQuad({}, &scratch.quad_fit, &quad));
+  EXPECT_FALSE(FitQuad({{0, 0}, {10, 0}, {5, 8}}, &scratch.quad_fit, &quad));
+  EXPECT_FALSE(FitQuad({{0, 0}, {1, 1}, {2, 2}, {3, 3}, {4, 4}}, &scratch.quad_fit, &quad));
 }
 
 // The side search for the outer border: black inside, white outside.
@@ -92,6 +95,7 @@ SideSearch BlackOnWhite(double cell) {
 // A quad 1.5 px off moves onto an antialiased black square, axis-aligned or
 // turned, to within 0.1 px of its corners.
 TEST(RefineQuadTest, MovesOntoTheEdgesOfABlackSquare) {
+  Scratch scratch;
   for (double degrees : {0.0, 17.0, 40.0}) {
     const Quad truth = RotatedSquare({60.3, 59.6}, 28.0, degrees);
     const cv::Mat image = RenderQuad({120, 120}, truth);
@@ -99,7 +103,8 @@ TEST(RefineQuadTest, MovesOntoTheEdgesOfABlackSquare) {
     const cv::Point2d offsets[4] = {{1.5, 0}, {0, -1.5}, {-1.06, 1.06}, {1.06, 1.06}};
     Quad quad;
     for (int i = 0; i < 4; ++i) quad[i] = truth[i] + offsets[i];
-    ASSERT_TRUE(RefineQuad(view, BlackOnWhite(56.0 / 8), &quad)) << degrees << " degrees";
+    ASSERT_TRUE(RefineQuad(view, BlackOnWhite(56.0 / 8), &scratch.side_fit, &quad))
+        << degrees << " degrees";
     for (int i = 0; i < 4; ++i) {
       EXPECT_LT(cv::norm(quad[i] - truth[i]), 0.1) << degrees << " degrees, corner " << i;
     }
@@ -113,6 +118,7 @@ TEST(RefineQuadTest, MovesOntoTheEdgesOfABlackSquare) {
 // does: RefineReportedQuad places the black square within 0.15 px in both,
 // while the encoded average alone finds the camera's about 0.9 px too small.
 TEST(RefineQuadTest, ReportedCornersFollowWhereTheImageWasBlurred) {
+  Scratch scratch;
   for (bool lens : {true, false}) {
     for (double degrees : {0.0, 23.0}) {
       const std::string what =
@@ -144,9 +150,9 @@ TEST(RefineQuadTest, ReportedCornersFollowWhereTheImageWasBlurred) {
       f.convertTo(image, CV_8UC3, 255.0);
       const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
       Quad encoded = truth;
-      ASSERT_TRUE(RefineQuad(view, BlackOnWhite(8.0), &encoded)) << what;
+      ASSERT_TRUE(RefineQuad(view, BlackOnWhite(8.0), &scratch.side_fit, &encoded)) << what;
       Quad reported = encoded;  // As the stages leave it.
-      ASSERT_TRUE(RefineReportedQuad(view, 6, &reported)) << what;
+      ASSERT_TRUE(RefineReportedQuad(view, 6, &scratch.side_fit, &reported)) << what;
       for (int i = 0; i < 4; ++i) {
         EXPECT_LT(cv::norm(reported[i] - truth[i]), 0.15) << what << ", corner " << i;
         // Each corner sqrt(2) x 0.8 px nearer the centre, give or take.
@@ -161,13 +167,14 @@ TEST(RefineQuadTest, ReportedCornersFollowWhereTheImageWasBlurred) {
 // Without an edge (a flat frame), or with the edge the wrong way round (a
 // white square on black), the quad is left as it was.
 TEST(RefineQuadTest, FailsAndLeavesTheQuadWithoutAMatchingEdge) {
+  Scratch scratch;
   const Quad start = RotatedSquare({60, 60}, 28.0, 10.0);
   const cv::Mat flat(120, 120, CV_8UC3, cv::Scalar::all(128));
   const cv::Mat inverted = ~RenderQuad({120, 120}, start);
   for (const cv::Mat* image : {&flat, &inverted}) {
     const ImageView view(*image, PixelOrder::kBgr, ColorTable::Get());
     Quad quad = start;
-    EXPECT_FALSE(RefineQuad(view, BlackOnWhite(7.0), &quad));
+    EXPECT_FALSE(RefineQuad(view, BlackOnWhite(7.0), &scratch.side_fit, &quad));
     EXPECT_EQ(quad, start);
   }
 }

@@ -68,13 +68,14 @@ struct Crossing {
 
 template <Border border>
 bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction, float reference,
-                float thresh, int run, int max_steps, Crossing* crossing) {
+                float thresh, int run, int max_steps, RingScanBuffers* buffers,
+                Crossing* crossing) {
   auto pixel = [&](int k) {
     return cv::Point(RoundToInt(start.x + k * direction.x), RoundToInt(start.y + k * direction.y));
   };
   // Each pixel's value is read once: values[k] for step k (the run's pixels
   // are looked at again below, for the deepest one and the halfway level).
-  thread_local std::vector<float> values;
+  std::vector<float>& values = buffers->values;
   const size_t needed = static_cast<size_t>(max_steps) + kMaxPlateauSteps + 2;
   if (values.size() < needed) values.resize(needed);
   int consecutive = 0;
@@ -175,14 +176,15 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
 }  // namespace
 
 bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point2f start,
-               cv::Point2f direction, float reference_red, RingHits* hits) {
+               cv::Point2f direction, float reference_red, RingScanBuffers* buffers,
+               RingHits* hits) {
   const float thresh = static_cast<float>(options.border_thresh);
   const int run = options.border_run;
   const int reach = std::max(image.width(), image.height());
 
   Crossing red_green;
   if (!ScanBorder<Border::kRedToGreen>(image, start, direction, reference_red,
-                                       RedGreenThresh(options, reference_red), run, reach,
+                                       RedGreenThresh(options, reference_red), run, reach, buffers,
                                        &red_green)) {
     return false;
   }
@@ -207,14 +209,14 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
   Crossing green_black;
   if (!ScanBorder<Border::kGreenToBlack>(image, red_green.resume, direction, green_l,
                                          std::max(thresh, 0.3f * green_l), ring_run, ring_reach,
-                                         &green_black)) {
+                                         buffers, &green_black)) {
     return false;
   }
   const float black_l = green_black.value_after;
   Crossing black_white;
   if (!ScanBorder<Border::kBlackToWhite>(image, green_black.resume, direction, black_l,
                                          std::max(thresh, 0.3f * (green_l - black_l)), ring_run,
-                                         ring_reach, &black_white)) {
+                                         ring_reach, buffers, &black_white)) {
     return false;
   }
   // The quiet zone is the lightest part of a tag.

@@ -33,6 +33,7 @@ constexpr double EdgeOffset(int half) { return half + 0.5; }
 // Scanning from the centre along each axis finds the three drawn borders, in
 // order, within half a pixel (the gap between the two pixels either side).
 TEST(ScanRingsTest, FindsTheThreeBordersAlongTheAxes) {
+  Scratch scratch;
   const int cx = 100, cy = 90;
   const cv::Mat image = RenderRings({200, 180}, cx, cy);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
@@ -40,7 +41,8 @@ TEST(ScanRingsTest, FindsTheThreeBordersAlongTheAxes) {
   const int halves[kNumRings] = {kRedHalf, kGreenHalf, kBlackHalf};
   for (const cv::Point2f& d : directions) {
     RingHits hits;
-    ASSERT_TRUE(ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), d, ReferenceRed(), &hits))
+    ASSERT_TRUE(ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), d, ReferenceRed(),
+                          &scratch.ring_scan, &hits))
         << "direction " << d;
     for (int ring = 0; ring < kNumRings; ++ring) {
       const cv::Point2f expected = cv::Point2f(cx, cy) + EdgeOffset(halves[ring]) * d;
@@ -53,6 +55,7 @@ TEST(ScanRingsTest, FindsTheThreeBordersAlongTheAxes) {
 // Diagonal scans, one nearest pixel per unit step, land within a pixel of
 // the square borders (Chebyshev distance from the centre).
 TEST(ScanRingsTest, FindsTheBordersAlongDiagonals) {
+  Scratch scratch;
   const int cx = 100, cy = 100;
   const cv::Mat image = RenderRings({200, 200}, cx, cy);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
@@ -60,7 +63,8 @@ TEST(ScanRingsTest, FindsTheBordersAlongDiagonals) {
   const int halves[kNumRings] = {kRedHalf, kGreenHalf, kBlackHalf};
   for (const cv::Point2f& d : {cv::Point2f(s, s), cv::Point2f(-s, s), cv::Point2f(-s, -s)}) {
     RingHits hits;
-    ASSERT_TRUE(ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), d, ReferenceRed(), &hits));
+    ASSERT_TRUE(ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), d, ReferenceRed(),
+                          &scratch.ring_scan, &hits));
     for (int ring = 0; ring < kNumRings; ++ring) {
       const cv::Point2f offset = hits.border[ring] - cv::Point2f(cx, cy);
       EXPECT_NEAR(std::abs(offset.x), EdgeOffset(halves[ring]), 1.0) << "ring " << ring;
@@ -71,26 +75,29 @@ TEST(ScanRingsTest, FindsTheBordersAlongDiagonals) {
 
 // Red straight on white is no tag: there is no green ring to scan through.
 TEST(ScanRingsTest, FailsWithoutTheGreenRing) {
+  Scratch scratch;
   const cv::Mat image = RenderRings({200, 200}, 100, 100, /*with_green=*/false);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   for (const cv::Point2f& d : {cv::Point2f(1, 0), cv::Point2f(0, -1)}) {
     RingHits hits;
-    EXPECT_FALSE(ScanRings(view, DetectorOptions{}, {100, 100}, d, ReferenceRed(), &hits));
+    EXPECT_FALSE(ScanRings(view, DetectorOptions{}, {100, 100}, d, ReferenceRed(),
+                           &scratch.ring_scan, &hits));
   }
 }
 
 // A tag cut off by the frame edge inside its black ring fails in that
 // direction only.
 TEST(ScanRingsTest, FailsWhenTheScanLeavesTheFrame) {
+  Scratch scratch;
   const int cx = 100, cy = 100;
   // The right edge (x = 134) lies inside the black ring (x up to 140).
   const cv::Mat image = RenderRings({cx + kGreenHalf + 5, 200}, cx, cy);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   RingHits hits;
-  EXPECT_FALSE(
-      ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), {1, 0}, ReferenceRed(), &hits));
-  EXPECT_TRUE(
-      ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), {-1, 0}, ReferenceRed(), &hits));
+  EXPECT_FALSE(ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), {1, 0}, ReferenceRed(),
+                         &scratch.ring_scan, &hits));
+  EXPECT_TRUE(ScanRings(view, DetectorOptions{}, cv::Point2f(cx, cy), {-1, 0}, ReferenceRed(),
+                        &scratch.ring_scan, &hits));
 }
 
 }  // namespace

@@ -95,10 +95,11 @@ inline int NearestCorner(const Quad& quad, cv::Point2d p) {
 // Detect runs them; a failure names the stage and its reason.
 inline ::testing::AssertionResult ScanAndBuildPolygon(const ImageView& view, cv::Point seed,
                                                       Candidate* candidate) {
+  Scratch scratch;
   RejectReason why;
-  if (!InitialScan(view, DetectorOptions{}, seed, candidate, nullptr, &why))
+  if (!InitialScan(view, DetectorOptions{}, seed, &scratch.ring_scan, candidate, nullptr, &why))
     return ::testing::AssertionFailure() << "InitialScan rejected: " << RejectReasonName(why);
-  if (!BuildPolygon(view, DetectorOptions{}, candidate, &why))
+  if (!BuildPolygon(view, DetectorOptions{}, &scratch.ring_scan, &scratch.polygon, candidate, &why))
     return ::testing::AssertionFailure() << "BuildPolygon rejected: " << RejectReasonName(why);
   return ::testing::AssertionSuccess();
 }

@@ -31,6 +31,39 @@ struct RingHits {
   std::array<cv::Point2f, kNumRings> border;
 };
 
+// Scratch memory. A stage that needs buffers takes them from its caller, one
+// struct per kind of work, so that its signature says what it writes besides
+// its results; the detector keeps one of each in its Scratch (below), reused
+// from call to call, so that a warm Detect allocates nothing. The buffers
+// carry nothing from one call to the next that a call reads.
+//
+// ScanRings: the values read along a scan, one per step.
+struct RingScanBuffers {
+  std::vector<float> values;
+};
+// BuildPolygon: the outer polygon's hull, and the points sorted for it
+// (ClockwiseHull).
+struct PolygonBuffers {
+  std::vector<cv::Point2f> sorted, hull;
+};
+// FitQuad: the points' hull (and the points sorted for it), the vertices
+// still kept as the hull is cut to four corners, and each hull edge's side.
+struct QuadFitBuffers {
+  std::vector<cv::Point2f> sorted, hull;
+  std::vector<int> prev, next;
+  std::vector<double> area;
+  std::vector<int> label;
+};
+// GrowRegion's fill: each grid cell's state, the cells queued, and the
+// outline's ends on each grid row.
+struct RegionBuffers {
+  std::vector<uint8_t> state;
+  std::vector<int> queue;
+  std::vector<std::array<float, 2>> row_ends;
+};
+// RefineQuad and the stages that call it (defined with it below).
+struct SideFitBuffers;
+
 // A tag candidate as the stages build it.
 struct Candidate {
   cv::Point2f centre;       // Converged centre of the red region (InitialScan).
@@ -206,7 +239,8 @@ inline float RedGreenThresh(const DetectorOptions& options, float reference_red)
 // False if a border is not found within reach of the previous one or the scan
 // leaves the frame.
 bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point2f start,
-               cv::Point2f direction, float reference_red, RingHits* hits);
+               cv::Point2f direction, float reference_red, RingScanBuffers* buffers,
+               RingHits* hits);
 
 // The red/green border polygon of a red region InitialScan rejected after at
 // least one centring pass (eight points, star-shaped around its centre).
@@ -231,22 +265,25 @@ struct RejectedRegion {
 // (the frame's regions rejected so far), a seed inside one of them is dropped
 // at once, and a region rejected after a centring pass is added.
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
-                 Candidate* candidate, std::vector<RejectedRegion>* rejected, RejectReason* why);
+                 RingScanBuffers* buffers, Candidate* candidate,
+                 std::vector<RejectedRegion>* rejected, RejectReason* why);
 
 // 3. BuildPolygon: greedy scans towards the largest convexity-limited
 // potential area of the outer polygon until area / (area + potential) exceeds
 // ConvThresh. Every scan adds a point to each of the three polygons.
-bool BuildPolygon(const ImageView& image, const DetectorOptions& options, Candidate* candidate,
+bool BuildPolygon(const ImageView& image, const DetectorOptions& options,
+                  RingScanBuffers* scan_buffers, PolygonBuffers* buffers, Candidate* candidate,
                   RejectReason* why);
 
 // 4. PolyToQuad: a quad per polygon (FitQuad: the hull cut to four corners,
 // a line per side, their intersections); then NestedAndRefined.
-bool PolyToQuad(const ImageView& image, bool refine_sides, Candidate* candidate, RejectReason* why);
+bool PolyToQuad(const ImageView& image, bool refine_sides, QuadFitBuffers* fit_buffers,
+                SideFitBuffers* side_buffers, Candidate* candidate, RejectReason* why);
 
 // PolyToQuad's second half: false (and *why) unless the three quads are
 // nested, each inside the next; then, if `refine_sides`, RefineOuterQuad.
-bool NestedAndRefined(const ImageView& image, bool refine_sides, Candidate* candidate,
-                      RejectReason* why);
+bool NestedAndRefined(const ImageView& image, bool refine_sides, SideFitBuffers* buffers,
+                      Candidate* candidate, RejectReason* why);
 
 // The fast path from InitialScan to the sub-pixel sides
 // (quad_from_scans.cc): the four diagonal scans through the rings added to
@@ -256,7 +293,8 @@ bool NestedAndRefined(const ImageView& image, bool refine_sides, Candidate* cand
 // for every ring; the candidate's points and scan
 // directions are left as they were (only its quads are written), so that
 // BuildPolygon can take over.
-bool QuadsFromScans(const ImageView& image, const DetectorOptions& options, Candidate* candidate);
+bool QuadsFromScans(const ImageView& image, const DetectorOptions& options,
+                    RingScanBuffers* buffers, Candidate* candidate);
 
 // The second path (grow_region.cc). WorthGrowing: whether a candidate the
 // stages above lost (for `why`) is one the second path can rescue: its red
@@ -268,7 +306,8 @@ bool QuadsFromScans(const ImageView& image, const DetectorOptions& options, Cand
 // outer points.
 bool WorthGrowing(const Candidate& candidate, RejectReason why);
 bool GrowRegion(const ImageView& image, const DetectorOptions& options,
-                const std::vector<FamilyDecoder>& families, Candidate* candidate,
+                const std::vector<FamilyDecoder>& families, RegionBuffers* region_buffers,
+                QuadFitBuffers* fit_buffers, SideFitBuffers* side_buffers, Candidate* candidate,
                 Detection* detection, RejectReason* why);
 
 // Sub-pixel sides (refine_corners.cc): least-squares lines through edge
@@ -278,7 +317,7 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
 // ring proportions read (DecodeCandidate refines them when the rough ones
 // fit no family). False if a side has too few edge points to fit, a corner
 // jumps or the quad turns concave; the ring's cell must exceed a pixel.
-bool RefineOuterQuad(const ImageView& image, Candidate* candidate);
+bool RefineOuterQuad(const ImageView& image, SideFitBuffers* buffers, Candidate* candidate);
 // The reported corners of a decoded tag whose black square has `cells`
 // cells: `quad` (its black/white quad as the stages found it, edges at the
 // encoded average) moved towards where its edges lie in linear light, as
@@ -289,14 +328,14 @@ bool RefineOuterQuad(const ImageView& image, Candidate* candidate);
 // its outer and inner borders, each located both ways, are mixed in the
 // share that gives it that width, and the outer corners in the same share.
 // False (quad untouched) when a border cannot be located.
-bool RefineReportedQuad(const ImageView& image, int cells, Quad* quad);
-bool RefineInnerQuads(const ImageView& image, Candidate* candidate);
+bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad);
+bool RefineInnerQuads(const ImageView& image, SideFitBuffers* buffers, Candidate* candidate);
 
 // Four sides from the convex hull of `points` (the hull cut to its four
 // corners by dropping the vertex of the smallest triangle, a line fitted
 // through each side's hull edges) and their corners, clockwise. False if
 // they do not make a convex quad.
-bool FitQuad(const std::vector<cv::Point2f>& points, Quad* quad);
+bool FitQuad(const std::vector<cv::Point2f>& points, QuadFitBuffers* buffers, Quad* quad);
 
 // Contrast floors for side searches in encoded 8-bit units (gray is the sum
 // of three channels).
@@ -355,6 +394,15 @@ struct ProfileEdge {
   cv::Point2d edge;
   bool found = false;
 };
+
+// RefineQuad's buffers: the profiles across the four sides and their edge
+// points, one side's points found, and its line's residuals (FitLine).
+struct SideFitBuffers {
+  std::vector<ProfileSpec> spec;
+  std::vector<ProfileEdge> edges;
+  std::vector<cv::Point2d> points;
+  std::vector<double> residual, sorted;
+};
 // The edge point on one profile: where `channel` passes halfway between the
 // two levels (in linear light for the gray channel with Halfway::kLinearLight:
 // profile and levels decoded first), nearest the steepest change the
@@ -374,7 +422,8 @@ void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polar
 // them: sub-pixel edge points on short profiles across each side, a robust
 // line per side, corners where they meet. False (quad untouched) if a side
 // has too few edge points, a corner jumps or the result is not convex.
-bool RefineQuad(const ImageView& image, const SideSearch& search, Quad* quad);
+bool RefineQuad(const ImageView& image, const SideSearch& search, SideFitBuffers* buffers,
+                Quad* quad);
 
 // Decode reads each cell as the mean colour of a samples x samples grid of
 // pixels: the ones nearest to centre + s du + t dv, s and t evenly from -1 to
@@ -392,15 +441,15 @@ PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du
 // up over all rotations and fills the detection in the decoded orientation.
 bool Decode(const ImageView& image, const DetectorOptions& options,
             const std::vector<FamilyDecoder>& families, const Candidate& candidate,
-            Detection* detection, RejectReason* why);
+            SideFitBuffers* buffers, Detection* detection, RejectReason* why);
 
 // Decode for a candidate whose inner quads are still rough (from the scans or
 // the polygons; only the outer one has its sub-pixel sides): where they fit
 // no family's proportions, RefineInnerQuads (if `refine_sides`) and Decode
 // once more. The first reason stands if that fails too.
 bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
-                     const std::vector<FamilyDecoder>& families, Candidate* candidate,
-                     Detection* detection, RejectReason* why);
+                     const std::vector<FamilyDecoder>& families, SideFitBuffers* buffers,
+                     Candidate* candidate, Detection* detection, RejectReason* why);
 
 // Geometry helpers (geometry.cc), unsigned areas in square pixels.
 double PolygonArea(const std::vector<cv::Point2f>& polygon);
@@ -458,8 +507,10 @@ inline bool QuadFromSides(const std::array<Line, 4>& sides, Quad* quad) {
 // scatter with no spread.
 cv::Point2d MajorAxis(double sxx, double sxy, double syy);
 // The convex hull of `points`, clockwise on screen (y down), without
-// collinear points; into *hull (reused) or returned.
-void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* hull);
+// collinear points; into *hull (reused, with *sorted for the points sorted)
+// or returned.
+void ClockwiseHull(const std::vector<cv::Point2f>& points, std::vector<cv::Point2f>* sorted,
+                   std::vector<cv::Point2f>* hull);
 std::vector<cv::Point2f> ClockwiseHull(const std::vector<cv::Point2f>& points);
 // The homography from the unit square ((0,0), (1,0), (1,1), (0,1)) to `quad`,
 // and a point through a homography (inline, as IntersectLines: Decode maps
@@ -477,6 +528,20 @@ inline Quad InsetSquare(const cv::Matx33d& h, double inset) {
   return {ApplyHomography(h, lo, lo), ApplyHomography(h, hi, lo), ApplyHomography(h, hi, hi),
           ApplyHomography(h, lo, hi)};
 }
+
+// What one Detect works in: the candidate the stages build up, the frame's
+// accepted areas and rejected regions, and the stages' buffers. The detector
+// keeps one per thread; a test that calls the stages directly makes its own.
+struct Scratch {
+  Candidate candidate;
+  std::vector<DetectedArea> areas;
+  std::vector<RejectedRegion> rejected;
+  RingScanBuffers ring_scan;  // InitialScan, QuadsFromScans, BuildPolygon.
+  PolygonBuffers polygon;     // BuildPolygon.
+  QuadFitBuffers quad_fit;    // PolyToQuad, GrowRegion.
+  SideFitBuffers side_fit;    // NestedAndRefined, PolyToQuad, DecodeCandidate, GrowRegion.
+  RegionBuffers region;       // GrowRegion.
+};
 
 }  // namespace chromatag::internal
 
