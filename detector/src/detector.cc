@@ -2,6 +2,9 @@
 #include "chromatag/detector/detector.h"
 
 #include <chrono>
+#include <mutex>
+#include <utility>
+#include <vector>
 
 #include "chromatag/detector/pose.h"
 #include "stage_switches.h"
@@ -89,6 +92,53 @@ Stage StageOf(RejectReason reason) {
   return Stage::kGrowRegion;
 }
 
+namespace {
+
+// The Scratch of the Detects in flight: each takes one for its frame and
+// gives it back at the end, so that several threads can share a Detector and
+// a warm Detect allocates no scratch. One is made when none is free: as many
+// are kept as Detects ever ran at once. The lock is held only to take or
+// give back.
+class ScratchPool {
+ public:
+  std::unique_ptr<internal::Scratch> Take() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!free_.empty()) {
+        std::unique_ptr<internal::Scratch> scratch = std::move(free_.back());
+        free_.pop_back();
+        return scratch;
+      }
+    }
+    return std::make_unique<internal::Scratch>();
+  }
+  void GiveBack(std::unique_ptr<internal::Scratch> scratch) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    free_.push_back(std::move(scratch));
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<internal::Scratch>> free_;
+};
+
+// A Scratch taken from a pool for the lease's lifetime.
+class ScratchLease {
+ public:
+  explicit ScratchLease(ScratchPool* pool) : pool_(pool), scratch_(pool->Take()) {}
+  ~ScratchLease() { pool_->GiveBack(std::move(scratch_)); }
+  ScratchLease(const ScratchLease&) = delete;
+  ScratchLease& operator=(const ScratchLease&) = delete;
+
+  internal::Scratch& operator*() const { return *scratch_; }
+
+ private:
+  ScratchPool* pool_;
+  std::unique_ptr<internal::Scratch> scratch_;
+};
+
+}  // namespace
+
 struct Detector::Impl {
   DetectorOptions options;
   internal::StageSwitches switches;
@@ -96,6 +146,7 @@ struct Detector::Impl {
   const internal::ColorTable* table = nullptr;
   // The vector kernels for this CPU, chosen once here (kernels/kernels.h).
   const internal::Kernels* kernels = nullptr;
+  ScratchPool scratch_pool;  // Detect is const; the pool is what it may change.
 };
 
 namespace {
@@ -104,13 +155,6 @@ using Clock = std::chrono::steady_clock;
 
 double MicrosecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
-}
-
-// Per-thread scratch space, so that Detect allocates nothing once warm and
-// several threads can share one Detector.
-internal::Scratch& ThreadScratch() {
-  thread_local internal::Scratch scratch;
-  return scratch;
 }
 
 // What a rejected candidate looked like when `stage` abandoned it (see
@@ -228,7 +272,8 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   const internal::StageSwitches& switches = impl_->switches;
   const internal::ImageView view(image, order, *impl_->table, *impl_->kernels);
   impl_->table->Prefetch(/*coarse=*/!internal::RowScanComputesA(view, options));
-  internal::Scratch& scratch = ThreadScratch();
+  const ScratchLease lease(&impl_->scratch_pool);
+  internal::Scratch& scratch = *lease;
   scratch.areas.clear();
   scratch.rejected.clear();
   DetectorSummary& summary = result->summary;

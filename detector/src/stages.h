@@ -531,7 +531,8 @@ inline Quad InsetSquare(const cv::Matx33d& h, double inset) {
 
 // What one Detect works in: the candidate the stages build up, the frame's
 // accepted areas and rejected regions, and the stages' buffers. The detector
-// keeps one per thread; a test that calls the stages directly makes its own.
+// keeps a pool of them, one per Detect in flight, so that several threads can
+// share it; a test that calls the stages directly makes its own.
 struct Scratch {
   Candidate candidate;
   std::vector<DetectedArea> areas;
