@@ -296,7 +296,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   for (int row = 0; row < num_rows; ++row) {
     internal::RowCursor cursor = internal::SampledRow(view.height(), options, row);
     cv::Point seed;
-    while (internal::FindADiff(view, options, scratch.areas, &cursor, &seed,
+    while (internal::FindADiff(view, options, scratch.areas, &scratch.row_scan, &cursor, &seed,
                                &summary.rejected[static_cast<int>(Stage::kFindADiff)])) {
       ++summary.seeds;
       internal::Candidate& candidate = scratch.candidate;
@@ -307,8 +307,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       // abandons is not a rejection, since the slow path takes it up.
       auto decode = [&](RejectReason* reason) {
         return internal::DecodeCandidate(view, options, switches.refine_corners, impl_->families,
-                                         &scratch.side_fit,
-                                         &candidate, &detection, reason);
+                                         &scratch.side_fit, &candidate, &detection, reason);
       };
       auto fast_path = [&] {
         if (!switches.quads_from_scans || !switches.refine_corners) return false;
@@ -321,8 +320,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
             timed(Stage::kPolyToQuad,
                   [&] {
                     return internal::NestedAndRefined(view, switches.refine_corners,
-                                                      &scratch.side_fit, &candidate,
-                                                      &ignored);
+                                                      &scratch.side_fit, &candidate, &ignored);
                   }) &&
             timed(Stage::kDecode, [&] { return decode(&ignored); });
         if (found) ++summary.fast_path_detections;

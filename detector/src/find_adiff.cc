@@ -126,8 +126,8 @@ bool InSpans(const std::array<std::pair<int, int>, 64>& spans, int num_spans, in
 }  // namespace
 
 bool FindADiff(const ImageView& image, const DetectorOptions& options,
-               const std::vector<DetectedArea>& skip, RowCursor* cursor, cv::Point* seed,
-               int* prefilter_rejects) {
+               const std::vector<DetectedArea>& skip, RowScanBuffers* buffers, RowCursor* cursor,
+               cv::Point* seed, int* prefilter_rejects) {
   const ColorTable& table = image.table();
   const int step = options.step;
   const int r = image.r_offset(), b = image.b_offset();
@@ -135,11 +135,9 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
   const uint8_t* row = image.Pixel(0, y);
   if (!cursor->sampled) {
     const int count = (image.width() + step - 1) / step;
-    thread_local std::vector<int32_t> coarse;
-    thread_local std::vector<int> rises;
-    if (coarse.size() < static_cast<size_t>(count)) {
-      coarse.resize(count);
-      rises.resize(count);
+    if (buffers->a.size() < static_cast<size_t>(count)) {
+      buffers->a.resize(count);
+      buffers->rises.resize(count);
     }
     // The next sampled row, into the caches while this one is sampled: a
     // frame from a camera or another thread is not in the caches, and the
@@ -156,8 +154,8 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
       const int per_row = (table.coarse_lines() + cursor->num_rows - 1) / cursor->num_rows;
       table.PrefetchCoarseLines(cursor->row * per_row, per_row);
     }
-    cursor->num_rises = ScanRow(image, options, y, coarse.data(), rises.data());
-    cursor->rises = rises.data();
+    cursor->num_rises = ScanRow(image, options, y, buffers->a.data(), buffers->rises.data());
+    cursor->rises = buffers->rises.data();
     cursor->next = 0;
     cursor->sampled = true;
   }

@@ -51,7 +51,8 @@ std::vector<cv::Point> Seeds(const ImageView& view, const DetectorOptions& optio
   std::vector<cv::Point> seeds;
   cv::Point seed;
   int rejects = 0;
-  while (FindADiff(view, options, skip, &cursor, &seed, &rejects)) seeds.push_back(seed);
+  RowScanBuffers buffers;
+  while (FindADiff(view, options, skip, &buffers, &cursor, &seed, &rejects)) seeds.push_back(seed);
   return seeds;
 }
 

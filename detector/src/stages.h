@@ -37,6 +37,12 @@ struct RingHits {
 // from call to call, so that a warm Detect allocates nothing. The buffers
 // carry nothing from one call to the next that a call reads.
 //
+// FindADiff: a sampled row's a* (or coarse a*) and the samples that may rise.
+// The cursor points into `rises` until the row is done.
+struct RowScanBuffers {
+  std::vector<int32_t> a;
+  std::vector<int> rises;
+};
 // ScanRings: the values read along a scan, one per step.
 struct RingScanBuffers {
   std::vector<float> values;
@@ -220,8 +226,8 @@ std::vector<Code> SwappedCodes(const TagFamily& family);
 // *prefilter_rejects counts rises the row scan's prefilter suggested but the
 // accurate a* refuted.
 bool FindADiff(const ImageView& image, const DetectorOptions& options,
-               const std::vector<DetectedArea>& skip, RowCursor* cursor, cv::Point* seed,
-               int* prefilter_rejects);
+               const std::vector<DetectedArea>& skip, RowScanBuffers* buffers, RowCursor* cursor,
+               cv::Point* seed, int* prefilter_rejects);
 
 // The a* drop from ReferenceRed that counts a pixel as past the red/green
 // border: BorderThresh, or a third of the red's a* if more. The two reds share
@@ -536,6 +542,7 @@ inline Quad InsetSquare(const cv::Matx33d& h, double inset) {
 struct Scratch {
   Candidate candidate;
   std::vector<DetectedArea> areas;
+  RowScanBuffers row_scan;  // FindADiff.
   std::vector<RejectedRegion> rejected;
   RingScanBuffers ring_scan;  // InitialScan, QuadsFromScans, BuildPolygon.
   PolygonBuffers polygon;     // BuildPolygon.
