@@ -1,8 +1,12 @@
 // Stage 3, BuildPolygon (paper section 4, Figures 6d-g and 7).
+#include "build_polygon.h"
+
 #include <algorithm>
 #include <cmath>
 
-#include "stages.h"
+#include "candidate.h"
+#include "geometry.h"
+#include "scan_rings.h"
 
 namespace chromatag::internal {
 namespace {

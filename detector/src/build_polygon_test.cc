@@ -6,8 +6,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "candidate.h"
+#include "geometry.h"
 #include "stage_test_support.h"
-#include "stages.h"
 
 namespace chromatag::internal {
 namespace {

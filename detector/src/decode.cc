@@ -1,4 +1,6 @@
 // Stage 5, Decode (paper section 4, Figure 6j; spec sections 3, 4 and 7).
+#include "decode.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -6,9 +8,11 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "candidate.h"
+#include "geometry.h"
 #include "kernels/kernels.h"
 #include "kernels/scalar.h"
-#include "stages.h"
+#include "refine_corners.h"
 
 namespace chromatag::internal {
 namespace {
@@ -594,7 +598,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   detection->decision_margin = margin;
   // The stages read the black square found with edges at the encoded
   // average (their thresholds were set on it); the reported corners are
-  // moved to where the black ring's width says the edges lie (stages.h,
+  // moved to where the black ring's width says the edges lie (refine_corners.h,
   // RefineReportedQuad). If that fails, the stages' corners are reported.
   Quad reported = candidate.quads[kBlackWhite];
   RefineReportedQuad(image, cells, buffers, &reported);

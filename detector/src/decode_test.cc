@@ -6,8 +6,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "candidate.h"
 #include "chromatag/families/palette.h"
-#include "stages.h"
+#include "decode.h"
+#include "geometry.h"
+#include "scratch.h"
 
 namespace chromatag::internal {
 namespace {

@@ -1,4 +1,4 @@
-// Algorithm 1 of the paper, stage by stage (stages.h).
+// Algorithm 1 of the paper, stage by stage (each declared in its own header).
 #include "chromatag/detector/detector.h"
 
 #include <chrono>
@@ -6,9 +6,18 @@
 #include <utility>
 #include <vector>
 
+#include "build_polygon.h"
+#include "candidate.h"
 #include "chromatag/detector/pose.h"
+#include "decode.h"
+#include "find_adiff.h"
+#include "geometry.h"
+#include "grow_region.h"
+#include "initial_scan.h"
+#include "poly_to_quad.h"
+#include "quad_from_scans.h"
+#include "scratch.h"
 #include "stage_switches.h"
-#include "stages.h"
 
 namespace chromatag {
 

@@ -1,5 +1,7 @@
 // Stage 1, FindADiff (paper section 4): the only stage that touches the whole
 // frame, so it is the one that sets the speed on frames without tags.
+#include "find_adiff.h"
+
 #include <algorithm>
 #include <array>
 #include <climits>
@@ -9,7 +11,6 @@
 #include <vector>
 
 #include "kernels/kernels.h"
-#include "stages.h"
 
 namespace chromatag::internal {
 

@@ -9,7 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/families/color.h"
-#include "stages.h"
+#include "find_adiff.h"
 
 #ifdef __linux__
 #include <sys/mman.h>

@@ -1,4 +1,4 @@
-// Small geometry on polygons and quads (stages.h), the detector's one copy.
+// Small geometry on polygons and quads (geometry.h), the detector's one copy.
 // Written out rather than called through OpenCV: the polygons have a few
 // dozen points, and cv::convexHull, cv::contourArea and cv::moments cost more
 // in their InputArray wrapping and buffers than in the arithmetic
@@ -7,12 +7,12 @@
 // functions through OpenCV: one-tag frame 86.5 -> 82.5 us, camera frames
 // with tags 161 -> 155 us. geometry_test checks the hull against
 // cv::convexHull.
+#include "geometry.h"
+
 #include <algorithm>
 #include <cmath>
 
 #include <opencv2/imgproc.hpp>
-
-#include "stages.h"
 
 namespace chromatag::internal {
 

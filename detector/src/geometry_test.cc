@@ -7,8 +7,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "geometry.h"
 #include "stage_test_support.h"
-#include "stages.h"
 
 namespace chromatag::internal {
 namespace {

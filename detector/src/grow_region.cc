@@ -5,6 +5,8 @@
 // zone), its outline cut to four sides and refined on the black/white edge,
 // and the inner rings placed from each family's proportions and refined on
 // their own edges. Then the same Decode. It runs only for such candidates.
+#include "grow_region.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -12,7 +14,11 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "stages.h"
+#include "candidate.h"
+#include "decode.h"
+#include "geometry.h"
+#include "poly_to_quad.h"
+#include "refine_corners.h"
 
 namespace chromatag::internal {
 namespace {

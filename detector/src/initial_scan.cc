@@ -1,9 +1,13 @@
 // Stage 2, InitialScan (paper section 4, Figure 6a-c).
+#include "initial_scan.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "stages.h"
+#include "candidate.h"
+#include "geometry.h"
+#include "scan_rings.h"
 
 namespace chromatag::internal {
 namespace {

@@ -1,10 +1,14 @@
 // Stage 4, PolyToQuad (paper section 4, Figure 6h-i): four sides from each
 // polygon, then sub-pixel corners (refine_corners.cc).
+#include "poly_to_quad.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "stages.h"
+#include "candidate.h"
+#include "geometry.h"
+#include "refine_corners.h"
 
 namespace chromatag::internal {
 namespace {

@@ -4,11 +4,15 @@
 // BuildPolygon (the paper's greedy scans towards the largest potential area,
 // about eight more scans and a convex hull after each) remains the way when
 // this does not give three plausible quads, or when they fail later on.
+#include "quad_from_scans.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "stages.h"
+#include "candidate.h"
+#include "geometry.h"
+#include "scan_rings.h"
 
 namespace chromatag::internal {
 namespace {

@@ -1,7 +1,14 @@
 #include <gtest/gtest.h>
 
+#include "build_polygon.h"
+#include "candidate.h"
+#include "geometry.h"
+#include "initial_scan.h"
+#include "poly_to_quad.h"
+#include "quad_from_scans.h"
+#include "refine_corners.h"
+#include "scratch.h"
 #include "stage_test_support.h"
-#include "stages.h"
 
 namespace chromatag::internal {
 namespace {

@@ -12,13 +12,16 @@
 // keep at full resolution. The inner borders are located only when their
 // rough quads fit no family (Decode's ring proportions); a detection's inner
 // corners are placed from its outer ones (decode.cc says why).
+#include "refine_corners.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 
+#include "candidate.h"
+#include "geometry.h"
 #include "kernels/kernels.h"
 #include "kernels/scalar.h"
-#include "stages.h"
 
 namespace chromatag::internal {
 namespace {

@@ -6,8 +6,11 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "geometry.h"
+#include "poly_to_quad.h"
+#include "refine_corners.h"
+#include "scratch.h"
 #include "stage_test_support.h"
-#include "stages.h"
 
 namespace chromatag::internal {
 namespace {

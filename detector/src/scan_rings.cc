@@ -1,12 +1,14 @@
 // The scan primitive shared by InitialScan and BuildPolygon (paper section 4):
 // walk outwards pixel by pixel until M successive pixels lie beyond a
 // threshold from the reference colour.
+#include "scan_rings.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "stages.h"
+#include "candidate.h"
 
 namespace chromatag::internal {
 namespace {

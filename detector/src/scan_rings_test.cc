@@ -5,8 +5,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "candidate.h"
+#include "scan_rings.h"
+#include "scratch.h"
 #include "stage_test_support.h"
-#include "stages.h"
 
 namespace chromatag::internal {
 namespace {

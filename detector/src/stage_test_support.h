@@ -12,7 +12,11 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "stages.h"
+#include "build_polygon.h"
+#include "candidate.h"
+#include "geometry.h"
+#include "initial_scan.h"
+#include "scratch.h"
 
 namespace chromatag::internal::testing {
 

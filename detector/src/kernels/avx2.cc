@@ -16,9 +16,10 @@
 #include <cmath>
 #include <cstdint>
 
+#include "decode.h"
 #include "image_view.h"
 #include "kernels/scalar.h"
-#include "stages.h"
+#include "refine_corners.h"
 
 namespace chromatag::internal {
 namespace {

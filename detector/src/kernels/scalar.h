@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "decode.h"
 #include "image_view.h"
 #include "kernels/kernels.h"
-#include "stages.h"
 
 namespace chromatag::internal {
 

@@ -1,0 +1,53 @@
+// The stages of Algorithm 1 (paper section 4), one file and one function
+// each, and the candidate they build up: what all stages share. Each stage is
+// declared in its own header, next to its file. Stages 2-5 return false and
+// set *why when they abandon a candidate. Internal to the detector.
+#ifndef CHROMATAG_DETECTOR_SRC_CANDIDATE_H_
+#define CHROMATAG_DETECTOR_SRC_CANDIDATE_H_
+
+#include <array>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "geometry.h"
+
+namespace chromatag::internal {
+
+// The three borders a scan from the tag centre crosses, inside out.
+enum Ring { kRedGreen = 0, kGreenBlack = 1, kBlackWhite = 2 };
+inline constexpr int kNumRings = 3;
+
+// Where one scan from the centre crossed each border (sub-pixel).
+struct RingHits {
+  std::array<cv::Point2f, kNumRings> border;
+};
+
+// A tag candidate as the stages build it.
+struct Candidate {
+  cv::Point2f centre;       // Converged centre of the red region (InitialScan).
+  float reference_red = 0;  // ReferenceRed, a*.
+  // Border points per ring, from every scan (InitialScan and BuildPolygon).
+  std::array<std::vector<cv::Point2f>, kNumRings> points;
+  std::vector<cv::Point2f> scan_directions;  // Unit directions already scanned.
+  std::array<Quad, kNumRings> quads;
+  // The red/green border points of InitialScan's last completed centring
+  // pass, in eight directions from `centre`: a red region enclosed by
+  // far less red. `enclosed` is false until a pass completed.
+  bool enclosed = false;
+  std::array<cv::Point2f, 8> red_border;
+};
+
+// The eight directions InitialScan and QuadsFromScans scan in from a
+// candidate's centre, clockwise on screen from "right": the axes (right,
+// down, left, up; the paper's four scans) at even indices, the diagonals
+// between them. Unit steps, so that every scan samples a ring as densely (M
+// pixels must fit in a ring whatever the direction).
+inline constexpr float kDiagonalStep = 0.70710678f;
+inline const cv::Point2f kScanDirections[8] = {
+    {1, 0},  {kDiagonalStep, kDiagonalStep},   {0, 1},  {-kDiagonalStep, kDiagonalStep},
+    {-1, 0}, {-kDiagonalStep, -kDiagonalStep}, {0, -1}, {kDiagonalStep, -kDiagonalStep}};
+
+}  // namespace chromatag::internal
+
+#endif  // CHROMATAG_DETECTOR_SRC_CANDIDATE_H_

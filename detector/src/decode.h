@@ -1,0 +1,61 @@
+// 5. Decode: picks the family whose ring proportions match, reads every
+// payload cell in b*, splits each colour at its own midpoint, looks the code
+// up over all rotations and fills the detection in the decoded orientation.
+// Internal to the detector.
+#ifndef CHROMATAG_DETECTOR_SRC_DECODE_H_
+#define CHROMATAG_DETECTOR_SRC_DECODE_H_
+
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "candidate.h"
+#include "chromatag/detector/detection.h"
+#include "chromatag/detector/options.h"
+#include "chromatag/families/decoder.h"
+#include "chromatag/families/family.h"
+#include "image_view.h"
+#include "refine_corners.h"
+
+namespace chromatag::internal {
+
+// A family the detector looks for, with its decoder.
+struct FamilyDecoder {
+  std::shared_ptr<const TagFamily> family;
+  std::unique_ptr<CodeDecoder> decoder;
+  // What a tag printed with its shades swapped shows: within each colour,
+  // the complement of each kept code in each of its four orientations
+  // (SwappedCodes; Decode compares close-code reads with them).
+  std::vector<Code> swapped_codes;
+};
+
+// The swapped prints' codes of `family` (FamilyDecoder::swapped_codes).
+std::vector<Code> SwappedCodes(const TagFamily& family);
+
+// Decode reads each cell as the mean colour of a samples x samples grid of
+// pixels: the ones nearest to centre + s du + t dv, s and t evenly from -1 to
+// 1 (samples from 2 to 8). SumCellGrid sums their R, G and B and counts them,
+// points outside the frame skipped; eight points at a time by the view's
+// vector kernel where it has one, with the same sums.
+struct PixelSums {
+  int r = 0, g = 0, b = 0, n = 0;
+};
+PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du, cv::Point2d dv,
+                      int samples);
+
+bool Decode(const ImageView& image, const DetectorOptions& options,
+            const std::vector<FamilyDecoder>& families, const Candidate& candidate,
+            SideFitBuffers* buffers, Detection* detection, RejectReason* why);
+
+// Decode for a candidate whose inner quads are still rough (from the scans or
+// the polygons; only the outer one has its sub-pixel sides): where they fit
+// no family's proportions, RefineInnerQuads (if `refine_sides`) and Decode
+// once more. The first reason stands if that fails too.
+bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
+                     const std::vector<FamilyDecoder>& families, SideFitBuffers* buffers,
+                     Candidate* candidate, Detection* detection, RejectReason* why);
+
+}  // namespace chromatag::internal
+
+#endif  // CHROMATAG_DETECTOR_SRC_DECODE_H_

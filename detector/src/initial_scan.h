@@ -1,0 +1,47 @@
+// 2. InitialScan: scans left, right, up and down from the seed to the
+// red/green border, re-centres until the centre converges, then scans on
+// through all three borders. Seeds the candidate's polygons. Internal to the
+// detector.
+#ifndef CHROMATAG_DETECTOR_SRC_INITIAL_SCAN_H_
+#define CHROMATAG_DETECTOR_SRC_INITIAL_SCAN_H_
+
+#include <array>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "candidate.h"
+#include "chromatag/detector/detection.h"
+#include "chromatag/detector/options.h"
+#include "image_view.h"
+#include "scan_rings.h"
+
+namespace chromatag::internal {
+
+// The red/green border polygon of a red region InitialScan rejected after at
+// least one centring pass (eight points, star-shaped around its centre).
+struct RejectedRegion {
+  std::array<cv::Point2f, 8> border;
+  float min_x = 0, max_x = 0, min_y = 0, max_y = 0;
+  // Every seed is tested against every region rejected so far in the frame
+  // (hundreds on busy frames): the box test inline, the polygon only inside.
+  bool Contains(cv::Point2f p) const {
+    return p.x >= min_x && p.x <= max_x && p.y >= min_y && p.y <= max_y && BorderContains(p);
+  }
+  bool BorderContains(cv::Point2f p) const;  // Even-odd rule over `border`.
+  // The region of a centring pass's red/green border points, grown a little
+  // about its centre: the seeds of later rows lie on the region's left edge,
+  // where the polygon's sides cut inside.
+  static RejectedRegion Around(const std::array<cv::Point2f, 8>& red_border);
+};
+
+// InitialScan. With `rejected` (the frame's regions rejected so far), a seed
+// inside one of them is dropped at once, and a region rejected after a
+// centring pass is added.
+bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
+                 RingScanBuffers* buffers, Candidate* candidate,
+                 std::vector<RejectedRegion>* rejected, RejectReason* why);
+
+}  // namespace chromatag::internal
+
+#endif  // CHROMATAG_DETECTOR_SRC_INITIAL_SCAN_H_

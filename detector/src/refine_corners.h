@@ -1,0 +1,126 @@
+// Sub-pixel sides (refine_corners.cc): least-squares lines through edge
+// points found along each side, corners where they meet. Internal to the
+// detector.
+#ifndef CHROMATAG_DETECTOR_SRC_REFINE_CORNERS_H_
+#define CHROMATAG_DETECTOR_SRC_REFINE_CORNERS_H_
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "candidate.h"
+#include "geometry.h"
+#include "image_view.h"
+
+namespace chromatag::internal {
+
+// Contrast floors for side searches in encoded 8-bit units (gray is the sum
+// of three channels).
+inline constexpr float kMinGrayContrast = 30.f;
+// Green against black is a smaller step than black against white: a dim
+// green under a cast and a steep tone curve is 15-40 above the black.
+inline constexpr float kMinGreenBlackContrast = 12.f;
+inline constexpr float kMinRedGreenContrast = 20.f;
+// Across each ring's border, outwards: black to white rises in gray, green
+// to black falls, red to green falls in R - G.
+inline constexpr int kRisesOutwards = 1;
+inline constexpr int kFallsOutwards = -1;
+
+// Where an edge is taken to lie between its two levels: halfway in the
+// encoded values, or halfway in linear light (the gray channel decoded with
+// sRGB's curve; other channels keep the encoded average). A lens blurs light,
+// so in a camera's frames an edge is halfway in linear light, which in
+// encoded values lies nearer the dark level: the encoded average finds a
+// black square too small, by about 0.8 px on the camera set. The detector's
+// stages were tuned on the encoded average (ring proportions); the reported
+// corners lie between the two, where the black ring's width puts them
+// (RefineReportedQuad).
+enum class Halfway { kEncoded, kLinearLight };
+
+// How RefineQuad looks for one ring's sides.
+struct SideSearch {
+  ChannelWeights channel;  // kGray for the black ring's borders, kRedMinusGreen for red/green.
+  // Whether the channel rises (kRisesOutwards) or falls (kFallsOutwards)
+  // outwards across the edge; steps the other way round are not taken.
+  int polarity = kRisesOutwards;
+  float min_contrast = kMinGrayContrast;  // Smallest step between the two levels.
+  double cell = 0;        // Cell size in pixels: the levels are read half a cell either side.
+  int max_samples = 10;   // Profiles per side (at most; about one per 2 px).
+  double max_half = 2.5;  // Search either side of the current line, pixels.
+  double max_move_cells = 0.75;  // A corner moving farther (and over 2 px) fails the fit.
+  // Where the edge lies between the two levels (EdgePoint): their average,
+  // or halfway in linear light (Halfway).
+  Halfway halfway = Halfway::kEncoded;
+};
+
+// One profile across a side (refine_corners.cc): centred on `middle`,
+// searched `half` pixels either way along `outward` (the side's outward unit
+// normal), the two levels read `level_offset` either side of the steepest
+// change.
+// A profile's samples lie kProfileStep pixels apart, at most
+// kMaxProfileSteps either side of its middle (4 px).
+inline constexpr float kProfileStep = 0.5f;
+inline constexpr int kMaxProfileSteps = 8;
+struct ProfileSpec {
+  cv::Point2d middle;
+  cv::Point2d outward;
+  double half = 0;
+  double level_offset = 0;
+};
+struct ProfileEdge {
+  cv::Point2d edge;
+  bool found = false;
+};
+
+// RefineQuad's buffers: the profiles across the four sides and their edge
+// points, one side's points found, and its line's residuals (FitLine).
+struct SideFitBuffers {
+  std::vector<ProfileSpec> spec;
+  std::vector<ProfileEdge> edges;
+  std::vector<cv::Point2d> points;
+  std::vector<double> residual, sorted;
+};
+// The edge point on one profile: where `channel` passes halfway between the
+// two levels (in linear light for the gray channel with Halfway::kLinearLight:
+// profile and levels decoded first), nearest the steepest change the
+// `polarity` way round. False
+// if the profile leaves the frame, has no such change, or the levels differ
+// by less than `min_contrast`.
+bool EdgePoint(const ImageView& image, const ChannelWeights& channel, int polarity,
+               const ProfileSpec& spec, float min_contrast, cv::Point2d* edge,
+               Halfway halfway = Halfway::kEncoded);
+// EdgePoint for each of `count` profiles, into out[0 .. count); eight at a
+// time by the view's vector kernel where it has one, with the same results.
+void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polarity,
+                const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out,
+                Halfway halfway = Halfway::kEncoded);
+
+// Moves the sides of `quad` onto the edge of `search.channel` nearest to
+// them: sub-pixel edge points on short profiles across each side, a robust
+// line per side, corners where they meet. False (quad untouched) if a side
+// has too few edge points, a corner jumps or the result is not convex.
+bool RefineQuad(const ImageView& image, const SideSearch& search, SideFitBuffers* buffers,
+                Quad* quad);
+
+// RefineOuterQuad moves the black/white quad (the reported corners and the
+// homography); RefineInnerQuads the green/black and red/green ones, which
+// only Decode's ring proportions read (DecodeCandidate refines them when the
+// rough ones fit no family). False if a side has too few edge points to fit, a
+// corner jumps or the quad turns concave; the ring's cell must exceed a pixel.
+bool RefineOuterQuad(const ImageView& image, SideFitBuffers* buffers, Candidate* candidate);
+bool RefineInnerQuads(const ImageView& image, SideFitBuffers* buffers, Candidate* candidate);
+// The reported corners of a decoded tag whose black square has `cells`
+// cells: `quad` (its black/white quad as the stages found it, edges at the
+// encoded average) moved towards where its edges lie in linear light, as
+// far as the black ring says. Where an image was blurred decides where its
+// edges lie between their levels: a lens blurs light (linear light is
+// right), software that resizes or warps an sRGB image blurs its encoded
+// values (the encoded average is right). The black ring is one cell wide:
+// its outer and inner borders, each located both ways, are mixed in the
+// share that gives it that width, and the outer corners in the same share.
+// False (quad untouched) when a border cannot be located.
+bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad);
+
+}  // namespace chromatag::internal
+
+#endif  // CHROMATAG_DETECTOR_SRC_REFINE_CORNERS_H_
