@@ -2,10 +2,11 @@
 //
 //   Detector::Create(options) -> Detect(frame) -> detections + summary.
 //
-// Thread safety: a Detector is immutable after Create. Detect() is const and
-// may be called from several threads at once on different frames; each thread
-// keeps its own scratch buffers. The detector never writes into the caller's
-// image.
+// Thread safety: a Detector's options and tables are fixed at Create.
+// Detect() is const and may be called from several threads at once on
+// different frames; each call borrows scratch memory from the detector's pool
+// (one set per call in flight, kept for the next). The detector never writes
+// into the caller's image.
 #ifndef CHROMATAG_DETECTOR_DETECTOR_H_
 #define CHROMATAG_DETECTOR_DETECTOR_H_
 
