@@ -86,6 +86,15 @@ void Apply(const Json& options, DetectorOptions* out) {
       }
       continue;
     }
+    if (key == "refine_corners") {
+      // Files of this schema may hold it from when it was an option; the
+      // sub-pixel corners are always on.
+      if (value != Json(true))
+        throw ConfigError{
+            "\"refine_corners\": sub-pixel corners are always on; leave it out "
+            "(or true)"};
+      continue;
+    }
     const Field* field = nullptr;
     for (const Field& f : kFields) field = key == f.name ? &f : field;
     if (!field)

@@ -36,21 +36,29 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
 
 // One table of names: the file written holds each name once, an unknown
 // name is refused with all of them listed, and benchmark switches are not
-// options.
+// options (refine_corners, once one, is read as true only).
 TEST(DetectorConfigTest, OneTableNamesEveryField) {
+  const auto config = [](const std::string& options) {
+    return R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": )" + options +
+           "}";
+  };
   const std::string text = DetectorConfigToJson(DetectorOptions{});
   DetectorOptions options;
   std::string error;
-  EXPECT_FALSE(ParseDetectorConfig(
-      R"({"schema": "chromatag-detector-config", "schema_version": 1,
-          "options": {"refine_corners": false}})",
-      &options, &error));
+  EXPECT_FALSE(ParseDetectorConfig(config(R"({"grow_regions": false})"), &options, &error));
+  EXPECT_NE(error.find("unknown option \"grow_regions\""), std::string::npos) << error;
   for (const std::string& name : DetectorConfigFieldNames()) {
     EXPECT_NE(text.find("\"" + name + "\""), std::string::npos) << name;
     EXPECT_NE(error.find(name), std::string::npos) << error;
   }
   EXPECT_EQ(DetectorConfigFieldNames().size(), 11u);
-  EXPECT_NE(error.find("unknown option \"refine_corners\""), std::string::npos) << error;
+  EXPECT_EQ(text.find("refine_corners"), std::string::npos);
+  EXPECT_TRUE(
+      ParseDetectorConfig(config(R"({"refine_corners": true, "step": 2})"), &options, &error))
+      << error;
+  EXPECT_EQ(options.step, 2);
+  EXPECT_FALSE(ParseDetectorConfig(config(R"({"refine_corners": false})"), &options, &error));
+  EXPECT_NE(error.find("always on"), std::string::npos) << error;
 }
 
 TEST(DetectorConfigTest, SubsetKeepsTheCallersOtherValues) {
