@@ -584,8 +584,6 @@ py::dict ReadCamera(const std::string& path) {
       info.image_size.empty()
           ? py::object(py::none())
           : py::object(py::make_tuple(info.image_size.width, info.image_size.height));
-  out["camera_name"] = info.camera_name;
-  out["rms_px"] = info.rms_px < 0 ? py::object(py::none()) : py::object(py::float_(info.rms_px));
   return out;
 }
 
@@ -884,8 +882,9 @@ PYBIND11_MODULE(_chromatag, m) {
       "Detector(families=('16h5', '36h11'), *, config=None, camera_matrix=None,\n"
       "         dist_coeffs=None, camera_model='pinhole', camera_file=None,\n"
       "         tag_size=0.0, **options)\n\n"
-      "options are DetectorOptions' fields (step, adiff_thresh, border_thresh,\n"
-      "min_decision_margin, ...; docs/calibration.md); config a file written by\n"
+      "options are the names a detector config holds (step, row_step, adiff_thresh,\n"
+      "border_thresh, min_decision_margin, ...; docs/calibration.md) and\n"
+      "report_rejected; config a file written by\n"
       "'chromatag calibrate'. The camera: camera_matrix and dist_coeffs as OpenCV's\n"
       "(camera_model 'fisheye' for cv::fisheye's k1-k4), or camera_file, an OpenCV,\n"
       "ROS or Kalibr file as 'chromatag calibrate-camera' writes. With a camera and\n"
@@ -990,7 +989,7 @@ PYBIND11_MODULE(_chromatag, m) {
   m.def("read_camera", &ReadCamera, py::arg("path"),
         "A camera file's intrinsics (OpenCV, ROS camera_info or Kalibr YAML; OpenCV JSON or XML),\n"
         "as the CLI's --camera reads them: {'camera_matrix': 3x3, 'dist_coeffs', 'camera_model':\n"
-        "'pinhole' or 'fisheye', 'image_size': (w, h) or None, 'camera_name', 'rms_px' or None}.\n"
+        "'pinhole' or 'fisheye', 'image_size': (w, h) or None}.\n"
         "Detector(camera_file=path) takes the same file.");
   m.def("palettes", &BuiltinPaletteNames, "The built-in palettes");
   m.def("palette", &PaletteInfo, py::arg("name"), "A palette's six shades in CIELAB and sRGB");
