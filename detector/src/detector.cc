@@ -107,21 +107,22 @@ namespace {
 // gives it back at the end, so that several threads can share a Detector and
 // a warm Detect allocates no scratch. One is made when none is free: as many
 // are kept as Detects ever ran at once. The lock is held only to take or
-// give back.
+// give back, and giving back never allocates (room for every Scratch made is
+// reserved when it is made), so that it cannot throw from a destructor.
 class ScratchPool {
  public:
   std::unique_ptr<internal::Scratch> Take() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (!free_.empty()) {
-        std::unique_ptr<internal::Scratch> scratch = std::move(free_.back());
-        free_.pop_back();
-        return scratch;
-      }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!free_.empty()) {
+      std::unique_ptr<internal::Scratch> scratch = std::move(free_.back());
+      free_.pop_back();
+      return scratch;
     }
-    return std::make_unique<internal::Scratch>();
+    auto scratch = std::make_unique<internal::Scratch>();
+    free_.reserve(++made_);
+    return scratch;
   }
-  void GiveBack(std::unique_ptr<internal::Scratch> scratch) {
+  void GiveBack(std::unique_ptr<internal::Scratch> scratch) noexcept {
     std::lock_guard<std::mutex> lock(mutex_);
     free_.push_back(std::move(scratch));
   }
@@ -129,6 +130,7 @@ class ScratchPool {
  private:
   std::mutex mutex_;
   std::vector<std::unique_ptr<internal::Scratch>> free_;
+  size_t made_ = 0;
 };
 
 // A Scratch taken from a pool for the lease's lifetime.
