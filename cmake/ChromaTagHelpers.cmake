@@ -4,11 +4,9 @@ set(CHROMATAG_WARNINGS -Wall -Wextra -Wpedantic)
 
 # Code generation. CHROMATAG_NATIVE builds for the CPU that compiles (as
 # llama.cpp's GGML_NATIVE does): the scalar parts of the detector's stages
-# then use the newer instructions too, and the AVX2 kernels inline into their
-# callers (detector_bench medians on an AMD EPYC, family 25 model 17: one-tag
-# frame 79.0 -> 73.8 us, tag-free 24.2 -> 20.7 us, flat 19.0 -> 15.1 us).
-# Packagers building for other machines turn it off; the AVX2 kernels are
-# then chosen at run time, as before.
+# then use the newer instructions too. Packagers building for other machines
+# turn it off. In both builds the vector kernels (detector/src/kernels) are
+# chosen at run time, once per detector, by what the CPU has.
 # Floating-point contraction stays off either way, so that a native and a
 # portable build give the same detections to the last bit (fused
 # multiply-adds round differently).

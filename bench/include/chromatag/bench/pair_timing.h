@@ -16,7 +16,7 @@
 #include "chromatag/bench/competitors.h"
 #include "chromatag/bench/dataset.h"
 #include "chromatag/detector/options.h"
-#include "stage_switches.h"
+#include "stage_switches.h"  // The detector's internal header: bench is not installed.
 
 namespace chromatag::bench {
 
