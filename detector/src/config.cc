@@ -69,8 +69,9 @@ constexpr Field kFields[] = {
 };
 
 std::string AllowedNames() {
-  std::string out = "families";
-  for (const Field& field : kFields) out += std::string(", ") + field.name;
+  std::string out;
+  for (const std::string& name : DetectorConfigFieldNames())
+    out += (out.empty() ? "" : ", ") + name;
   return out;
 }
 

@@ -73,45 +73,39 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
             int* rises) {
   const int step = options.step;
   const int count = (image.width() + step - 1) / step;
+  // The row's samples; each path sets the table and thresholds of its units.
+  RowSampler sampler{image.Pixel(0, y),
+                     3 * image.width(),
+                     count,
+                     3 * step,
+                     image.r_offset(),
+                     image.b_offset(),
+                     nullptr,
+                     0,
+                     0,
+                     0,
+                     0};
   if (RowScanComputesA(image, options)) {
     // The computed a* (ColorTable::FastA units) has thresholds of its own.
-    const RowSampler sampler{image.Pixel(0, y),
-                             3 * image.width(),
-                             count,
-                             3 * step,
-                             image.r_offset(),
-                             image.b_offset(),
-                             nullptr,
-                             ComputedARiseThreshold(options.adiff_thresh),
-                             ComputedARiseThreshold(kTwoStepShare * options.adiff_thresh),
-                             options.two_step_rises ? ComputedAGreenLimit() : -32768,
-                             ComputedATwoStepRedFloor()};
+    sampler.threshold = ComputedARiseThreshold(options.adiff_thresh);
+    sampler.step_thresh = ComputedARiseThreshold(kTwoStepShare * options.adiff_thresh);
+    sampler.green_limit = options.two_step_rises ? ComputedAGreenLimit() : -32768;
+    sampler.red_floor = ComputedATwoStepRedFloor();
     return image.kernels().scan_row_computed_a(sampler, image.table().fast_a_tables(), rises);
   }
   // The coarse table is within kCoarseErrorBound of the accurate a*, so a
   // true rise above ADiffThresh shows at least this much in coarse values.
-  const int coarse_thresh =
+  sampler.table = image.table().coarse_a_table();
+  sampler.threshold =
       static_cast<int>(std::floor(options.adiff_thresh)) - 2 * ColorTable::kCoarseErrorBound;
-  const int coarse_step_thresh =
-      static_cast<int>(std::floor(kTwoStepShare * options.adiff_thresh)) -
-      2 * ColorTable::kCoarseErrorBound;
+  sampler.step_thresh = static_cast<int>(std::floor(kTwoStepShare * options.adiff_thresh)) -
+                        2 * ColorTable::kCoarseErrorBound;
   // Without two_step_rises, no sample counts as green.
-  const int coarse_green = options.two_step_rises ? static_cast<int>(std::ceil(kTwoStepGreenA)) +
-                                                        ColorTable::kCoarseErrorBound
-                                                  : INT_MIN;
-  const int coarse_red =
+  sampler.green_limit = options.two_step_rises ? static_cast<int>(std::ceil(kTwoStepGreenA)) +
+                                                     ColorTable::kCoarseErrorBound
+                                               : INT_MIN;
+  sampler.red_floor =
       static_cast<int>(std::floor(kTwoStepMinRedA)) - ColorTable::kCoarseErrorBound - 1;
-  const RowSampler sampler{image.Pixel(0, y),
-                           3 * image.width(),
-                           count,
-                           3 * step,
-                           image.r_offset(),
-                           image.b_offset(),
-                           image.table().coarse_a_table(),
-                           coarse_thresh,
-                           coarse_step_thresh,
-                           coarse_green,
-                           coarse_red};
   return image.kernels().scan_row_coarse(sampler, coarse, rises);
 }
 
