@@ -93,6 +93,14 @@ constexpr float kCrosstalk[] = {0.08f, 0.16f};
 //   cells next to the other shade towards the split. Swapped prints of 16h5
 //   under heavy blur and JPEG (16,000 tags in a stress run) got through
 //   without those two conditions.
+// - Shares larger than blur can carry into a cell's sampled middle are not
+//   tried (MaxBlurShare, plus one step): free of that bound, a share of 0.12
+//   let a swapped print explain a cleanly read 148 px 16h5 tag (margin 7.7,
+//   25 px cells) as well as its own code did, by taking one red-1 cell for
+//   a red-0 lifted by its bright green-0 neighbours, and the tag was
+//   refused. On the camera set's 8,000 frames the bound found 7 tags more
+//   and lost 2; of the 16,000 swapped prints of the stress frames
+//   (detector_conditions_test) 2 decode instead of 3.
 constexpr float kBlurShares[] = {0.f, 0.03f, 0.06f, 0.09f, 0.12f};
 constexpr double kMaxCellMisfit = 0.3;
 constexpr int kMaxSwappedRivalBits = 3;
@@ -137,6 +145,34 @@ struct CellSample {
   float a = 0;
   float shade = 0;  // b* + kShadeLightness L*.
 };
+
+// The payload's cells and the black ring around them, (d + 2)^2 row by row,
+// with the largest blur share (kBlurShares) the cells' size allows.
+struct PayloadGrid {
+  std::vector<CellSample> cells;
+  float max_blur_share = 1.f;
+  CellSample& operator[](int i) { return cells[i]; }
+  const CellSample& operator[](int i) const { return cells[i]; }
+};
+
+// The share of a neighbour's colour that reaches a cell's sampled middle
+// (kCellSampleReach either side of its centre) through a blur of
+// kChromaBlurPx, on cells `cell_px` wide: the mean, over the sampled span,
+// of the Gaussian tail beyond the cell's edge. kChromaBlurPx is the blur
+// colour suffers in the worst of the benchmark's cameras: optics (sigma up
+// to 1.5 px), motion (up to 5 px), demosaicing and JPEG's half-resolution
+// chroma, together about 2.5 px; 0.12, the largest share, needs cells of
+// 6 px or less, none is left beyond 20 px.
+constexpr double kChromaBlurPx = 2.5;
+float MaxBlurShare(double cell_px) {
+  constexpr int kSteps = 8;
+  double sum = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double x = (2.0 * (i + 0.5) / kSteps - 1.0) * kCellSampleReach * cell_px;
+    sum += 0.5 * std::erfc((0.5 * cell_px - x) / (kChromaBlurPx * std::sqrt(2.0)));
+  }
+  return static_cast<float>(sum / kSteps);
+}
 
 }  // namespace
 
@@ -269,7 +305,7 @@ bool DecodeShades(const DetectorOptions& options, const FamilyDecoder& entry,
 
 // The payload's shade values with each cell's share of its four neighbours' taken out
 // (the black ring's beyond the payload's edge): b' = (b - k sum) / (1 - 4 k).
-std::vector<float> Sharpened(const std::vector<CellSample>& grid, int d, float k) {
+std::vector<float> Sharpened(const PayloadGrid& grid, int d, float k) {
   const int w = d + 2;  // The grid includes the black ring.
   std::vector<float> b(d * d);
   for (int row = 0; row < d; ++row) {
@@ -296,13 +332,13 @@ struct BlurFit {
   double gap_balance = 0;
 };
 
-BlurFit FitBlurModel(const TagFamily& family, Code pattern, const std::vector<CellSample>& grid);
+BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& grid);
 
-double BlurMisfit(const TagFamily& family, Code pattern, const std::vector<CellSample>& grid) {
+double BlurMisfit(const TagFamily& family, Code pattern, const PayloadGrid& grid) {
   return FitBlurModel(family, pattern, grid).worst;
 }
 
-BlurFit FitBlurModel(const TagFamily& family, Code pattern, const std::vector<CellSample>& grid) {
+BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& grid) {
   constexpr int kMaxGrid = 10;  // Payloads of up to 8 x 8 cells (36h11 has 6).
   const int d = family.payload_width(), w = d + 2;
   if (w > kMaxGrid) return {};
@@ -328,6 +364,7 @@ BlurFit FitBlurModel(const TagFamily& family, Code pattern, const std::vector<Ce
   std::array<cv::Vec4d, kMaxGrid * kMaxGrid> rows;
   std::array<double, kMaxGrid * kMaxGrid> rhs;
   for (float k : kBlurShares) {
+    if (k > grid.max_blur_share + kBlurShares[1]) break;
     // b(cell) = (1 - 4k) level(own) + k sum level(neighbours): linear in the
     // four levels once the black ring's is known. Normal equations, 4 x 4.
     cv::Matx44d ata = cv::Matx44d::zeros();
@@ -384,7 +421,7 @@ std::vector<Code> SwappedRivals(const FamilyDecoder& entry, Code observed) {
 
 // The best BlurMisfit among `rivals`; infinite if there are none.
 double SwappedPrintMisfit(const TagFamily& family, const std::vector<Code>& rivals,
-                          const std::vector<CellSample>& grid) {
+                          const PayloadGrid& grid) {
   double best = std::numeric_limits<double>::infinity();
   for (Code swapped : rivals) best = std::min(best, BlurMisfit(family, swapped, grid));
   return best;
@@ -432,7 +469,7 @@ constexpr double kMinSoftRivalRatio(bool close_codes) { return close_codes ? 2.0
 // `grid`: the payload and the black ring around it (BlurMisfit); `ring_misfit`
 // the candidate's (RingMisfit). Fills *match on success.
 bool SoftDecode(const DetectorOptions& options, const FamilyDecoder& entry, Code observed,
-                const std::vector<CellSample>& grid, double ring_misfit, CodeMatch* match) {
+                const PayloadGrid& grid, double ring_misfit, CodeMatch* match) {
   if (ring_misfit > kMaxSoftRingMisfitCells) return false;
   const TagFamily& family = *entry.family;
   const int radius = entry.decoder->radius();
@@ -488,7 +525,9 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
       std::clamp<double>(2 * kCellSampleReach * cell_px + 1, kMinCellSamples, kMaxCellSamples));
   // The payload and, read only when needed, the black ring around it.
   const int w = d + 2;
-  std::vector<CellSample> grid(w * w);
+  PayloadGrid grid;
+  grid.cells.resize(w * w);
+  grid.max_blur_share = MaxBlurShare(cell_px);
   std::vector<float> b(d * d);
   float min_red_a = 1e30f, max_green_a = -1e30f;
   for (int row = 0; row < d; ++row) {
