@@ -38,6 +38,11 @@ constexpr int kEarlyRingDirections[] = {0, 2};
 constexpr int kCentringOrder[8] = {6, 2, 4, 0, 5, 7, 3, 1};
 // Pixels past a red/green run searched for the green's full a* drop.
 constexpr int kGreenLookAhead = 6;
+// A run past the red threshold whose lowest a* stays within this many
+// thresholds of ReferenceRed is a dip inside the red, not its border; a scan
+// goes past at most kMaxRedDips of them (CentringPass).
+constexpr float kRedDipDepth = 2.f;
+constexpr int kMaxRedDips = 4;
 // The a* drop into a tag's green, as a fraction of ADiffThresh: the palettes'
 // reds and greens are 58 or more apart; a fifth less allows for blur and casts.
 constexpr float kMinGreenDropFraction = 0.8f;
@@ -58,6 +63,58 @@ constexpr float kMaxBlackOverGreen = 2.5f;
 constexpr float kRejectedRegionGrowth = 0.15f;
 constexpr float kRejectedRegionMarginPx = 2.f;
 
+// CentringPass's scan along one direction: from step *k on, to the end of
+// the first run of M pixels whose a* lies more than `red_thresh` below
+// ReferenceRed. Leaves *k on the run's last pixel and *deepest_a at the run's
+// lowest a*, followed a few pixels on where the run ends on a blurred slope.
+// False (and *why) when the scan leaves the frame or its reach first.
+bool NextRedRun(const ImageView& image, const DetectorOptions& options, cv::Point2f centre,
+                cv::Point2f direction, float reference_red, float red_thresh, int reach, int* k,
+                float* deepest_a, RejectReason* why) {
+  const float clearly_inside =
+      reference_red - red_thresh + static_cast<float>(ColorTable::kCoarseErrorBound);
+  int consecutive = 0;
+  *deepest_a = reference_red;
+  for (; *k <= reach; ++*k) {
+    // Outside a run, the pixels clearly short of the threshold change
+    // nothing below: passed over eight at a time.
+    if (consecutive == 0) {
+      *k = image.FirstNotClearlyAbove(centre.x, centre.y, direction.x, direction.y, *k, reach,
+                                      clearly_inside);
+      if (*k > reach) break;
+    }
+    const cv::Point2f p = centre + static_cast<float>(*k) * direction;
+    const int x = RoundToInt(p.x), y = RoundToInt(p.y);
+    if (!image.Contains(x, y)) break;
+    // Clearly short of the threshold by the coarse a*: the exact one is
+    // not needed (as in ScanBorder).
+    if (static_cast<float>(image.CoarseA(x, y)) > clearly_inside) {
+      consecutive = 0;
+      *deepest_a = reference_red;
+      continue;
+    }
+    const float a = image.A(x, y);
+    if (reference_red - a > red_thresh) {
+      *deepest_a = std::min(*deepest_a, a);
+      if (++consecutive == options.border_run) {
+        // On a blurred edge the run may end on the slope: look a few pixels on.
+        for (int j = *k + 1; j <= *k + kGreenLookAhead; ++j) {
+          const cv::Point2f q = centre + static_cast<float>(j) * direction;
+          const int qx = RoundToInt(q.x), qy = RoundToInt(q.y);
+          if (!image.Contains(qx, qy)) break;
+          *deepest_a = std::min(*deepest_a, image.A(qx, qy));
+        }
+        return true;
+      }
+    } else {
+      consecutive = 0;
+      *deepest_a = reference_red;
+    }
+  }
+  *why = RejectReason::kNoRedGreenBorder;
+  return false;
+}
+
 // Step 1: the red/green border in the eight directions from `centre`, into
 // `border`. False (and *why) when a scan leaves the frame or reach, or finds
 // no tag green past the red.
@@ -70,61 +127,28 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
   for (int i : kCentringOrder) {
     // Red -> green only: the a* drop of the full scan, without the rings.
     const cv::Point2f direction = kScanDirections[i];
-    int consecutive = 0, k = 1;
-    float deepest_a = reference_red;
-    const float clearly_inside =
-        reference_red - red_thresh + static_cast<float>(ColorTable::kCoarseErrorBound);
-    for (; k <= reach; ++k) {
-      // Outside a run, the pixels clearly short of the threshold change
-      // nothing below: passed over eight at a time.
-      if (consecutive == 0) {
-        k = image.FirstNotClearlyAbove(centre.x, centre.y, direction.x, direction.y, k, reach,
-                                       clearly_inside);
-        if (k > reach) break;
-      }
-      const cv::Point2f p = centre + static_cast<float>(k) * direction;
-      const int x = RoundToInt(p.x), y = RoundToInt(p.y);
-      if (!image.Contains(x, y)) {
-        *why = RejectReason::kNoRedGreenBorder;
+    int k = 1;
+    for (int dips = 0;; ++dips) {
+      float deepest_a = 0;
+      if (!NextRedRun(image, options, centre, direction, reference_red, red_thresh, reach, &k,
+                      &deepest_a, why)) {
         return false;
       }
-      // Clearly short of the threshold by the coarse a*: the exact one is
-      // not needed (as in ScanBorder).
-      if (static_cast<float>(image.CoarseA(x, y)) > clearly_inside) {
-        consecutive = 0;
-        deepest_a = reference_red;
-        continue;
+      // Past the border lies a tag's green: far less red than its red, and
+      // green (a* below DetectorOptions::max_green_a). Most red things that
+      // are not tags (bricks, skin, wood, a red sign on a wall) meet grey,
+      // white or black here and are dropped after one scan instead of eight
+      // per pass.
+      if (reference_red - deepest_a >= min_drop && deepest_a < max_green_a) break;
+      // A run that stays within kRedDipDepth thresholds of the red is a dip
+      // inside it, not a border: the sensor noise of a dim frame (a* from 15
+      // to 29 across one red cell at L* 21) makes runs of M pixels below the
+      // threshold. The scan goes on past it.
+      if (dips == kMaxRedDips || reference_red - deepest_a >= kRedDipDepth * red_thresh) {
+        *why = RejectReason::kNotGreen;
+        return false;
       }
-      const float a = image.A(x, y);
-      if (reference_red - a > red_thresh) {
-        deepest_a = std::min(deepest_a, a);
-        if (++consecutive == options.border_run) break;
-      } else {
-        consecutive = 0;
-        deepest_a = reference_red;
-      }
-    }
-    if (k > reach) {
-      *why = RejectReason::kNoRedGreenBorder;
-      return false;
-    }
-    // Past the border lies a tag's green: far less red than its red, and
-    // green (a* below DetectorOptions::max_green_a). On a blurred edge the run
-    // may end on the slope, so look a few pixels on. Most red things that are
-    // not tags (bricks, skin, wood, a red sign on a wall) meet grey, white or
-    // black here and are dropped after one scan instead of eight per pass.
-    const auto is_green = [&] {
-      return reference_red - deepest_a >= min_drop && deepest_a < max_green_a;
-    };
-    for (int j = k + 1; j <= k + kGreenLookAhead && !is_green(); ++j) {
-      const cv::Point2f p = centre + static_cast<float>(j) * direction;
-      const int x = RoundToInt(p.x), y = RoundToInt(p.y);
-      if (!image.Contains(x, y)) break;
-      deepest_a = std::min(deepest_a, image.A(x, y));
-    }
-    if (!is_green()) {
-      *why = RejectReason::kNotGreen;
-      return false;
+      ++k;
     }
     (*border)[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
   }
