@@ -31,10 +31,10 @@ DetectorOptions DeriveOptions(const Margins& w, const ThresholdOptions& o,
   DetectorOptions d;
   const double dim_gap = w.a_gap * std::cbrt(o.dimmest_light) / s;
   d.adiff_thresh = std::clamp(dim_gap, o.min_adiff, o.max_adiff);
-  // A print whose gap falls under the detector's default ADiffThresh in dim
-  // light is washed out: its blurred red/green borders also need the rises
-  // over two samples (DetectorOptions::two_step_rises).
-  d.two_step_rises = dim_gap < DetectorOptions{}.adiff_thresh;
+  // The rises over two samples (DetectorOptions::two_step_rises) stay on
+  // whatever the print: they find borders that the camera blurred, which
+  // no photo of the sheet can promise away.
+  d.two_step_rises = true;
   // BorderThresh must stay above the a* step between two shades of one
   // colour (with the safety factor) plus twice the pixel noise (the scan
   // needs M pixels in a row past it, so rarer noise does not count), or the

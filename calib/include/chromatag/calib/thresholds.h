@@ -107,10 +107,9 @@ struct DerivedThresholds {
   std::vector<std::string> warnings;  // Margins too thin to be trusted.
 };
 
-// Derives ADiffThresh, BorderThresh, min_decision_margin, max_green_a and
-// two_step_rises (on when the a* gap in the dimmest light falls under the
-// detector's default ADiffThresh) from the worst margins over `photos`
-// (each: normalised and as shot).
+// Derives ADiffThresh, BorderThresh, min_decision_margin and max_green_a
+// from the worst margins over `photos` (each: normalised and as shot);
+// two_step_rises stays on, as in the detector's defaults.
 DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
                                    const ThresholdOptions& options = {});
 

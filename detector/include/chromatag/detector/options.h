@@ -93,13 +93,14 @@ struct DetectorOptions {
   // FindADiff's second kind of rise (not in the paper): also seed where a*
   // rises by more than ADiffThresh over two samples from a green one, with
   // both steps rising. A red/green border blurred by the optics, demosaicing
-  // or JPEG's 4:2:0 chroma spreads over two samples, and on a dim card or a
-  // washed-out print neither step then reaches ADiffThresh. It finds more of
-  // those tags for more candidates in natural scenes (green next to red) and
-  // a few per cent more time (docs/calibration.md gives the measured trade).
-  // Off by default; `chromatag calibrate` turns it on for prints whose
-  // red/green a* gap is thin.
-  bool two_step_rises = false;
+  // or JPEG's 4:2:0 chroma (whose 8 x 8 blocks of half-resolution chroma
+  // smear a colour edge over 8 px or more) spreads over two samples, and on a
+  // dim card or a washed-out print neither step then reaches ADiffThresh.
+  // It finds more of those tags for more candidates in natural scenes (green
+  // next to red) and a few per cent more time on tag-free frames
+  // (docs/calibration.md gives the measured trade). On by default; off only
+  // to trade those tags for speed.
+  bool two_step_rises = true;
 
   // ConvThresh: BuildPolygon stops when polygon area over the area it could
   // still reach exceeds this ratio. (0, 1).
