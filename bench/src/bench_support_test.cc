@@ -98,6 +98,36 @@ TEST(DatasetTest, SameSeedSamePixelsAnyOrder) {
   EXPECT_GT(cv::norm(SharedDataset().Render(3).bgr, reseeded->Render(3).bgr, cv::NORM_L1), 0.0);
 }
 
+// FNV-1a over a frame's bytes, row by row.
+uint64_t PixelDigest(const cv::Mat& image) {
+  uint64_t hash = 0xcbf29ce484222325ull;
+  for (int y = 0; y < image.rows; ++y) {
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    for (size_t x = 0; x < image.cols * image.elemSize(); ++x) {
+      hash = (hash ^ row[x]) * 0x100000001b3ull;
+    }
+  }
+  return hash;
+}
+
+// The classic set is compared run against run and with published reports:
+// its frames must not move when the camera set's conditions change. The
+// digests were recorded with this project's toolchain (Debian's OpenCV 4.6
+// and libjpeg-turbo); a library update that changes them changes the set.
+TEST(DatasetTest, ClassicFramesAreUnchanged) {
+  const std::pair<int, uint64_t> expected[] = {
+      {0, 0x4a1288cdef952ba7ull}, {1, 0x6c3cd5dba5b0d2f3ull}, {2, 0x186b9f7e07943f77ull},
+      {3, 0x39fc883fccf1c133ull}, {8, 0x316ccb646338c0e5ull}, {13, 0xdfaf234f9b3ad052ull}};
+  std::set<std::pair<bool, ColorCondition>> kinds;  // Tags or not, WB or NWB.
+  for (const auto& [index, digest] : expected) {
+    const Frame frame = SharedDataset().Render(index);
+    EXPECT_EQ(PixelDigest(frame.bgr), digest)
+        << "frame " << index << ": 0x" << std::hex << PixelDigest(frame.bgr);
+    kinds.insert({frame.truth.has_tags, frame.truth.condition});
+  }
+  EXPECT_GE(kinds.size(), 3u);  // Both conditions, and a tag-free frame.
+}
+
 // The range of sizes and angles of a set's tags; every corner must lie in the
 // 752x480 frame.
 struct GeometrySpan {
