@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 
+#include "chromatag/bench/cast.h"
 #include "chromatag/bench/comparison.h"
 #include "chromatag/bench/competitors.h"
 #include "chromatag/bench/dataset.h"
@@ -425,8 +426,12 @@ TEST(CameraSetTest, SameSeedSamePixelsAnyOrder) {
     EXPECT_EQ(cv::norm(a.bgr, b.bgr, cv::NORM_INF), 0.0) << "frame " << i;
     EXPECT_EQ(a.truth.family, b.truth.family);
     EXPECT_EQ(a.truth.chromatag.corners, b.truth.chromatag.corners);
-    EXPECT_EQ(a.truth.cast, other->Truth(i).cast);
-    EXPECT_EQ(a.truth.apriltag.corners, other->Truth(i).apriltag.corners);
+    const FrameTruth t = other->Truth(i);
+    EXPECT_EQ(a.truth.cast, t.cast);
+    EXPECT_EQ(a.truth.red_gain, t.red_gain);
+    EXPECT_EQ(a.truth.blue_gain, t.blue_gain);
+    EXPECT_EQ(a.truth.mixed_light, t.mixed_light);
+    EXPECT_EQ(a.truth.apriltag.corners, t.apriltag.corners);
   }
   options.seed = 8;
   auto reseeded = Dataset::Create(options, &error);
@@ -438,13 +443,21 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   std::map<std::string, int> families, casts;
   std::array<int, 3> quiet{}, bayer{};
   std::array<int, kNumPrintKinds> prints{};
-  int tag_free = 0, jpeg = 0, shaken = 0, dim = 0;
+  int tag_free = 0, jpeg = 0, shaken = 0, dim = 0, mixed = 0;
   GeometrySpan span;
   const auto family16 = TagFamily::Load("16h5"), family36 = TagFamily::Load("36h11");
   for (int i = 0; i < 400; ++i) {
     const FrameTruth t = CameraDataset().Truth(i);
     EXPECT_EQ(t.kind, DatasetKind::kCamera);
     ++casts[t.cast];
+    mixed += t.mixed_light ? 1 : 0;
+    // The cast at the card's centre: gains in range, named by CastKindOf; a
+    // frame is white-balanced when that cast is neutral and the light not mixed.
+    EXPECT_TRUE(t.red_gain >= kMinCastGain && t.red_gain <= kMaxCastGain) << t.red_gain;
+    EXPECT_TRUE(t.blue_gain >= kMinCastGain && t.blue_gain <= kMaxCastGain) << t.blue_gain;
+    EXPECT_EQ(t.cast, CastKindName(CastKindOf({t.red_gain, t.blue_gain})));
+    EXPECT_EQ(t.condition == ColorCondition::kWhiteBalanced,
+              t.cast == std::string("neutral") && !t.mixed_light);
     ++bayer[static_cast<int>(t.bayer)];
     jpeg += t.jpeg_quality > 0 ? 1 : 0;
     shaken += t.motion_blur_px > 0 ? 1 : 0;
@@ -477,7 +490,10 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   EXPECT_GT(families["36h11"], 120);
   EXPECT_GT(quiet[1], 80);  // About 40 %.
   EXPECT_GT(quiet[2], 120);
-  EXPECT_EQ(casts.size(), 6u);
+  EXPECT_EQ(casts.size(), static_cast<size_t>(kNumCastKinds));
+  EXPECT_GT(casts["neutral"], 100);  // About a third.
+  EXPECT_GT(mixed, 70);              // About a quarter.
+  EXPECT_LT(mixed, 130);
   EXPECT_GT(bayer[0], 200);  // Two thirds.
   EXPECT_GT(bayer[1], 40);   // A sixth each.
   EXPECT_GT(bayer[2], 40);
@@ -489,6 +505,115 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   EXPECT_LT(span.min_size, 16);
   EXPECT_GT(span.max_size, 180);
   EXPECT_GT(span.max_angle, 65);
+}
+
+TEST(CastTest, GainsStayInRangeAndRealisticCastsDominate) {
+  constexpr int kDraws = 4000;
+  int neutral = 0, mixed = 0, red_high = 0, red_low = 0, blue_high = 0, blue_low = 0;
+  std::array<int, kNumCastKinds> kinds{};
+  for (int seed = 0; seed < kDraws; ++seed) {
+    const FrameCast cast = DrawFrameCast(seed);
+    for (const CastGains& g : {cast.first, cast.second}) {
+      ASSERT_TRUE(g.red >= kMinCastGain && g.red <= kMaxCastGain) << seed << ": " << g.red;
+      ASSERT_TRUE(g.blue >= kMinCastGain && g.blue <= kMaxCastGain) << seed << ": " << g.blue;
+    }
+    const CastGains& g = cast.first;
+    const bool residual_only =
+        std::abs(g.red - 1) <= kNeutralResidual && std::abs(g.blue - 1) <= kNeutralResidual;
+    neutral += residual_only ? 1 : 0;
+    mixed += cast.mixed ? 1 : 0;
+    red_high += g.red >= 1.45 ? 1 : 0;
+    red_low += g.red <= 0.65 ? 1 : 0;
+    blue_high += g.blue >= 1.45 ? 1 : 0;
+    blue_low += g.blue <= 0.65 ? 1 : 0;
+    ++kinds[static_cast<int>(CastKindOf(g))];
+    if (!cast.mixed) {
+      EXPECT_EQ(cast.second.red, g.red);
+      EXPECT_EQ(cast.second.blue, g.blue);
+    }
+  }
+  // White-balanced, and a few weak casts of the other kinds within the residual.
+  EXPECT_GT(neutral, (kNeutralShare - 0.03) * kDraws);
+  EXPECT_LT(neutral, (kNeutralShare + 0.06) * kDraws);
+  EXPECT_NEAR(mixed, kMixedShare * kDraws, 0.03 * kDraws);
+  // Strong casts at both ends of the range, for both gains.
+  for (int n : {red_high, red_low, blue_high, blue_low}) EXPECT_GT(n, 0.02 * kDraws);
+  // Warm and cool (a light of another colour temperature) outnumber tints.
+  const auto kind = [&](CastKind k) { return kinds[static_cast<int>(k)]; };
+  EXPECT_GT(kind(CastKind::kNeutral), 0.3 * kDraws);
+  EXPECT_GT(kind(CastKind::kWarm), 2 * kind(CastKind::kGreen));
+  EXPECT_GT(kind(CastKind::kCool), 2 * kind(CastKind::kMagenta));
+  EXPECT_GT(kind(CastKind::kGreen), 0.02 * kDraws);
+  EXPECT_GT(kind(CastKind::kMagenta), 0.02 * kDraws);
+}
+
+TEST(CastTest, SameSeedSameCast) {
+  for (uint64_t seed : {1ull, 77ull, 123456789ull}) {
+    const FrameCast a = DrawFrameCast(seed), b = DrawFrameCast(seed);
+    EXPECT_EQ(a.first.red, b.first.red);
+    EXPECT_EQ(a.first.blue, b.first.blue);
+    EXPECT_EQ(a.second.red, b.second.red);
+    EXPECT_EQ(a.mixed, b.mixed);
+    EXPECT_EQ(a.angle, b.angle);
+    EXPECT_EQ(cv::norm(a.GainMap({752, 480}), b.GainMap({752, 480}), cv::NORM_INF), 0.0);
+  }
+  EXPECT_NE(DrawFrameCast(1).first.red, DrawFrameCast(2).first.red);
+}
+
+TEST(CastTest, KindsAndStrengthFollowTheGains) {
+  EXPECT_EQ(CastKindOf({1.0, 1.0}), CastKind::kNeutral);
+  EXPECT_EQ(CastKindOf({1.05, 0.95}), CastKind::kNeutral);
+  EXPECT_EQ(CastKindOf({1.5, 0.6}), CastKind::kWarm);    // Tungsten on a daylight balance.
+  EXPECT_EQ(CastKindOf({0.6, 1.5}), CastKind::kCool);    // Daylight on a tungsten balance.
+  EXPECT_EQ(CastKindOf({1.2, 1.0}), CastKind::kWarm);    // Red alone: as much warm as tint.
+  EXPECT_EQ(CastKindOf({0.7, 0.75}), CastKind::kGreen);  // Red and blue below green.
+  EXPECT_EQ(CastKindOf({1.3, 1.4}), CastKind::kMagenta);
+  EXPECT_FALSE(IsStrongCast({1.2, 0.8}));
+  EXPECT_TRUE(IsStrongCast({1.4, 1.0}));
+  EXPECT_TRUE(IsStrongCast({1.0, 0.7}));
+}
+
+// Mixed light: the gains blend smoothly from one source's to the other's
+// across the frame, so that its parts see different casts.
+TEST(CastTest, MixedLightVariesAcrossTheFrame) {
+  const cv::Size size(752, 480);
+  int checked = 0;
+  for (uint64_t seed = 0; checked < 20; ++seed) {
+    const FrameCast cast = DrawFrameCast(seed);
+    if (!cast.mixed) {
+      const CastGains corner = cast.At({0, 0}, size), far = cast.At({751, 479}, size);
+      EXPECT_EQ(corner.red, far.red);
+      EXPECT_EQ(corner.blue, far.blue);
+      continue;
+    }
+    ++checked;
+    const cv::Mat map = cast.GainMap(size);
+    std::vector<cv::Mat> bgr;
+    cv::split(map, bgr);
+    // Red over blue (log), lowest and highest over the frame.
+    cv::Mat warmth;
+    cv::log(bgr[2] / bgr[0], warmth);
+    double lo = 0, hi = 0;
+    cv::minMaxLoc(warmth, &lo, &hi);
+    const double sources = std::abs(std::log(cast.first.red / cast.first.blue) -
+                                    std::log(cast.second.red / cast.second.blue));
+    EXPECT_GT(sources, std::log(kMinMixShift)) << seed;
+    EXPECT_GT(hi - lo, 0.5 * sources) << seed;  // Most of the way from one to the other.
+    // Smooth: next pixels differ little; green stays 1; every gain in range.
+    cv::Mat step = cv::abs(warmth(cv::Rect(1, 0, 751, 480)) - warmth(cv::Rect(0, 0, 751, 480)));
+    EXPECT_LT(cv::norm(step, cv::NORM_INF), 0.01) << seed;
+    EXPECT_EQ(cv::norm(bgr[1] - 1.0f, cv::NORM_INF), 0.0);
+    for (int c : {0, 2}) {
+      double min = 0, max = 0;
+      cv::minMaxLoc(bgr[c], &min, &max);
+      EXPECT_GE(min, kMinCastGain - 1e-6);
+      EXPECT_LE(max, kMaxCastGain + 1e-6);
+    }
+    // The map is At() at every pixel.
+    const CastGains at = cast.At({300, 200}, size);
+    EXPECT_NEAR(map.at<cv::Vec3f>(200, 300)[2], at.red, 1e-6);
+    EXPECT_NEAR(map.at<cv::Vec3f>(200, 300)[0], at.blue, 1e-6);
+  }
 }
 
 TEST(CameraSetTest, AprilTagFindsTheTruthCornersOfBothFamilies) {

@@ -472,7 +472,7 @@ bool WriteCsv(const Context& c) {
   out << "index,condition,has_tags,id,photo,exposure,blur_sigma_px,motion_blur_px,noise_sigma,"
          "jpeg_quality,chromatag_size_px,chromatag_angle_deg,apriltag_size_px,apriltag_angle_deg,"
          "set,family,quiet_zone_cells,cast,gradient,tone_gamma,print_chroma,shot_snr,read_noise,"
-         "bayer,print";
+         "bayer,print,red_gain,blue_gain,mixed_light";
   const char* keys[] = {"chromatag", "apriltag", "aruco"};
   for (const char* key : keys) {
     out << "," << key << "_us," << key << "_found," << key << "_false," << key << "_corner_px";
@@ -492,7 +492,8 @@ bool WriteCsv(const Context& c) {
         << t.apriltag.size_px << "," << t.apriltag.view_angle_deg << "," << DatasetKindName(t.kind)
         << "," << t.family << "," << t.quiet_zone_cells << "," << t.cast << "," << t.gradient << ","
         << t.tone_gamma << "," << t.print_chroma << "," << t.shot_snr << "," << t.read_noise << ","
-        << BayerModeName(t.bayer) << "," << PrintKindName(t.print);
+        << BayerModeName(t.bayer) << "," << PrintKindName(t.print) << "," << t.red_gain << ","
+        << t.blue_gain << "," << t.mixed_light;
     for (const DetectorRecord& d : r.detectors) {
       double mean = 0;
       for (double e : d.score.corner_error_px) mean += e / 4;

@@ -208,7 +208,7 @@ std::string ConditionRecallSection(const Context& c) {
   for (const char* family : {"16h5", "36h11"}) {
     add(std::string("family ") + family, [&](const FrameTruth& f) { return f.family == family; });
   }
-  for (const char* cast : {"neutral", "tungsten", "cool", "cyan", "green", "magenta"}) {
+  for (const char* cast : {"neutral", "tungsten", "warm", "cool", "green", "magenta"}) {
     add(std::string("cast ") + cast, [&](const FrameTruth& f) { return f.cast == cast; });
   }
   ranges("exposure",
