@@ -765,6 +765,19 @@ TEST(MetricsTest, ScoreFrame) {
   EXPECT_EQ(s.false_positives, 3);  // Wrong ID, the duplicate, and the other tag.
   EXPECT_EQ(s.false_on_other_tag, 1);
   EXPECT_EQ(s.wrong_ids, 1);
+  EXPECT_EQ(s.duplicates, 1);
+  EXPECT_EQ(s.found_index, 0);  // The first report is the true positive.
+  // Reported three times: two duplicates. A second report off the tag (too
+  // little overlap) or of the wrong ID is no duplicate.
+  s = ScoreFrame({wrong_id, right, right, FoundTag{3, Square(125, 100, 40)}, right}, &truth,
+                 &other);
+  EXPECT_EQ(s.found_index, 1);
+  EXPECT_EQ(s.duplicates, 2);
+  EXPECT_EQ(s.wrong_ids, 1);
+  EXPECT_EQ(s.false_positives, 4);
+  // Nothing is a duplicate on a tag-free frame, nor a single report.
+  EXPECT_EQ(ScoreFrame({right, right}, nullptr, nullptr).duplicates, 0);
+  EXPECT_EQ(ScoreFrame({right}, &truth, &other).duplicates, 0);
   EXPECT_NEAR(s.corner_error_px[0], 1.0, 1e-12);
   EXPECT_NEAR(s.mean_offset_px.x, 1.0, 1e-12);
   // A corner-order mistake keeps IoU but not the corner error.
