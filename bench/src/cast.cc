@@ -8,9 +8,6 @@
 namespace chromatag::bench {
 namespace {
 
-// Neutral within this factor of 1 either way; strong from these gains on.
-constexpr double kNeutralFactor = 1.1;
-constexpr double kStrongLow = 0.7, kStrongHigh = 1.4;
 // Mixed light: where the blend is half-way and how wide it is, as shares of
 // the frame's extent along its direction.
 constexpr double kMinBlendCentre = 0.3, kMaxBlendCentre = 0.7;

@@ -49,9 +49,10 @@ std::string DatasetSection(const Context& c) {
   out << "Data set \"" << DatasetKindName(o.kind) << "\": " << c.records.size() << " frames of "
       << o.width << "x" << o.height << " (seed " << o.seed << "): " << c.tagged
       << " with a ChromaTag and its AprilTag twin side by side (" << families.str() << "; "
-      << per_condition[0] << (camera ? " neutral, " : " WB, ") << per_condition[1]
-      << (camera ? " with a colour cast), " : " NWB), ") << c.tag_free
-      << " with no tag. Tag size (square root of the black square's area) "
+      << per_condition[0]
+      << (camera ? " white-balanced (a neutral cast, one light source), " : " WB, ")
+      << per_condition[1] << (camera ? " with a colour cast or mixed light), " : " NWB), ")
+      << c.tag_free << " with no tag. Tag size (square root of the black square's area) "
       << Fixed(Percentile(sizes, 0), 0) << "–" << Fixed(Percentile(sizes, 100), 0) << " px, median "
       << Fixed(Percentile(sizes, 50), 0) << " px; viewing angle " << Fixed(Percentile(angles, 0), 0)
       << "–" << Fixed(Percentile(angles, 100), 0) << "°, median "
@@ -594,10 +595,10 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
       << figures << "\n"
       << FamilyRecallSection(c) << "\n"
       << PrintRecallSection(c) << "\n"
-      << ConditionRecallSection(c) << "\n"
-      << CornerTable(c) << "\n"
-      << PoseSection(c) << "\n"
-      << FalseDetectionTable(c);
+      << ConditionRecallSection(c) << "\n";
+  const std::string casts = CastRecallSection(c);
+  if (!casts.empty()) out << casts << "\n";
+  out << CornerTable(c) << "\n" << PoseSection(c) << "\n" << FalseDetectionTable(c);
   *markdown = out.str();
   std::ofstream file(out_dir + "/report.md");
   file << *markdown;

@@ -44,12 +44,14 @@ enum class CastKind { kNeutral = 0, kWarm = 1, kCool = 2, kGreen = 3, kMagenta =
 inline constexpr int kNumCastKinds = 5;
 const char* CastKindName(CastKind kind);  // "neutral", "warm", "cool", "green", "magenta".
 
-// Neutral when both gains lie within 10 % of 1; otherwise the larger of the
-// warm-cool component (log red over blue) and the green-magenta one (log
-// red times blue) names it: warm when red outweighs blue, magenta when both
-// exceed green.
+// Neutral when both gains lie within kNeutralFactor of 1 either way;
+// otherwise the larger of the warm-cool component (log red over blue) and
+// the green-magenta one (log red times blue) names it: warm when red
+// outweighs blue, magenta when both exceed green.
+inline constexpr double kNeutralFactor = 1.1;
 CastKind CastKindOf(const CastGains& gains);
-// A gain of 0.7 or less, or of 1.4 or more: the ends of the range.
+// A gain of kStrongLow or less, or of kStrongHigh or more: the ends of the range.
+inline constexpr double kStrongLow = 0.7, kStrongHigh = 1.4;
 bool IsStrongCast(const CastGains& gains);
 
 // How one frame is lit: one source, or two blending across the frame.
