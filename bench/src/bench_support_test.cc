@@ -22,6 +22,7 @@
 #include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/palette.h"
+#include "report_util.h"
 
 namespace chromatag::bench {
 namespace {
@@ -880,6 +881,113 @@ TEST(MissAnalysisTest, DeepestStageOnTheTagWins) {
   EXPECT_EQ(cause.stage, kNumStages);
   EXPECT_EQ(cause.reason, kReportedWrongId);
   EXPECT_EQ(MissStageName(cause.stage), "reported");
+}
+
+// A frame of the hand-made records below: one tag of `size_px`, seen at
+// 10 degrees, each detector finding it or not in the given time.
+FrameRecord HandMadeFrame(const std::string& family, PrintKind print, double size_px,
+                          bool chromatag_found, bool apriltag_found) {
+  FrameRecord r;
+  r.truth.kind = DatasetKind::kCamera;
+  r.truth.has_tags = true;
+  r.truth.family = r.truth.chromatag.family = r.truth.apriltag.family = family;
+  r.truth.print = print;
+  r.truth.exposure = 1.0;
+  for (TagTruth* t : {&r.truth.chromatag, &r.truth.apriltag}) {
+    t->size_px = size_px;
+    t->view_angle_deg = 10;
+  }
+  const bool found[kNumDetectors] = {chromatag_found, apriltag_found, true};
+  const double time_us[kNumDetectors] = {10, 250, 400};
+  for (int d = 0; d < kNumDetectors; ++d) {
+    r.detectors[d].ran = true;
+    r.detectors[d].score.found = found[d];
+    r.detectors[d].time_us = time_us[d];
+  }
+  r.calibrated.ran = true;
+  r.calibrated.score.found = chromatag_found;
+  return r;
+}
+
+Verdict VerdictOf(const std::vector<TargetRow>& rows, const std::string& target,
+                  const std::string& family = "") {
+  for (const TargetRow& row : rows) {
+    if (row.target == target && row.family == family) return row.verdict;
+  }
+  ADD_FAILURE() << "no row \"" << target << "\" for \"" << family << "\"";
+  return Verdict::kNotApplicable;
+}
+
+TEST(ReportTest, TargetRowsJudgeEachPrintConditionAndError) {
+  std::vector<FrameRecord> records;
+  // 16h5 on the default print: 200 tags of 60 px; ChromaTag misses two (99 %
+  // against AprilTag 3's 100 %: exactly 1 point below), one of them in dim
+  // light. Small tags: ChromaTag finds 5 of 10, AprilTag 3 6.
+  for (int i = 0; i < 200; ++i) {
+    records.push_back(HandMadeFrame("16h5", PrintKind::kDefault, 60, i >= 2, true));
+    records.back().truth.exposure = i == 0 || i >= 150 ? 0.4 : 1.0;
+  }
+  for (int i = 0; i < 10; ++i) {
+    records.push_back(HandMadeFrame("16h5", PrintKind::kDefault, 20, i < 5, i < 6));
+  }
+  // The press print: every tag found by both, 20 in a warm cast, one
+  // reported twice.
+  for (int i = 0; i < 50; ++i) {
+    records.push_back(HandMadeFrame("16h5", PrintKind::kDefaultPress, 80, true, true));
+    if (i < 20) records.back().truth.cast = "warm";
+  }
+  records.back().detectors[kChromaTag].score.false_positives = 1;
+  records.back().detectors[kChromaTag].score.duplicates = 1;
+  // Tag-free frames: ChromaTag 10 µs, AprilTag 3 300 µs (30x: below 40x).
+  for (int i = 0; i < 20; ++i) {
+    FrameRecord r;
+    r.truth.kind = DatasetKind::kCamera;
+    for (int d = 0; d < kNumDetectors; ++d) r.detectors[d].ran = true;
+    r.detectors[kChromaTag].time_us = 10;
+    r.detectors[kAprilTag].time_us = 300;
+    records.push_back(r);
+  }
+  ReportInfo info;
+  info.dataset = DatasetOptions::ForKind(DatasetKind::kCamera);
+  const Context c{records, info, "", nullptr};
+  const std::vector<TargetRow> rows = CheckTargets(c);
+  const std::string mid = ": ≥ 30 px at ≤ 60°", large = ": ≥ 50 px at ≤ 60°";
+  // 99 % is AprilTag 3's 100 % less 1 point, but below 99.5 %.
+  EXPECT_EQ(VerdictOf(rows, "`default`" + mid, "16h5"), Verdict::kPass);
+  EXPECT_EQ(VerdictOf(rows, "`default`" + large, "16h5"), Verdict::kFail);
+  EXPECT_EQ(VerdictOf(rows, "`default-press`" + large, "16h5"), Verdict::kPass);
+  // No tags of the other prints or family: nothing to judge.
+  EXPECT_EQ(VerdictOf(rows, "`iccv17`" + mid, "16h5"), Verdict::kNotApplicable);
+  EXPECT_EQ(VerdictOf(rows, "`default`" + mid, "36h11"), Verdict::kNotApplicable);
+  // Per condition over all prints: the warm tags all found; dim light 50 of 51.
+  EXPECT_EQ(VerdictOf(rows, "cast warm, all prints" + large, "16h5"), Verdict::kPass);
+  EXPECT_EQ(VerdictOf(rows, "light ×0.3–0.5, all prints" + large, "16h5"), Verdict::kFail);
+  EXPECT_EQ(VerdictOf(rows, "cast neutral, all prints" + large, "16h5"), Verdict::kFail);
+  // Calibrated: as many as AprilTag 3 on the press print, fewer on default.
+  EXPECT_EQ(VerdictOf(rows, "`default-press`, calibrated" + mid, "16h5"), Verdict::kPass);
+  EXPECT_EQ(VerdictOf(rows, "`default`, calibrated" + mid, "16h5"), Verdict::kFail);
+  EXPECT_EQ(VerdictOf(rows, "`default`: < 30 px at ≤ 60°", "16h5"), Verdict::kFail);
+  // The duplicate fails the false detections and duplicates rows, not wrong IDs.
+  EXPECT_EQ(VerdictOf(rows, "false detections (any but the first on the true tag), all frames"),
+            Verdict::kFail);
+  EXPECT_EQ(VerdictOf(rows, "of which duplicates (the true tag again, right ID)"), Verdict::kFail);
+  const std::string wrong_ids = "of which wrong IDs (a wrong family or ID on the true tag)";
+  EXPECT_EQ(VerdictOf(rows, wrong_ids), Verdict::kPass);
+  // 25x on frames with tags, 30x on tag-free frames.
+  EXPECT_EQ(VerdictOf(rows, "speed, frames with tags: AprilTag 3's mean time ÷ ChromaTag's"),
+            Verdict::kPass);
+  EXPECT_EQ(VerdictOf(rows, "speed, tag-free frames: AprilTag 3's mean time ÷ ChromaTag's"),
+            Verdict::kFail);
+  // A wrong ID of a calibrated config fails the row too.
+  records[5].calibrated.score.false_positives = records[5].calibrated.score.wrong_ids = 1;
+  EXPECT_EQ(VerdictOf(CheckTargets(c), wrong_ids), Verdict::kFail);
+  // Without AprilTag 3 nothing relative to it is judged.
+  info.active = {true, false, false};
+  const std::vector<TargetRow> alone = CheckTargets(Context{records, info, "", nullptr});
+  EXPECT_EQ(VerdictOf(alone, "`default`" + mid, "16h5"), Verdict::kNotApplicable);
+  EXPECT_EQ(VerdictOf(alone, "`default`" + large, "16h5"), Verdict::kFail);
+  EXPECT_EQ(VerdictOf(alone, "speed, tag-free frames: AprilTag 3's mean time ÷ ChromaTag's"),
+            Verdict::kNotApplicable);
 }
 
 TEST(MetricsTest, PercentileAndBins) {

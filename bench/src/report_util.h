@@ -111,7 +111,27 @@ std::string CastRecallSection(const Context& c);   // Camera set only; empty oth
 std::string PoseSection(const Context& c);         // Camera set only; empty otherwise.
 std::string MissTable(const Context& c);           // Table 4(b), from the miss analysis.
 
-// The targets table (camera set only; empty otherwise).
+enum class Verdict { kNotApplicable = 0, kPass = 1, kFail = 2 };
+
+// One row of the Targets section: what ChromaTag (or its calibrated
+// configs) measured against what is wanted, for one family (recall) or the
+// whole set (false detections, speed). Rows with no `wanted` are shown for
+// comparison and judge nothing.
+struct TargetRow {
+  std::string target;
+  std::string wanted;
+  std::string family;      // Empty for a row over the whole set.
+  std::string chromatag;   // What ChromaTag (or its calibrated configs) measured.
+  std::string calibrated;  // Rows over the whole set: the calibrated configs' ("" if not run).
+  std::string apriltag;    // AprilTag 3's on the same range, or "n/a".
+  Verdict verdict = Verdict::kNotApplicable;
+};
+
+// The targets (report_targets.cc): on the camera set, recall per family
+// against AprilTag 3 and against 99.5 %, per print and per condition; on
+// every set, false detections, wrong IDs and duplicates, and speed against
+// AprilTag 3 measured in the same run.
+std::vector<TargetRow> CheckTargets(const Context& c);
 std::string TargetsSection(const Context& c);
 
 }  // namespace chromatag::bench
