@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -90,16 +91,24 @@ bool WriteExamples(const Dataset& dataset, std::array<TagDetector*, kNumDetector
       }
       DrawQuad(tile, frame.truth.chromatag.corners, cv::Scalar(255, 255, 255), 1);
       DrawQuad(tile, frame.truth.apriltag.corners, cv::Scalar(255, 255, 255), 1);
-      std::ostringstream label;
-      label << (frame.truth.kind == DatasetKind::kCamera ? frame.truth.cast
-                                                         : ConditionName(frame.truth.condition))
-            << "  " << frame.truth.family << "  frame " << i << "  ID " << frame.truth.chromatag.id
-            << "  size " << static_cast<int>(frame.truth.chromatag.size_px) << " px  angle "
-            << static_cast<int>(frame.truth.chromatag.view_angle_deg) << " deg";
-      cv::putText(tile, label.str(), {8, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {0, 0, 0}, 3,
-                  cv::LINE_AA);
-      cv::putText(tile, label.str(), {8, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {255, 255, 255}, 1,
-                  cv::LINE_AA);
+      const FrameTruth& truth = frame.truth;
+      const bool camera = truth.kind == DatasetKind::kCamera;
+      std::ostringstream label, cast;
+      label << (camera ? truth.cast : ConditionName(truth.condition)) << "  " << truth.family
+            << "  frame " << i << "  ID " << truth.chromatag.id << "  size "
+            << static_cast<int>(truth.chromatag.size_px) << " px  angle "
+            << static_cast<int>(truth.chromatag.view_angle_deg) << " deg";
+      if (camera) {
+        cast << std::fixed << std::setprecision(2) << "red gain " << truth.red_gain
+             << ", blue gain " << truth.blue_gain << (truth.mixed_light ? ", mixed light" : "");
+      }
+      int y = 22;
+      for (const std::string& text : {label.str(), cast.str()}) {
+        cv::putText(tile, text, {8, y}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {0, 0, 0}, 3, cv::LINE_AA);
+        cv::putText(tile, text, {8, y}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {255, 255, 255}, 1,
+                    cv::LINE_AA);
+        y += 22;
+      }
       tiles.push_back(tile);
       ++shown;
     }
@@ -149,6 +158,9 @@ nlohmann::json MissJson(const FrameRecord& record) {
           {"conditions",
            {{"print", PrintKindName(t.print)},
             {"cast", t.cast},
+            {"red_gain", t.red_gain},
+            {"blue_gain", t.blue_gain},
+            {"mixed_light", t.mixed_light},
             {"exposure", t.exposure},
             {"gradient", t.gradient},
             {"tone_gamma", t.tone_gamma},

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 
+#include "chromatag/bench/cast.h"
 #include "chromatag/bench/comparison.h"
 #include "chromatag/bench/competitors.h"
 #include "chromatag/bench/dataset.h"
@@ -21,6 +22,7 @@
 #include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/palette.h"
+#include "report_util.h"
 
 namespace chromatag::bench {
 namespace {
@@ -96,6 +98,36 @@ TEST(DatasetTest, SameSeedSamePixelsAnyOrder) {
   auto reseeded = Dataset::Create(SmallOptions(8), &error);
   ASSERT_NE(reseeded, nullptr) << error;
   EXPECT_GT(cv::norm(SharedDataset().Render(3).bgr, reseeded->Render(3).bgr, cv::NORM_L1), 0.0);
+}
+
+// FNV-1a over a frame's bytes, row by row.
+uint64_t PixelDigest(const cv::Mat& image) {
+  uint64_t hash = 0xcbf29ce484222325ull;
+  for (int y = 0; y < image.rows; ++y) {
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    for (size_t x = 0; x < image.cols * image.elemSize(); ++x) {
+      hash = (hash ^ row[x]) * 0x100000001b3ull;
+    }
+  }
+  return hash;
+}
+
+// The classic set is compared run against run and with published reports:
+// its frames must not move when the camera set's conditions change. The
+// digests were recorded with this project's toolchain (Debian's OpenCV 4.6
+// and libjpeg-turbo); a library update that changes them changes the set.
+TEST(DatasetTest, ClassicFramesAreUnchanged) {
+  const std::pair<int, uint64_t> expected[] = {
+      {0, 0x4a1288cdef952ba7ull}, {1, 0x6c3cd5dba5b0d2f3ull}, {2, 0x186b9f7e07943f77ull},
+      {3, 0x39fc883fccf1c133ull}, {8, 0x316ccb646338c0e5ull}, {13, 0xdfaf234f9b3ad052ull}};
+  std::set<std::pair<bool, ColorCondition>> kinds;  // Tags or not, WB or NWB.
+  for (const auto& [index, digest] : expected) {
+    const Frame frame = SharedDataset().Render(index);
+    EXPECT_EQ(PixelDigest(frame.bgr), digest)
+        << "frame " << index << ": 0x" << std::hex << PixelDigest(frame.bgr);
+    kinds.insert({frame.truth.has_tags, frame.truth.condition});
+  }
+  EXPECT_GE(kinds.size(), 3u);  // Both conditions, and a tag-free frame.
 }
 
 // The range of sizes and angles of a set's tags; every corner must lie in the
@@ -395,8 +427,12 @@ TEST(CameraSetTest, SameSeedSamePixelsAnyOrder) {
     EXPECT_EQ(cv::norm(a.bgr, b.bgr, cv::NORM_INF), 0.0) << "frame " << i;
     EXPECT_EQ(a.truth.family, b.truth.family);
     EXPECT_EQ(a.truth.chromatag.corners, b.truth.chromatag.corners);
-    EXPECT_EQ(a.truth.cast, other->Truth(i).cast);
-    EXPECT_EQ(a.truth.apriltag.corners, other->Truth(i).apriltag.corners);
+    const FrameTruth t = other->Truth(i);
+    EXPECT_EQ(a.truth.cast, t.cast);
+    EXPECT_EQ(a.truth.red_gain, t.red_gain);
+    EXPECT_EQ(a.truth.blue_gain, t.blue_gain);
+    EXPECT_EQ(a.truth.mixed_light, t.mixed_light);
+    EXPECT_EQ(a.truth.apriltag.corners, t.apriltag.corners);
   }
   options.seed = 8;
   auto reseeded = Dataset::Create(options, &error);
@@ -408,13 +444,21 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   std::map<std::string, int> families, casts;
   std::array<int, 3> quiet{}, bayer{};
   std::array<int, kNumPrintKinds> prints{};
-  int tag_free = 0, jpeg = 0, shaken = 0, dim = 0;
+  int tag_free = 0, jpeg = 0, shaken = 0, dim = 0, mixed = 0;
   GeometrySpan span;
   const auto family16 = TagFamily::Load("16h5"), family36 = TagFamily::Load("36h11");
   for (int i = 0; i < 400; ++i) {
     const FrameTruth t = CameraDataset().Truth(i);
     EXPECT_EQ(t.kind, DatasetKind::kCamera);
     ++casts[t.cast];
+    mixed += t.mixed_light ? 1 : 0;
+    // The cast at the card's centre: gains in range, named by CastKindOf; a
+    // frame is white-balanced when that cast is neutral and the light not mixed.
+    EXPECT_TRUE(t.red_gain >= kMinCastGain && t.red_gain <= kMaxCastGain) << t.red_gain;
+    EXPECT_TRUE(t.blue_gain >= kMinCastGain && t.blue_gain <= kMaxCastGain) << t.blue_gain;
+    EXPECT_EQ(t.cast, CastKindName(CastKindOf({t.red_gain, t.blue_gain})));
+    EXPECT_EQ(t.condition == ColorCondition::kWhiteBalanced,
+              t.cast == std::string("neutral") && !t.mixed_light);
     ++bayer[static_cast<int>(t.bayer)];
     jpeg += t.jpeg_quality > 0 ? 1 : 0;
     shaken += t.motion_blur_px > 0 ? 1 : 0;
@@ -447,7 +491,10 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   EXPECT_GT(families["36h11"], 120);
   EXPECT_GT(quiet[1], 80);  // About 40 %.
   EXPECT_GT(quiet[2], 120);
-  EXPECT_EQ(casts.size(), 6u);
+  EXPECT_EQ(casts.size(), static_cast<size_t>(kNumCastKinds));
+  EXPECT_GT(casts["neutral"], 100);  // About a third.
+  EXPECT_GT(mixed, 70);              // About a quarter.
+  EXPECT_LT(mixed, 130);
   EXPECT_GT(bayer[0], 200);  // Two thirds.
   EXPECT_GT(bayer[1], 40);   // A sixth each.
   EXPECT_GT(bayer[2], 40);
@@ -459,6 +506,115 @@ TEST(CameraSetTest, EveryConditionOccurs) {
   EXPECT_LT(span.min_size, 16);
   EXPECT_GT(span.max_size, 180);
   EXPECT_GT(span.max_angle, 65);
+}
+
+TEST(CastTest, GainsStayInRangeAndRealisticCastsDominate) {
+  constexpr int kDraws = 4000;
+  int neutral = 0, mixed = 0, red_high = 0, red_low = 0, blue_high = 0, blue_low = 0;
+  std::array<int, kNumCastKinds> kinds{};
+  for (int seed = 0; seed < kDraws; ++seed) {
+    const FrameCast cast = DrawFrameCast(seed);
+    for (const CastGains& g : {cast.first, cast.second}) {
+      ASSERT_TRUE(g.red >= kMinCastGain && g.red <= kMaxCastGain) << seed << ": " << g.red;
+      ASSERT_TRUE(g.blue >= kMinCastGain && g.blue <= kMaxCastGain) << seed << ": " << g.blue;
+    }
+    const CastGains& g = cast.first;
+    const bool residual_only =
+        std::abs(g.red - 1) <= kNeutralResidual && std::abs(g.blue - 1) <= kNeutralResidual;
+    neutral += residual_only ? 1 : 0;
+    mixed += cast.mixed ? 1 : 0;
+    red_high += g.red >= 1.45 ? 1 : 0;
+    red_low += g.red <= 0.65 ? 1 : 0;
+    blue_high += g.blue >= 1.45 ? 1 : 0;
+    blue_low += g.blue <= 0.65 ? 1 : 0;
+    ++kinds[static_cast<int>(CastKindOf(g))];
+    if (!cast.mixed) {
+      EXPECT_EQ(cast.second.red, g.red);
+      EXPECT_EQ(cast.second.blue, g.blue);
+    }
+  }
+  // White-balanced, and a few weak casts of the other kinds within the residual.
+  EXPECT_GT(neutral, (kNeutralShare - 0.03) * kDraws);
+  EXPECT_LT(neutral, (kNeutralShare + 0.06) * kDraws);
+  EXPECT_NEAR(mixed, kMixedShare * kDraws, 0.03 * kDraws);
+  // Strong casts at both ends of the range, for both gains.
+  for (int n : {red_high, red_low, blue_high, blue_low}) EXPECT_GT(n, 0.02 * kDraws);
+  // Warm and cool (a light of another colour temperature) outnumber tints.
+  const auto kind = [&](CastKind k) { return kinds[static_cast<int>(k)]; };
+  EXPECT_GT(kind(CastKind::kNeutral), 0.3 * kDraws);
+  EXPECT_GT(kind(CastKind::kWarm), 2 * kind(CastKind::kGreen));
+  EXPECT_GT(kind(CastKind::kCool), 2 * kind(CastKind::kMagenta));
+  EXPECT_GT(kind(CastKind::kGreen), 0.02 * kDraws);
+  EXPECT_GT(kind(CastKind::kMagenta), 0.02 * kDraws);
+}
+
+TEST(CastTest, SameSeedSameCast) {
+  for (uint64_t seed : {1ull, 77ull, 123456789ull}) {
+    const FrameCast a = DrawFrameCast(seed), b = DrawFrameCast(seed);
+    EXPECT_EQ(a.first.red, b.first.red);
+    EXPECT_EQ(a.first.blue, b.first.blue);
+    EXPECT_EQ(a.second.red, b.second.red);
+    EXPECT_EQ(a.mixed, b.mixed);
+    EXPECT_EQ(a.angle, b.angle);
+    EXPECT_EQ(cv::norm(a.GainMap({752, 480}), b.GainMap({752, 480}), cv::NORM_INF), 0.0);
+  }
+  EXPECT_NE(DrawFrameCast(1).first.red, DrawFrameCast(2).first.red);
+}
+
+TEST(CastTest, KindsAndStrengthFollowTheGains) {
+  EXPECT_EQ(CastKindOf({1.0, 1.0}), CastKind::kNeutral);
+  EXPECT_EQ(CastKindOf({1.05, 0.95}), CastKind::kNeutral);
+  EXPECT_EQ(CastKindOf({1.5, 0.6}), CastKind::kWarm);    // Tungsten on a daylight balance.
+  EXPECT_EQ(CastKindOf({0.6, 1.5}), CastKind::kCool);    // Daylight on a tungsten balance.
+  EXPECT_EQ(CastKindOf({1.2, 1.0}), CastKind::kWarm);    // Red alone: as much warm as tint.
+  EXPECT_EQ(CastKindOf({0.7, 0.75}), CastKind::kGreen);  // Red and blue below green.
+  EXPECT_EQ(CastKindOf({1.3, 1.4}), CastKind::kMagenta);
+  EXPECT_FALSE(IsStrongCast({1.2, 0.8}));
+  EXPECT_TRUE(IsStrongCast({1.4, 1.0}));
+  EXPECT_TRUE(IsStrongCast({1.0, 0.7}));
+}
+
+// Mixed light: the gains blend smoothly from one source's to the other's
+// across the frame, so that its parts see different casts.
+TEST(CastTest, MixedLightVariesAcrossTheFrame) {
+  const cv::Size size(752, 480);
+  int checked = 0;
+  for (uint64_t seed = 0; checked < 20; ++seed) {
+    const FrameCast cast = DrawFrameCast(seed);
+    if (!cast.mixed) {
+      const CastGains corner = cast.At({0, 0}, size), far = cast.At({751, 479}, size);
+      EXPECT_EQ(corner.red, far.red);
+      EXPECT_EQ(corner.blue, far.blue);
+      continue;
+    }
+    ++checked;
+    const cv::Mat map = cast.GainMap(size);
+    std::vector<cv::Mat> bgr;
+    cv::split(map, bgr);
+    // Red over blue (log), lowest and highest over the frame.
+    cv::Mat warmth;
+    cv::log(bgr[2] / bgr[0], warmth);
+    double lo = 0, hi = 0;
+    cv::minMaxLoc(warmth, &lo, &hi);
+    const double sources = std::abs(std::log(cast.first.red / cast.first.blue) -
+                                    std::log(cast.second.red / cast.second.blue));
+    EXPECT_GT(sources, std::log(kMinMixShift)) << seed;
+    EXPECT_GT(hi - lo, 0.5 * sources) << seed;  // Most of the way from one to the other.
+    // Smooth: next pixels differ little; green stays 1; every gain in range.
+    cv::Mat step = cv::abs(warmth(cv::Rect(1, 0, 751, 480)) - warmth(cv::Rect(0, 0, 751, 480)));
+    EXPECT_LT(cv::norm(step, cv::NORM_INF), 0.01) << seed;
+    EXPECT_EQ(cv::norm(bgr[1] - 1.0f, cv::NORM_INF), 0.0);
+    for (int c : {0, 2}) {
+      double min = 0, max = 0;
+      cv::minMaxLoc(bgr[c], &min, &max);
+      EXPECT_GE(min, kMinCastGain - 1e-6);
+      EXPECT_LE(max, kMaxCastGain + 1e-6);
+    }
+    // The map is At() at every pixel.
+    const CastGains at = cast.At({300, 200}, size);
+    EXPECT_NEAR(map.at<cv::Vec3f>(200, 300)[2], at.red, 1e-6);
+    EXPECT_NEAR(map.at<cv::Vec3f>(200, 300)[0], at.blue, 1e-6);
+  }
 }
 
 TEST(CameraSetTest, AprilTagFindsTheTruthCornersOfBothFamilies) {
@@ -610,6 +766,19 @@ TEST(MetricsTest, ScoreFrame) {
   EXPECT_EQ(s.false_positives, 3);  // Wrong ID, the duplicate, and the other tag.
   EXPECT_EQ(s.false_on_other_tag, 1);
   EXPECT_EQ(s.wrong_ids, 1);
+  EXPECT_EQ(s.duplicates, 1);
+  EXPECT_EQ(s.found_index, 0);  // The first report is the true positive.
+  // Reported three times: two duplicates. A second report off the tag (too
+  // little overlap) or of the wrong ID is no duplicate.
+  s = ScoreFrame({wrong_id, right, right, FoundTag{3, Square(125, 100, 40)}, right}, &truth,
+                 &other);
+  EXPECT_EQ(s.found_index, 1);
+  EXPECT_EQ(s.duplicates, 2);
+  EXPECT_EQ(s.wrong_ids, 1);
+  EXPECT_EQ(s.false_positives, 4);
+  // Nothing is a duplicate on a tag-free frame, nor a single report.
+  EXPECT_EQ(ScoreFrame({right, right}, nullptr, nullptr).duplicates, 0);
+  EXPECT_EQ(ScoreFrame({right}, &truth, &other).duplicates, 0);
   EXPECT_NEAR(s.corner_error_px[0], 1.0, 1e-12);
   EXPECT_NEAR(s.mean_offset_px.x, 1.0, 1e-12);
   // A corner-order mistake keeps IoU but not the corner error.
@@ -712,6 +881,113 @@ TEST(MissAnalysisTest, DeepestStageOnTheTagWins) {
   EXPECT_EQ(cause.stage, kNumStages);
   EXPECT_EQ(cause.reason, kReportedWrongId);
   EXPECT_EQ(MissStageName(cause.stage), "reported");
+}
+
+// A frame of the hand-made records below: one tag of `size_px`, seen at
+// 10 degrees, each detector finding it or not in the given time.
+FrameRecord HandMadeFrame(const std::string& family, PrintKind print, double size_px,
+                          bool chromatag_found, bool apriltag_found) {
+  FrameRecord r;
+  r.truth.kind = DatasetKind::kCamera;
+  r.truth.has_tags = true;
+  r.truth.family = r.truth.chromatag.family = r.truth.apriltag.family = family;
+  r.truth.print = print;
+  r.truth.exposure = 1.0;
+  for (TagTruth* t : {&r.truth.chromatag, &r.truth.apriltag}) {
+    t->size_px = size_px;
+    t->view_angle_deg = 10;
+  }
+  const bool found[kNumDetectors] = {chromatag_found, apriltag_found, true};
+  const double time_us[kNumDetectors] = {10, 250, 400};
+  for (int d = 0; d < kNumDetectors; ++d) {
+    r.detectors[d].ran = true;
+    r.detectors[d].score.found = found[d];
+    r.detectors[d].time_us = time_us[d];
+  }
+  r.calibrated.ran = true;
+  r.calibrated.score.found = chromatag_found;
+  return r;
+}
+
+Verdict VerdictOf(const std::vector<TargetRow>& rows, const std::string& target,
+                  const std::string& family = "") {
+  for (const TargetRow& row : rows) {
+    if (row.target == target && row.family == family) return row.verdict;
+  }
+  ADD_FAILURE() << "no row \"" << target << "\" for \"" << family << "\"";
+  return Verdict::kNotApplicable;
+}
+
+TEST(ReportTest, TargetRowsJudgeEachPrintConditionAndError) {
+  std::vector<FrameRecord> records;
+  // 16h5 on the default print: 200 tags of 60 px; ChromaTag misses two (99 %
+  // against AprilTag 3's 100 %: exactly 1 point below), one of them in dim
+  // light. Small tags: ChromaTag finds 5 of 10, AprilTag 3 6.
+  for (int i = 0; i < 200; ++i) {
+    records.push_back(HandMadeFrame("16h5", PrintKind::kDefault, 60, i >= 2, true));
+    records.back().truth.exposure = i == 0 || i >= 150 ? 0.4 : 1.0;
+  }
+  for (int i = 0; i < 10; ++i) {
+    records.push_back(HandMadeFrame("16h5", PrintKind::kDefault, 20, i < 5, i < 6));
+  }
+  // The press print: every tag found by both, 20 in a warm cast, one
+  // reported twice.
+  for (int i = 0; i < 50; ++i) {
+    records.push_back(HandMadeFrame("16h5", PrintKind::kDefaultPress, 80, true, true));
+    if (i < 20) records.back().truth.cast = "warm";
+  }
+  records.back().detectors[kChromaTag].score.false_positives = 1;
+  records.back().detectors[kChromaTag].score.duplicates = 1;
+  // Tag-free frames: ChromaTag 10 µs, AprilTag 3 300 µs (30x: below 40x).
+  for (int i = 0; i < 20; ++i) {
+    FrameRecord r;
+    r.truth.kind = DatasetKind::kCamera;
+    for (int d = 0; d < kNumDetectors; ++d) r.detectors[d].ran = true;
+    r.detectors[kChromaTag].time_us = 10;
+    r.detectors[kAprilTag].time_us = 300;
+    records.push_back(r);
+  }
+  ReportInfo info;
+  info.dataset = DatasetOptions::ForKind(DatasetKind::kCamera);
+  const Context c{records, info, "", nullptr};
+  const std::vector<TargetRow> rows = CheckTargets(c);
+  const std::string mid = ": ≥ 30 px at ≤ 60°", large = ": ≥ 50 px at ≤ 60°";
+  // 99 % is AprilTag 3's 100 % less 1 point, but below 99.5 %.
+  EXPECT_EQ(VerdictOf(rows, "`default`" + mid, "16h5"), Verdict::kPass);
+  EXPECT_EQ(VerdictOf(rows, "`default`" + large, "16h5"), Verdict::kFail);
+  EXPECT_EQ(VerdictOf(rows, "`default-press`" + large, "16h5"), Verdict::kPass);
+  // No tags of the other prints or family: nothing to judge.
+  EXPECT_EQ(VerdictOf(rows, "`iccv17`" + mid, "16h5"), Verdict::kNotApplicable);
+  EXPECT_EQ(VerdictOf(rows, "`default`" + mid, "36h11"), Verdict::kNotApplicable);
+  // Per condition over all prints: the warm tags all found; dim light 50 of 51.
+  EXPECT_EQ(VerdictOf(rows, "cast warm, all prints" + large, "16h5"), Verdict::kPass);
+  EXPECT_EQ(VerdictOf(rows, "light ×0.3–0.5, all prints" + large, "16h5"), Verdict::kFail);
+  EXPECT_EQ(VerdictOf(rows, "cast neutral, all prints" + large, "16h5"), Verdict::kFail);
+  // Calibrated: as many as AprilTag 3 on the press print, fewer on default.
+  EXPECT_EQ(VerdictOf(rows, "`default-press`, calibrated" + mid, "16h5"), Verdict::kPass);
+  EXPECT_EQ(VerdictOf(rows, "`default`, calibrated" + mid, "16h5"), Verdict::kFail);
+  EXPECT_EQ(VerdictOf(rows, "`default`: < 30 px at ≤ 60°", "16h5"), Verdict::kFail);
+  // The duplicate fails the false detections and duplicates rows, not wrong IDs.
+  EXPECT_EQ(VerdictOf(rows, "false detections (any but the first on the true tag), all frames"),
+            Verdict::kFail);
+  EXPECT_EQ(VerdictOf(rows, "of which duplicates (the true tag again, right ID)"), Verdict::kFail);
+  const std::string wrong_ids = "of which wrong IDs (a wrong family or ID on the true tag)";
+  EXPECT_EQ(VerdictOf(rows, wrong_ids), Verdict::kPass);
+  // 25x on frames with tags, 30x on tag-free frames.
+  EXPECT_EQ(VerdictOf(rows, "speed, frames with tags: AprilTag 3's mean time ÷ ChromaTag's"),
+            Verdict::kPass);
+  EXPECT_EQ(VerdictOf(rows, "speed, tag-free frames: AprilTag 3's mean time ÷ ChromaTag's"),
+            Verdict::kFail);
+  // A wrong ID of a calibrated config fails the row too.
+  records[5].calibrated.score.false_positives = records[5].calibrated.score.wrong_ids = 1;
+  EXPECT_EQ(VerdictOf(CheckTargets(c), wrong_ids), Verdict::kFail);
+  // Without AprilTag 3 nothing relative to it is judged.
+  info.active = {true, false, false};
+  const std::vector<TargetRow> alone = CheckTargets(Context{records, info, "", nullptr});
+  EXPECT_EQ(VerdictOf(alone, "`default`" + mid, "16h5"), Verdict::kNotApplicable);
+  EXPECT_EQ(VerdictOf(alone, "`default`" + large, "16h5"), Verdict::kFail);
+  EXPECT_EQ(VerdictOf(alone, "speed, tag-free frames: AprilTag 3's mean time ÷ ChromaTag's"),
+            Verdict::kNotApplicable);
 }
 
 TEST(MetricsTest, PercentileAndBins) {

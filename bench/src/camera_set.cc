@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/bench/cast.h"
 #include "chromatag/families/color.h"
 #include "dataset_impl.h"
 
@@ -16,21 +17,6 @@ namespace {
 
 // Decorrelates the camera set's frames from the classic set's of the same seed.
 constexpr uint64_t kCameraSalt = 0xC0FFEE5EEDull;
-
-// Uncorrected white balance: linear R, G, B gains of the light's colour
-// against daylight, the largest 1 (a camera does not brighten a channel).
-struct Cast {
-  const char* name;
-  cv::Vec3d gains;  // R, G, B.
-};
-const Cast kCasts[] = {
-    {"neutral", {1.0, 1.0, 1.0}}, {"tungsten", {1.0, 0.72, 0.42}}, {"cool", {0.75, 0.9, 1.0}},
-    {"cyan", {0.7, 1.0, 1.0}},    {"green", {0.8, 1.0, 0.75}},     {"magenta", {1.0, 0.75, 0.95}},
-};
-constexpr int kNumCasts = sizeof(kCasts) / sizeof(kCasts[0]);
-// Each gain of a cast varies by this much from frame to frame (neutral: the
-// residual of a white balance).
-constexpr double kCastJitter = 0.04;
 
 // Light on the card: exposure times light level, 1 for paper white at the
 // encoding's white; dim rooms and short exposures give 0.3.
@@ -58,15 +44,8 @@ constexpr int kEncodeSteps = 16384;  // Linear [0, 1] to 8 bits.
 // on, say, whether it shakes.
 void DrawConditions(Rng& rng, CameraPlan* plan) {
   FrameTruth* truth = &plan->truth;
-  const Cast& cast = kCasts[rng.Index(kNumCasts)];
-  truth->cast = cast.name;
-  for (int i = 0; i < 3; ++i) {
-    plan->gains[i] = cast.gains[i] * rng.Uniform(1.0 - kCastJitter, 1.0 + kCastJitter);
-  }
-  const double top = std::max({plan->gains[0], plan->gains[1], plan->gains[2]});
-  plan->gains /= top;
-  truth->condition = truth->cast == std::string("neutral") ? ColorCondition::kWhiteBalanced
-                                                           : ColorCondition::kColorCast;
+  plan->cast = DrawFrameCast(rng.Bits());
+  truth->mixed_light = plan->cast.mixed;
   truth->exposure = rng.Uniform(kMinExposure, kMaxExposure);
   truth->gradient = rng.Uniform(1.0, kMaxGradient);
   plan->gradient_angle = rng.Uniform(0.0, 2 * kPi);
@@ -210,8 +189,14 @@ cv::Mat Encode(const cv::Mat& linear, double tone_gamma) {
 // Light, optics, sensor, camera processing and compression, in that order.
 cv::Mat Develop(cv::Mat linear, const CameraPlan& plan) {
   const FrameTruth& truth = plan.truth;
-  const cv::Vec3d g = plan.gains * truth.exposure;
-  cv::multiply(linear, cv::Scalar(g[2], g[1], g[0]), linear);
+  // The white balance's gains, before the sensor clips (a gain above 1 can
+  // clip white, as in a camera).
+  if (plan.cast.mixed) {
+    cv::multiply(linear, plan.cast.GainMap(linear.size()), linear, truth.exposure);
+  } else {
+    const CastGains& g = plan.cast.first;
+    cv::multiply(linear, cv::Scalar(g.blue, 1.0, g.red) * truth.exposure, linear);
+  }
   if (truth.blur_sigma_px >= 0.05)
     cv::GaussianBlur(linear, linear, cv::Size(), truth.blur_sigma_px);
   if (truth.motion_blur_px > 0) {
@@ -275,6 +260,17 @@ CameraPlan Dataset::Impl::PlanCamera(int index) const {
     truth.print_chroma = 0.0;  // No card.
     truth.gradient = 1.0;
   }
+  const cv::Size frame(o.width, o.height);
+  const cv::Point2d centre = truth.has_tags
+                                 ? plan.camera.Project(cv::Vec3d(0, 0, 0))
+                                 : cv::Point2d((o.width - 1) / 2.0, (o.height - 1) / 2.0);
+  const CastGains gains = plan.cast.At(centre, frame);
+  truth.red_gain = gains.red;
+  truth.blue_gain = gains.blue;
+  truth.cast = CastKindName(CastKindOf(gains));
+  truth.condition = truth.cast == std::string("neutral") && !truth.mixed_light
+                        ? ColorCondition::kWhiteBalanced
+                        : ColorCondition::kColorCast;
   return plan;
 }
 

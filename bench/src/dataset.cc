@@ -328,6 +328,8 @@ cv::Mat Dataset::Impl::Finish(cv::Mat linear, FrameTruth* truth, ColorCondition 
   } else {
     for (int c = 0; c < 3; ++c) gains[c] = rng.Uniform(0.96, 1.04);
   }
+  truth->red_gain = gains[0] / gains[1];
+  truth->blue_gain = gains[2] / gains[1];
   cv::multiply(linear,
                cv::Scalar(gains[2] * truth->exposure, gains[1] * truth->exposure,
                           gains[0] * truth->exposure),

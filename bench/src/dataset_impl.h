@@ -15,6 +15,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/bench/cast.h"
 #include "chromatag/bench/dataset.h"
 #include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
@@ -148,7 +149,7 @@ struct CameraPlan {
   Camera camera;  // Valid when truth.has_tags.
   int photo = 0;
   uint64_t background_seed = 0;
-  cv::Vec3d gains;  // Cast, linear R, G, B.
+  FrameCast cast;
   double gradient_angle = 0.0;
   double motion_angle = 0.0;
   uint64_t noise_seed = 0;

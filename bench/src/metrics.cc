@@ -109,6 +109,7 @@ FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
     }
     ++score.false_positives;
     if (on_truth && !matches) ++score.wrong_ids;
+    if (matches) ++score.duplicates;  // The tag was found already.
     if (other && QuadIoU(tag.corners, other->corners) >= min_iou) ++score.false_on_other_tag;
   }
   return score;

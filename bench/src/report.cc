@@ -49,9 +49,10 @@ std::string DatasetSection(const Context& c) {
   out << "Data set \"" << DatasetKindName(o.kind) << "\": " << c.records.size() << " frames of "
       << o.width << "x" << o.height << " (seed " << o.seed << "): " << c.tagged
       << " with a ChromaTag and its AprilTag twin side by side (" << families.str() << "; "
-      << per_condition[0] << (camera ? " neutral, " : " WB, ") << per_condition[1]
-      << (camera ? " with a colour cast), " : " NWB), ") << c.tag_free
-      << " with no tag. Tag size (square root of the black square's area) "
+      << per_condition[0]
+      << (camera ? " white-balanced (a neutral cast, one light source), " : " WB, ")
+      << per_condition[1] << (camera ? " with a colour cast or mixed light), " : " NWB), ")
+      << c.tag_free << " with no tag. Tag size (square root of the black square's area) "
       << Fixed(Percentile(sizes, 0), 0) << "–" << Fixed(Percentile(sizes, 100), 0) << " px, median "
       << Fixed(Percentile(sizes, 50), 0) << " px; viewing angle " << Fixed(Percentile(angles, 0), 0)
       << "–" << Fixed(Percentile(angles, 100), 0) << "°, median "
@@ -437,33 +438,57 @@ std::string CornerTable(const Context& c) {
                   rows);
 }
 
+// One detector's (or the calibrated configs') false detections, on tag-free
+// frames and on frames with tags; of the latter, those on the other tag, wrong
+// IDs and duplicates.
+struct FalseCounts {
+  int free = 0, free_frames_hit = 0, tagged = 0, on_other = 0, wrong = 0, duplicates = 0;
+  void Add(const FrameTruth& truth, const FrameScore& s) {
+    if (!truth.has_tags) {
+      free += s.false_positives;
+      free_frames_hit += s.false_positives > 0 ? 1 : 0;
+      return;
+    }
+    tagged += s.false_positives;
+    on_other += s.false_on_other_tag;
+    wrong += s.wrong_ids;
+    duplicates += s.duplicates;
+  }
+};
+
 std::string FalseDetectionTable(const Context& c) {
   Table rows;
+  auto add = [&](const std::string& name, const FalseCounts& n) {
+    rows.push_back({name, Grouped(c.tag_free), Grouped(n.free),
+                    Fixed(c.tag_free ? static_cast<double>(n.free) / c.tag_free : kNaN, 4),
+                    Percent(n.free_frames_hit, c.tag_free, 2), Grouped(n.tagged),
+                    Grouped(n.on_other), Grouped(n.wrong), Grouped(n.duplicates)});
+  };
   for (int d = 0; d < kNumDetectors; ++d) {
     if (!c.info.active[d]) continue;
-    int free_fp = 0, free_frames_hit = 0, tagged_fp = 0, on_other = 0;
-    for (const auto& r : c.records) {
-      const FrameScore& s = r.detectors[d].score;
-      if (!r.truth.has_tags) {
-        free_fp += s.false_positives;
-        free_frames_hit += s.false_positives > 0 ? 1 : 0;
-      } else {
-        tagged_fp += s.false_positives;
-        on_other += s.false_on_other_tag;
-      }
-    }
-    rows.push_back({c.info.names[d], Grouped(c.tag_free), Grouped(free_fp),
-                    Fixed(c.tag_free ? static_cast<double>(free_fp) / c.tag_free : kNaN, 4),
-                    Percent(free_frames_hit, c.tag_free, 2), Grouped(tagged_fp),
-                    Grouped(on_other)});
+    FalseCounts counts;
+    for (const auto& r : c.records) counts.Add(r.truth, r.detectors[d].score);
+    add(c.info.names[d], counts);
   }
+  FalseCounts calibrated;
+  bool any = false;
+  for (const auto& r : c.records) {
+    if (!r.calibrated.ran) continue;
+    any = true;
+    calibrated.Add(r.truth, r.calibrated.score);
+  }
+  if (any) add(c.info.names[kChromaTag] + ", calibrated configs", calibrated);
   return "### False detections\n\n"
-         "On the tag-free frames every detection is false. On frames with tags, the last column "
-         "counts false detections lying on the other kind of tag (AprilTag or ArUco reading the "
-         "ChromaTag's black square as a code, or the reverse).\n\n" +
+         "On the tag-free frames every detection is false. On frames with tags, a detection is "
+         "false unless it is the first with the right family and ID on the detector's own tag; "
+         "of those, the last columns count the ones lying on the other kind of tag (AprilTag or "
+         "ArUco reading the ChromaTag's black square as a code, or the reverse), the ones on the "
+         "own tag with a wrong family or ID, and duplicates: the own tag reported again with the "
+         "right ID. The calibrated configs run on the frames of their print and each on every "
+         "tag-free frame.\n\n" +
          Markdown({"detector", "tag-free frames", "false detections", "per tag-free frame",
                    "% of tag-free frames with any", "false detections on frames with tags",
-                   "of which on the other tag"},
+                   "of which on the other tag", "wrong IDs", "duplicates"},
                   rows);
 }
 
@@ -472,12 +497,13 @@ bool WriteCsv(const Context& c) {
   out << "index,condition,has_tags,id,photo,exposure,blur_sigma_px,motion_blur_px,noise_sigma,"
          "jpeg_quality,chromatag_size_px,chromatag_angle_deg,apriltag_size_px,apriltag_angle_deg,"
          "set,family,quiet_zone_cells,cast,gradient,tone_gamma,print_chroma,shot_snr,read_noise,"
-         "bayer,print";
+         "bayer,print,red_gain,blue_gain,mixed_light";
   const char* keys[] = {"chromatag", "apriltag", "aruco"};
   for (const char* key : keys) {
-    out << "," << key << "_us," << key << "_found," << key << "_false," << key << "_corner_px";
+    out << "," << key << "_us," << key << "_found," << key << "_false," << key << "_duplicates,"
+        << key << "_corner_px";
   }
-  out << ",chromatag_alone_us,calibrated_found,calibrated_false";
+  out << ",chromatag_alone_us,calibrated_found,calibrated_false,calibrated_duplicates";
   for (int s = 0; s < kNumStages; ++s) out << ",us_" << StageName(static_cast<Stage>(s));
   for (int s = 0; s < kNumStages; ++s) out << ",rejected_" << StageName(static_cast<Stage>(s));
   out << ",seeds,chromatag_miss_stage,chromatag_miss_reason";
@@ -492,24 +518,27 @@ bool WriteCsv(const Context& c) {
         << t.apriltag.size_px << "," << t.apriltag.view_angle_deg << "," << DatasetKindName(t.kind)
         << "," << t.family << "," << t.quiet_zone_cells << "," << t.cast << "," << t.gradient << ","
         << t.tone_gamma << "," << t.print_chroma << "," << t.shot_snr << "," << t.read_noise << ","
-        << BayerModeName(t.bayer) << "," << PrintKindName(t.print);
+        << BayerModeName(t.bayer) << "," << PrintKindName(t.print) << "," << t.red_gain << ","
+        << t.blue_gain << "," << t.mixed_light;
     for (const DetectorRecord& d : r.detectors) {
       double mean = 0;
       for (double e : d.score.corner_error_px) mean += e / 4;
       if (!d.ran) {
-        out << ",,,,";
+        out << ",,,,,";
         continue;
       }
       out << "," << d.time_us << "," << d.score.found << "," << d.score.false_positives << ","
-          << (d.score.found ? std::to_string(mean) : "");
+          << d.score.duplicates << "," << (d.score.found ? std::to_string(mean) : "");
     }
     out << ",";
     if (!std::isnan(r.chromatag_alone_us)) out << r.chromatag_alone_us;
     out << ",";
-    if (r.calibrated.ran)
-      out << r.calibrated.score.found << "," << r.calibrated.score.false_positives;
-    else
-      out << ",";
+    if (r.calibrated.ran) {
+      out << r.calibrated.score.found << "," << r.calibrated.score.false_positives << ","
+          << r.calibrated.score.duplicates;
+    } else {
+      out << ",,";
+    }
     for (double us : r.chromatag_summary.stage_time_us) out << "," << us;
     for (int n : r.chromatag_summary.rejected) out << "," << n;
     out << "," << r.chromatag_summary.seeds << ",";
@@ -566,10 +595,10 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
       << figures << "\n"
       << FamilyRecallSection(c) << "\n"
       << PrintRecallSection(c) << "\n"
-      << ConditionRecallSection(c) << "\n"
-      << CornerTable(c) << "\n"
-      << PoseSection(c) << "\n"
-      << FalseDetectionTable(c);
+      << ConditionRecallSection(c) << "\n";
+  const std::string casts = CastRecallSection(c);
+  if (!casts.empty()) out << casts << "\n";
+  out << CornerTable(c) << "\n" << PoseSection(c) << "\n" << FalseDetectionTable(c);
   *markdown = out.str();
   std::ofstream file(out_dir + "/report.md");
   file << *markdown;

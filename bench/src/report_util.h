@@ -3,8 +3,10 @@
 #ifndef CHROMATAG_BENCH_SRC_REPORT_UTIL_H_
 #define CHROMATAG_BENCH_SRC_REPORT_UTIL_H_
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -77,13 +79,60 @@ struct Context {
   int tagged = 0, tag_free = 0;
 };
 
+// Which tags count: the frame (for its conditions) and the detector's own tag.
+using TagFilter = std::function<bool(const FrameTruth&, const TagTruth&)>;
+
+struct Tally {
+  int tags = 0, hits = 0;
+  double Recall() const { return tags > 0 ? static_cast<double>(hits) / tags : kNaN; }
+};
+
+// Each active detector against its own tag, over the tags `filter` keeps.
+std::array<Tally, kNumDetectors> Count(const Context& c, const TagFilter& filter);
+// ChromaTag with the calibrated config of each frame's print, on the tags
+// `filter` keeps (CalibratedDetectors); no tags when it did not run.
+Tally CountCalibrated(const Context& c, const TagFilter& filter);
+bool AnyCalibrated(const Context& c);
+
+// A condition of the frame, named for a row of a table.
+struct FrameCondition {
+  std::string name;
+  std::function<bool(const FrameTruth&)> has;
+};
+// The camera set's casts at the card: each CastKind, strong casts
+// (IsStrongCast), mixed light.
+std::vector<FrameCondition> CastConditions();
+
 // Sections of the report that break recall down (report_breakdown.cc).
 std::string FamilyRecallSection(const Context& c);
 std::string ConditionRecallSection(const Context& c);
 std::string PrintRecallSection(const Context& c);  // Camera set only; empty otherwise.
-std::string TargetsSection(const Context& c);      // Camera set only; empty otherwise.
+std::string CastRecallSection(const Context& c);   // Camera set only; empty otherwise.
 std::string PoseSection(const Context& c);         // Camera set only; empty otherwise.
 std::string MissTable(const Context& c);           // Table 4(b), from the miss analysis.
+
+enum class Verdict { kNotApplicable = 0, kPass = 1, kFail = 2 };
+
+// One row of the Targets section: what ChromaTag (or its calibrated
+// configs) measured against what is wanted, for one family (recall) or the
+// whole set (false detections, speed). Rows with no `wanted` are shown for
+// comparison and judge nothing.
+struct TargetRow {
+  std::string target;
+  std::string wanted;
+  std::string family;      // Empty for a row over the whole set.
+  std::string chromatag;   // What ChromaTag (or its calibrated configs) measured.
+  std::string calibrated;  // Rows over the whole set: the calibrated configs' ("" if not run).
+  std::string apriltag;    // AprilTag 3's on the same range, or "n/a".
+  Verdict verdict = Verdict::kNotApplicable;
+};
+
+// The targets (report_targets.cc): on the camera set, recall per family
+// against AprilTag 3 and against 99.5 %, per print and per condition; on
+// every set, false detections, wrong IDs and duplicates, and speed against
+// AprilTag 3 measured in the same run.
+std::vector<TargetRow> CheckTargets(const Context& c);
+std::string TargetsSection(const Context& c);
 
 }  // namespace chromatag::bench
 

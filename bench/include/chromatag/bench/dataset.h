@@ -15,8 +15,9 @@
 //   about 12-250 px, the tags printed four ways (PrintKind: the default
 //   palette exactly and through a CMYK press, the paper's iccv17 shades and
 //   those faded further), light on the card of x0.3-1.5 (exposure times
-//   light level) falling off across it by up to 1.6x, six colour casts
-//   (uncorrected white balance), a tone curve on top of sRGB,
+//   light level) falling off across it by up to 1.6x, colour casts of a
+//   white balance left wrong (red and blue gains of 0.6-1.5, a quarter of
+//   the frames in mixed light; cast.h), a tone curve on top of sRGB,
 //   optical and motion blur, shot and read noise in linear light, an RGGB
 //   Bayer mosaic demosaiced by OpenCV on a third of the frames, and JPEG
 //   60-95 with 4:2:0 chroma on 40 %. A quarter of the frames hold no tag.
@@ -46,7 +47,7 @@ std::optional<DatasetKind> ParseDatasetKind(const std::string& name);
 std::vector<std::string> DatasetFamilies(DatasetKind kind);
 
 // The paper's two lighting conditions. In the camera set a frame counts as
-// white-balanced when its cast is "neutral".
+// white-balanced when its cast is "neutral" and its light not mixed.
 enum class ColorCondition {
   kWhiteBalanced = 0,  // "WB": neutral, a few percent of residual cast.
   kColorCast = 1,      // "NWB": a strong tungsten-like cast left uncorrected.
@@ -145,7 +146,14 @@ struct FrameTruth {
   // the fields it has: cast "neutral" or "tungsten", tone gamma 1, print
   // chroma 0.85 of DatasetOptions::palette, noise_sigma only.
   PrintKind print = PrintKind::kDefault;  // Camera set, frames with tags.
-  std::string cast = "neutral";           // neutral, tungsten, cool, cyan, green, magenta.
+  // The cast at the card's centre (the frame's centre without a card): the
+  // white-balance gains on linear red and blue (green's 1; the classic set's
+  // gains over green), and its name: camera set CastKindName (cast.h),
+  // classic "neutral" or "tungsten".
+  std::string cast = "neutral";
+  double red_gain = 1.0;
+  double blue_gain = 1.0;
+  bool mixed_light = false;  // Two sources, their cast blending across the frame.
   double exposure = 1.0;
   double gradient = 1.0;       // Light on the card, brightest over darkest.
   double tone_gamma = 1.0;     // Exponent applied to the sRGB-encoded value.

@@ -27,6 +27,7 @@ struct FrameScore {
   int false_positives = 0;     // Wrong ID, wrong place, or a second report of the tag.
   int false_on_other_tag = 0;  // Of those, how many lie on the frame's other tag.
   int wrong_ids = 0;           // Of those, how many lie on the own tag with a wrong family or ID.
+  int duplicates = 0;          // Of those, how many are the own tag again, right family and ID.
   // When found: each corner's distance to the truth, pixels, and the mean
   // signed offset (detected minus true), which shows a convention mismatch.
   std::array<double, 4> corner_error_px{};
