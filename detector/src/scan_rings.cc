@@ -215,9 +215,14 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
     return false;
   }
   const float black_l = green_black.value_after;
+  // Into white: half way from the black up to the green. ReferenceBlack is
+  // the darkest pixel of the run, and on a dim card the sensor's noise
+  // spreads the black ring over L* 4-21 (a 164 px tag at L* 18 lost all its
+  // scans to bumps inside its black ring at 0.3 of the way); the quiet zone
+  // lies above the green.
   Crossing black_white;
   if (!ScanBorder<Border::kBlackToWhite>(image, green_black.resume, direction, black_l,
-                                         std::max(thresh, 0.3f * (green_l - black_l)), ring_run,
+                                         std::max(thresh, 0.5f * (green_l - black_l)), ring_run,
                                          ring_reach, buffers, &black_white)) {
     return false;
   }
