@@ -28,6 +28,7 @@
 #ifndef CHROMATAG_DETECTOR_SRC_KERNELS_COLOR_TABLE_H_
 #define CHROMATAG_DETECTOR_SRC_KERNELS_COLOR_TABLE_H_
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -66,6 +67,27 @@ class ColorTable {
     return 500.f * (F(x) - F(y));
   }
   float L(uint8_t r, uint8_t g, uint8_t b) const { return LOfY(Y(r, g, b)); }
+  // CIELAB of the colour whose linear R, G, B are the 8-bit colour's times
+  // `gain` (each channel clipped at full scale): a colour seen under another
+  // light. Within the accurate path's bound of the exact formula.
+  LabF Lab(uint8_t r, uint8_t g, uint8_t b, const std::array<float, 3>& gain) const {
+    auto clipped = [](float v) {
+      return static_cast<int>(std::min(v, static_cast<float>(1 << kFixedBits)));
+    };
+    // Each channel's contribution, scaled and clipped at the channel's full
+    // scale (its value at 255): X/Xn, Y and Z/Zn of full scale sum to 1.
+    int xyz[3] = {0, 0, 0};
+    const uint8_t v[3] = {r, g, b};
+    for (int c = 0; c < 3; ++c) {
+      const float scale =
+          std::min(gain[c], static_cast<float>(xyz_[c][255][1]) / std::max(1, xyz_[c][v[c]][1]));
+      for (int k = 0; k < 3; ++k) xyz[k] += static_cast<int>(scale * xyz_[c][v[c]][k]);
+    }
+    const float fx = F(clipped(static_cast<float>(xyz[0]))),
+                fy = F(clipped(static_cast<float>(xyz[1]))),
+                fz = F(clipped(static_cast<float>(xyz[2])));
+    return {116.f * fy - 16.f, 500.f * (fx - fy), 200.f * (fy - fz)};
+  }
   // Relative luminance Y in fixed point (1.0 is 1 << 20): L() is L* of this
   // Y, and never smaller for a larger Y. So a test of many colours against
   // one L* level can compare Y with YForL(level) instead, which needs three

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -67,6 +69,32 @@ TEST(ColorTableTest, SingleChannelsAgreeWithLab) {
     const LabF lab = table.Lab(v, 255 - v, v / 2);
     EXPECT_FLOAT_EQ(table.A(v, 255 - v, v / 2), lab.a);
     EXPECT_FLOAT_EQ(table.L(v, 255 - v, v / 2), lab.L);
+  }
+}
+
+// A colour seen under another light (each channel's linear light scaled,
+// clipped at full scale) as the exact formulas give it, for gains that darken
+// and that lift a channel past full scale.
+TEST(ColorTableTest, GainedColoursAgreeWithTheExactFormulas) {
+  const ColorTable& table = ColorTable::Get();
+  const std::array<float, 3> gains[] = {{1.f, 1.f, 1.f}, {1.6f, 1.f, 0.55f}, {0.5f, 0.9f, 2.5f}};
+  for (const auto& gain : gains) {
+    double worst = 0;
+    for (int r = 0; r < 256; r += 15) {
+      for (int g = 0; g < 256; g += 15) {
+        for (int b = 0; b < 256; b += 15) {
+          const LabF got = table.Lab(r, g, b, gain);
+          const uint8_t v[3] = {static_cast<uint8_t>(r), static_cast<uint8_t>(g),
+                                static_cast<uint8_t>(b)};
+          double lin[3];
+          for (int c = 0; c < 3; ++c) lin[c] = std::min(1.0, gain[c] * Srgb8ToLinear(v[c]));
+          const Lab want = XyzToLab(LinearRgbToXyz({lin[0], lin[1], lin[2]}));
+          worst = std::max({worst, std::abs(got.L - want.L), std::abs(got.a - want.a),
+                            std::abs(got.b - want.b)});
+        }
+      }
+    }
+    EXPECT_LT(worst, 0.05) << gain[0] << " " << gain[1] << " " << gain[2];
   }
 }
 
