@@ -114,6 +114,57 @@ TEST(DetectorConditionsTest, StrongCoolCastAndJpegQuality40) {
   }
 }
 
+// All 16h5 IDs of a faded iccv17 print (a* and b* x 0.8: the shades the
+// paper's authors measured, washed out further) at `size` px, tilted up to
+// 20 degrees, through a linear camera whose white balance left `gain` on red
+// and blue, at `exposure` of the light, with blur, noise and, when given,
+// JPEG.
+Scene CastScene(double size, cv::Vec3d gain, double exposure, int jpeg_quality) {
+  SceneOptions options;
+  std::vector<SceneTag> tags = Grid("16h5", size, 7, "iccv17", false, &options);
+  for (size_t i = 0; i < tags.size(); ++i) {
+    tags[i].print_chroma = 0.8;
+    tags[i].tilt_deg = 5.0 * (i % 5);
+    tags[i].tilt_axis_deg = 40.0 * i;
+  }
+  options.linear_camera = true;
+  options.gain = gain;
+  options.exposure = exposure;
+  options.blur_sigma = 0.8;
+  options.blur_in_linear_light = true;
+  options.noise_sigma = 1.5;
+  options.shot_noise = 0.01;
+  options.jpeg_quality = jpeg_quality;
+  options.seed = static_cast<unsigned>(100 * gain[0] + 10 * gain[2] + exposure);
+  return RenderScene(tags, options);
+}
+
+// Casts as a wrong white balance leaves them, on a faded print in dim light.
+// A green cast (red and blue at 0.6) takes the red's a* to 10, under the
+// detector's absolute floors; a magenta one (both at 1.5) lifts the green's
+// to 0; a cyan one (red at 0.64) does some of both. Each tag is judged in
+// its own light (the quiet zone's white), where its colours are a tag's
+// again. Before, the green cast lost every tag at 0.4 of the light with
+// JPEG, and the magenta one half.
+TEST(DetectorConditionsTest, StrongCastsOnAFadedPrintInDimLight) {
+  auto detector = BothFamiliesDetector();
+  struct Condition {
+    std::string name;
+    cv::Vec3d gain;  // R, G, B.
+    double exposure;
+    int jpeg_quality;
+  };
+  const Condition conditions[] = {{"green cast", {0.6, 1, 0.6}, 0.5, 0},
+                                  {"green cast, dim, JPEG 75", {0.6, 1, 0.6}, 0.4, 75},
+                                  {"magenta cast, dim", {1.5, 1, 1.5}, 0.4, 0},
+                                  {"cyan cast", {0.64, 1, 1}, 0.83, 0},
+                                  {"cyan cast, dim, JPEG 75", {0.64, 1, 1}, 0.6, 75}};
+  for (const Condition& c : conditions) {
+    ExpectEveryTagFoundOnce(*detector, CastScene(100, c.gain, c.exposure, c.jpeg_quality), 1.5,
+                            c.name);
+  }
+}
+
 // 28 tags of `family` in the iccv17 shades (what the paper's authors
 // measured on their own prints: red-1 and red-0 8 b* units apart, the greens
 // 11), `size` px, through a linear camera at `exposure` of the light, with

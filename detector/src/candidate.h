@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include "geometry.h"
+#include "tag_light.h"
 
 namespace chromatag::internal {
 
@@ -18,9 +19,12 @@ namespace chromatag::internal {
 enum Ring { kRedGreen = 0, kGreenBlack = 1, kBlackWhite = 2 };
 inline constexpr int kNumRings = 3;
 
-// Where one scan from the centre crossed each border (sub-pixel).
+// Where one scan from the centre crossed each border (sub-pixel), and the
+// pixels it took as the green ring's and the quiet zone's colours.
 struct RingHits {
   std::array<cv::Point2f, kNumRings> border;
+  cv::Point green_at;
+  cv::Point white_at;
 };
 
 // A tag candidate as the stages build it.
@@ -36,6 +40,8 @@ struct Candidate {
   // far less red. `enclosed` is false until a pass completed.
   bool enclosed = false;
   std::array<cv::Point2f, 8> red_border;
+  // The quiet zone's white from InitialScan's final scans, settled.
+  TagLight light;
 };
 
 // The eight directions InitialScan and QuadsFromScans scan in from a

@@ -307,8 +307,9 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   for (int row = 0; row < num_rows; ++row) {
     internal::RowCursor cursor = internal::SampledRow(view.height(), options, row);
     cv::Point seed;
+    internal::Seed kind = internal::Seed::kNone;
     while (internal::FindADiff(view, options, scratch.areas, &scratch.row_scan, &cursor, &seed,
-                               &summary.rejected[static_cast<int>(Stage::kFindADiff)])) {
+                               &kind, &summary.rejected[static_cast<int>(Stage::kFindADiff)])) {
       ++summary.seeds;
       internal::Candidate& candidate = scratch.candidate;
       Detection detection;
@@ -353,7 +354,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       };
       if (!run_stage(Stage::kInitialScan,
                      [&] {
-                       return internal::InitialScan(view, options, seed, &scratch.ring_scan,
+                       return internal::InitialScan(view, options, seed, kind, &scratch.ring_scan,
                                                     &candidate, &scratch.rejected, &why);
                      }) ||
           !(fast_path() || slow_path())) {

@@ -56,13 +56,13 @@ int ComputedARiseThreshold(double adiff_thresh) {
 }
 
 int ComputedATwoStepRedFloor() {
-  return static_cast<int>(
-      std::floor((kTwoStepMinRedA - ColorTable::kFastAErrorBound) * ColorTable::kFastAUnitsPerA));
+  return static_cast<int>(std::floor((kTwoStepCastMinRedA - ColorTable::kFastAErrorBound) *
+                                     ColorTable::kFastAUnitsPerA));
 }
 
 int ComputedAGreenLimit() {
   return static_cast<int>(
-      std::ceil((kTwoStepGreenA + ColorTable::kFastAErrorBound) * ColorTable::kFastAUnitsPerA));
+      std::ceil((kTwoStepCastGreenA + ColorTable::kFastAErrorBound) * ColorTable::kFastAUnitsPerA));
 }
 
 bool RowScanComputesA(const ImageView& image, const DetectorOptions& options) {
@@ -101,11 +101,11 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
   sampler.step_thresh = static_cast<int>(std::floor(kTwoStepShare * options.adiff_thresh)) -
                         2 * ColorTable::kCoarseErrorBound;
   // Without two_step_rises, no sample counts as green.
-  sampler.green_limit = options.two_step_rises ? static_cast<int>(std::ceil(kTwoStepGreenA)) +
+  sampler.green_limit = options.two_step_rises ? static_cast<int>(std::ceil(kTwoStepCastGreenA)) +
                                                      ColorTable::kCoarseErrorBound
                                                : INT_MIN;
   sampler.red_floor =
-      static_cast<int>(std::floor(kTwoStepMinRedA)) - ColorTable::kCoarseErrorBound - 1;
+      static_cast<int>(std::floor(kTwoStepCastMinRedA)) - ColorTable::kCoarseErrorBound - 1;
   return image.kernels().scan_row_coarse(sampler, coarse, rises);
 }
 
@@ -122,7 +122,7 @@ bool InSpans(const std::array<std::pair<int, int>, 64>& spans, int num_spans, in
 
 bool FindADiff(const ImageView& image, const DetectorOptions& options,
                const std::vector<DetectedArea>& skip, RowScanBuffers* buffers, RowCursor* cursor,
-               cv::Point* seed, int* prefilter_rejects) {
+               cv::Point* seed, Seed* kind, int* prefilter_rejects) {
   const ColorTable& table = image.table();
   const int step = options.step;
   const int r = image.r_offset(), b = image.b_offset();
@@ -176,9 +176,10 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
     const float two_before =
         has_two ? table.A(q[r - 3 * step], q[1 - 3 * step], q[b - 3 * step]) : kNoSample;
     // L* only where the rise in two steps needs it.
-    const LabF lab = two_before < kTwoStepGreenA ? table.Lab(p[r], p[1], p[b])
-                                                 : LabF{0.f, table.A(p[r], p[1], p[b]), 0.f};
-    if (SeedsAt(options, lab, table.A(q[r], q[1], q[b]), two_before)) {
+    const LabF lab = two_before < kTwoStepCastGreenA ? table.Lab(p[r], p[1], p[b])
+                                                     : LabF{0.f, table.A(p[r], p[1], p[b]), 0.f};
+    *kind = SeedsAt(options, lab, table.A(q[r], q[1], q[b]), two_before);
+    if (*kind != Seed::kNone) {
       *seed = cv::Point(x, y);
       return true;
     }

@@ -80,10 +80,10 @@ inline RowCursor SampledRow(int height, const DetectorOptions& options, int row)
 // samples' FastA is within kFastAErrorBound of its accurate a*.
 int ComputedARiseThreshold(double adiff_thresh);
 // The FastA below which the computed a* takes a sample two back as green
-// (SeedsAt): every sample whose accurate a* is below kTwoStepGreenA.
+// (SeedsAt): every sample whose accurate a* is below kTwoStepCastGreenA.
 int ComputedAGreenLimit();
 // The FastA above which it takes a sample as red enough to end such a rise:
-// every sample whose accurate a* is at least kTwoStepMinRedA.
+// every sample whose accurate a* is at least kTwoStepCastMinRedA.
 int ComputedATwoStepRedFloor();
 
 // Whether FindADiff computes a* with these options and the view's kernels.
@@ -113,17 +113,31 @@ inline constexpr float kTwoStepGreenA = -4.f;
 inline constexpr float kTwoStepShare = 0.25f;
 inline constexpr float kTwoStepMinRedA = 18.f;
 inline constexpr float kTwoStepMinL = 15.f;
+// What a colour cast and dim light do to those levels: a green under a
+// magenta cast reads a* 0 or more, a faded red under a green cast and in
+// dim light a* 10. A rise over two samples that passes only these looser
+// levels seeds a candidate that must show a tag's colours in its own light
+// before InitialScan spends a centring pass on it (Seed::kInACast).
+inline constexpr float kTwoStepCastGreenA = 3.f;
+inline constexpr float kTwoStepCastMinRedA = 8.f;
 
-// Whether a sample (a*, L*) seeds after a* `before` and `two_before` (the
+// What a sample's rise is: none, a seed, or a seed only if the light is
+// cast or dim (the looser levels above).
+enum class Seed { kNone, kSeed, kInACast };
+
+// The rise a sample (a*, L*) makes after a* `before` and `two_before` (the
 // accurate test FindADiff applies; `two_before` NaN where there is none).
-inline bool SeedsAt(const DetectorOptions& options, LabF lab, float before, float two_before) {
+inline Seed SeedsAt(const DetectorOptions& options, LabF lab, float before, float two_before) {
   const float thresh = static_cast<float>(options.adiff_thresh);
   const float a = lab.a;
-  if (a - before > thresh) return true;
-  if (!options.two_step_rises) return false;
+  if (a - before > thresh) return Seed::kSeed;
+  if (!options.two_step_rises) return Seed::kNone;
   const float step = kTwoStepShare * thresh;
-  return two_before < kTwoStepGreenA && a - two_before > thresh && a - before > step &&
-         before - two_before > step && a >= kTwoStepMinRedA && lab.L >= kTwoStepMinL;
+  if (!(two_before < kTwoStepCastGreenA && a - two_before > thresh && a - before > step &&
+        before - two_before > step && a >= kTwoStepCastMinRedA && lab.L >= kTwoStepMinL)) {
+    return Seed::kNone;
+  }
+  return two_before < kTwoStepGreenA && a >= kTwoStepMinRedA ? Seed::kSeed : Seed::kInACast;
 }
 
 // FindADiff's scan of sampled row y: fills `rises` (one entry per sample at
@@ -134,11 +148,12 @@ inline bool SeedsAt(const DetectorOptions& options, LabF lab, float before, floa
 int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32_t* coarse,
             int* rises);
 
-// FindADiff: false at the row's end. *prefilter_rejects counts rises the row
-// scan's prefilter suggested but the accurate a* refuted.
+// FindADiff: false at the row's end; else the seed and its kind (never
+// kNone). *prefilter_rejects counts rises the row scan's prefilter suggested
+// but the accurate a* refuted.
 bool FindADiff(const ImageView& image, const DetectorOptions& options,
                const std::vector<DetectedArea>& skip, RowScanBuffers* buffers, RowCursor* cursor,
-               cv::Point* seed, int* prefilter_rejects);
+               cv::Point* seed, Seed* kind, int* prefilter_rejects);
 
 }  // namespace chromatag::internal
 

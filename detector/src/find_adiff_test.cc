@@ -45,14 +45,20 @@ int FirstSampleFrom(int x, int step) { return (x + step - 1) / step * step; }
 
 // Every seed FindADiff returns on row y, in order.
 std::vector<cv::Point> Seeds(const ImageView& view, const DetectorOptions& options,
-                             const std::vector<DetectedArea>& skip, int y) {
+                             const std::vector<DetectedArea>& skip, int y,
+                             std::vector<Seed>* kinds = nullptr) {
   RowCursor cursor;
   cursor.y = y;
   std::vector<cv::Point> seeds;
   cv::Point seed;
+  Seed kind = Seed::kNone;
   int rejects = 0;
   RowScanBuffers buffers;
-  while (FindADiff(view, options, skip, &buffers, &cursor, &seed, &rejects)) seeds.push_back(seed);
+  while (FindADiff(view, options, skip, &buffers, &cursor, &seed, &kind, &rejects)) {
+    EXPECT_NE(kind, Seed::kNone);
+    seeds.push_back(seed);
+    if (kinds) kinds->push_back(kind);
+  }
   return seeds;
 }
 
@@ -143,6 +149,37 @@ TEST(FindADiffTwoStepTest, SeedsWhereTheRiseFromGreenTakesTwoSamples) {
   }
 }
 
+// The same rise over two samples under what a cast and dim light do to a*:
+// from a green a magenta cast lifted to a* 1, and up to a faded red a green
+// cast and dim light left at a* 10. Each seeds, as a seed that must show a
+// tag's colours in its own light (Seed::kInACast); the rise from a true
+// green to a true red is an ordinary seed.
+TEST(FindADiffTwoStepTest, RisesThatOnlyACastExplainsAreSeedsInACast) {
+  const Rgb8 cast_green = LabToSrgb8({50, 1, 10}), cast_blend = LabToSrgb8({50, 15, 10}),
+             red = LabToSrgb8({50, 30, 10}), green = LabToSrgb8({40, -20, 10}),
+             pale_blend = LabToSrgb8({40, -5, 10}), pale_red = LabToSrgb8({40, 10, 10});
+  cv::Mat image(8, 120, CV_8UC3);
+  for (int x = 0; x < image.cols; ++x) {
+    // A cast green to red at 20-27, a green to a pale red at 60-67, a green
+    // to a red at 100-107.
+    const Rgb8 c = x < 20    ? cast_green
+                   : x < 24  ? cast_blend
+                   : x < 40  ? red
+                   : x < 60  ? green
+                   : x < 64  ? pale_blend
+                   : x < 80  ? pale_red
+                   : x < 100 ? green
+                   : x < 104 ? pale_blend
+                             : red;
+    for (int y = 0; y < image.rows; ++y) image.at<cv::Vec3b>(y, x) = {c.b, c.g, c.r};
+  }
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  std::vector<Seed> kinds;
+  EXPECT_EQ(Seeds(view, DetectorOptions{}, {}, 4, &kinds),
+            (std::vector<cv::Point>{{24, 4}, {64, 4}, {104, 4}}));
+  EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kInACast, Seed::kInACast, Seed::kSeed}));
+}
+
 // Rows of random colours, many short runs and some long ones, at widths
 // that end each of the vector paths' blocks anywhere.
 cv::Mat RandomRows(int width, cv::RNG* rng) {
@@ -205,7 +242,8 @@ TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
               for (int i = 1; i < count; ++i) {
                 const float two_before = i >= 2 ? a_at(i - 2) : std::nanf("");
                 const uint8_t* p = row + 12 * i;
-                if (SeedsAt(options, table.Lab(p[ri], p[1], p[bi]), a_at(i - 1), two_before))
+                if (SeedsAt(options, table.Lab(p[ri], p[1], p[bi]), a_at(i - 1), two_before) !=
+                    Seed::kNone)
                   exact.push_back(i);
                 auto sat = [](int v) { return std::clamp(v, -32768, 32767); };
                 const int rise = sat(fast_at(i) - fast_at(i - 1));

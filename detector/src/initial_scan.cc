@@ -38,6 +38,16 @@ constexpr int kEarlyRingDirections[] = {0, 2};
 constexpr int kCentringOrder[8] = {6, 2, 4, 0, 5, 7, 3, 1};
 // Pixels past a red/green run searched for the green's full a* drop.
 constexpr int kGreenLookAhead = 6;
+// A red paler than the drop into green that CentringPass asks for needs a
+// drop of this many times its own a* (GreenPastRed).
+constexpr float kMinDropOverRed = 1.2f;
+// The palest seed InitialScan starts from, in a*: a cast and dim light take a
+// faded print's red to a* 10; the red's a* in the candidate's own light
+// (kMinTagRedA) is checked once the final scans have found its white.
+// Pixels beyond where the red/green border is expected that a probe of the
+// candidate's own light (ColoursInProbeLight) looks for it.
+constexpr int kProbeSlack = 6;
+constexpr float kMinSeedRedA = 6.f;
 // A run past the red threshold whose lowest a* stays within this many
 // thresholds of ReferenceRed is a dip inside the red, not its border; a scan
 // goes past at most kMaxRedDips of them (CentringPass).
@@ -62,6 +72,45 @@ constexpr float kMaxBlackOverGreen = 2.5f;
 // rows lie on the region's left edge, where the octagon's sides cut inside.
 constexpr float kRejectedRegionGrowth = 0.15f;
 constexpr float kRejectedRegionMarginPx = 2.f;
+
+// Whether a* `deepest_a` past a red of a* `reference_red` counts as a tag's
+// green by absolute measures: a drop of at least `min_drop`, to an a* below
+// `max_green_a`.
+bool GreenPastRed(float reference_red, float deepest_a, float min_drop, float max_green_a) {
+  return reference_red - deepest_a >= min_drop && deepest_a < max_green_a;
+}
+
+// The same, allowing for what dim light and a cast do to a*'s steps: a drop
+// from a red paler than `min_drop` of kMinDropOverRed times the red's own
+// a* (a dim card's faded red under a green cast sits at a* 10, its green 20
+// below). A candidate that passes only this test must show a tag's colours
+// in its own light (ColoursInProbeLight) before its scans go on.
+bool GreenPastRedInACast(float reference_red, float deepest_a, float min_drop, float max_green_a) {
+  const float needed =
+      std::min(min_drop, std::max(0.5f * min_drop, kMinDropOverRed * reference_red));
+  return reference_red - deepest_a >= needed && deepest_a < max_green_a;
+}
+
+// Whether the red at `centre` and the green of one ring scan in `direction`
+// (from `skip` steps out, finding the red/green border within `red_reach`
+// steps of there: the caller knows about where it lies) are a tag's in the light of that scan's
+// quiet zone (TagLight): the red's a* at least kMinTagRedA, the green's below
+// DetectorOptions::max_green_a.
+bool ColoursInProbeLight(const ImageView& image, const DetectorOptions& options, cv::Point2f centre,
+                         cv::Point2f direction, int skip, int red_reach, float reference_red,
+                         RingScanBuffers* buffers) {
+  const cv::Point2f start = centre + static_cast<float>(skip) * direction;
+  RingHits hits;
+  if (!ScanRings(image, options, start, direction, reference_red, buffers, &hits, red_reach))
+    return false;
+  TagLight light;
+  light.AddWhite(image, hits.white_at);
+  if (!light.Settle()) return false;
+  const cv::Point at(RoundToInt(static_cast<double>(centre.x)),
+                     RoundToInt(static_cast<double>(centre.y)));
+  return light.BalancedAt(image, at).a >= static_cast<float>(kMinTagRedA) &&
+         light.BalancedAt(image, hits.green_at).a < static_cast<float>(options.max_green_a);
+}
 
 // CentringPass's scan along one direction: from step *k on, to the end of
 // the first run of M pixels whose a* lies more than `red_thresh` below
@@ -119,8 +168,8 @@ bool NextRedRun(const ImageView& image, const DetectorOptions& options, cv::Poin
 // `border`. False (and *why) when a scan leaves the frame or reach, or finds
 // no tag green past the red.
 bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Point2f centre,
-                  float reference_red, int reach, std::array<cv::Point2f, 8>* border,
-                  RejectReason* why) {
+                  float reference_red, int reach, RingScanBuffers* buffers, bool* in_own_light,
+                  std::array<cv::Point2f, 8>* border, RejectReason* why) {
   const float red_thresh = RedGreenThresh(options, reference_red);
   const float min_drop = kMinGreenDropFraction * static_cast<float>(options.adiff_thresh);
   const float max_green_a = static_cast<float>(options.max_green_a);
@@ -135,11 +184,24 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
         return false;
       }
       // Past the border lies a tag's green: far less red than its red, and
-      // green (a* below DetectorOptions::max_green_a). Most red things that
-      // are not tags (bricks, skin, wood, a red sign on a wall) meet grey,
-      // white or black here and are dropped after one scan instead of eight
-      // per pass.
-      if (reference_red - deepest_a >= min_drop && deepest_a < max_green_a) break;
+      // green. Most red things that are not tags (bricks, skin, wood, a red
+      // sign on a wall) meet grey, white or black here and are dropped after
+      // one scan instead of eight per pass. Where only a cast or dim light
+      // could make this a tag's green, one ring scan finds the candidate's
+      // white and the colours are judged in that light, once.
+      // A red paler than kMinTagRedA is judged in its own light too.
+      const bool green = GreenPastRed(reference_red, deepest_a, min_drop, max_green_a);
+      if (green && reference_red >= static_cast<float>(kMinTagRedA)) break;
+      if (green || GreenPastRedInACast(reference_red, deepest_a, min_drop, max_green_a)) {
+        if (!*in_own_light) {
+          const int skip = std::max(0, k - 2 * options.border_run);
+          *in_own_light = ColoursInProbeLight(image, options, centre, direction, skip,
+                                              k + kProbeSlack - skip, reference_red, buffers);
+        }
+        if (*in_own_light) break;
+        *why = green ? RejectReason::kPaleRed : RejectReason::kNotGreen;
+        return false;
+      }
       // A run that stays within kRedDipDepth thresholds of the red is a dip
       // inside it, not a border: the sensor noise of a dim frame (a* from 15
       // to 29 across one red cell at L* 21) makes runs of M pixels below the
@@ -155,7 +217,34 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
   return true;
 }
 
-// Step 3: whether the ring widths along each of the final scans fit a tag.
+// Step 3: whether the candidate's red and green, seen in its own light
+// (TagLight: the quiet zone's white from the final scans), are a tag's: the
+// red at the centre at least kMinTagRedA, the greens where the scans met
+// them (their median) below DetectorOptions::max_green_a. False (and *why)
+// otherwise, or when no white can be settled.
+bool ColoursInOwnLight(const ImageView& image, const DetectorOptions& options, cv::Point2f centre,
+                       const std::array<cv::Point, 4>& greens, TagLight* light, RejectReason* why) {
+  if (!light->Settle()) {
+    *why = RejectReason::kRingScan;
+    return false;
+  }
+  const int cx = RoundToInt(static_cast<double>(centre.x));
+  const int cy = RoundToInt(static_cast<double>(centre.y));
+  if (light->BalancedAt(image, cv::Point(cx, cy)).a < static_cast<float>(kMinTagRedA)) {
+    *why = RejectReason::kPaleRed;
+    return false;
+  }
+  std::array<float, 4> green_a;
+  for (int i = 0; i < 4; ++i) green_a[i] = light->BalancedAt(image, greens[i]).a;
+  std::sort(green_a.begin(), green_a.end());
+  if (0.5f * (green_a[1] + green_a[2]) >= static_cast<float>(options.max_green_a)) {
+    *why = RejectReason::kNotGreen;
+    return false;
+  }
+  return true;
+}
+
+// Step 4: whether the ring widths along each of the final scans fit a tag.
 bool RingProportionsFit(const Candidate& candidate) {
   for (size_t i = 0; i < candidate.points[kRedGreen].size(); ++i) {
     const float red = cv::norm(candidate.points[kRedGreen][i] - candidate.centre);
@@ -207,12 +296,13 @@ bool RejectedRegion::BorderContains(cv::Point2f p) const {
   return inside;
 }
 
-bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
+bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed, Seed kind,
                  RingScanBuffers* buffers, Candidate* candidate,
                  std::vector<RejectedRegion>* rejected, RejectReason* why) {
   cv::Point2f centre(static_cast<float>(seed.x), static_cast<float>(seed.y));
   candidate->centre = centre;
   candidate->enclosed = false;
+  candidate->light = TagLight();
   for (auto& ring : candidate->points) ring.clear();
   // Red things that are not tags span many of FindADiff's rows, and each row
   // seeds them again: a seed inside a region already rejected in this frame
@@ -248,7 +338,19 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // A tag's red half-width is under half the frame unless the tag is larger
   // than the frame.
   const int reach = std::max(image.width(), image.height()) / 2;
-  if (reference_red < static_cast<float>(kMinTagRedA)) return reject(RejectReason::kPaleRed);
+  if (reference_red < kMinSeedRedA) return reject(RejectReason::kPaleRed);
+  // A seed that only a cast or dim light could make a tag's, or a red paler
+  // than kMinTagRedA, must show a tag's colours in its own light first: one
+  // ring scan back along the row, where the rise came from (the seed lies
+  // at the red's edge, so the rings follow within a few cells).
+  bool in_own_light = false;
+  if (kind == Seed::kInACast || reference_red < static_cast<float>(kMinTagRedA)) {
+    if (!ColoursInProbeLight(image, options, centre, kScanDirections[4], 0,
+                             2 * options.step + kProbeSlack, reference_red, buffers)) {
+      return reject(RejectReason::kPaleRed);
+    }
+    in_own_light = true;
+  }
 
   // Step 1, repeated: re-centre on the centroid of the polygon of red/green
   // border points found in eight directions. The paper averages the four axis scans, but
@@ -258,7 +360,8 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   for (int iteration = 0; iteration < kMaxCentreIterations && !converged; ++iteration) {
     const float red_thresh = RedGreenThresh(options, reference_red);
     RejectReason pass_why;
-    if (!CentringPass(image, options, centre, reference_red, reach, &border, &pass_why))
+    if (!CentringPass(image, options, centre, reference_red, reach, buffers, &in_own_light, &border,
+                      &pass_why))
       return reject(pass_why);
     region = RejectedRegion::Around(border);
     have_region = true;
@@ -300,6 +403,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // Step 2: the three rings in the four axis directions from the converged
   // centre seed the candidate's polygons.
   candidate->scan_directions.clear();
+  std::array<cv::Point, 4> greens;
   for (int i = 0; i < 8; i += 2) {
     const cv::Point2f direction = kScanDirections[i];
     RingHits hits;
@@ -308,8 +412,14 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
     for (int ring = 0; ring < kNumRings; ++ring)
       candidate->points[ring].push_back(hits.border[ring]);
     candidate->scan_directions.push_back(direction);
+    candidate->light.AddWhite(image, hits.white_at);
+    greens[i / 2] = hits.green_at;
   }
   if (!RingProportionsFit(*candidate)) return reject(RejectReason::kRingProportions);
+  // Step 3: the red and the green in the candidate's own light.
+  RejectReason colours_why;
+  if (!ColoursInOwnLight(image, options, centre, greens, &candidate->light, &colours_why))
+    return reject(colours_why);
   return true;
 }
 

@@ -13,6 +13,7 @@
 #include "candidate.h"
 #include "chromatag/detector/detection.h"
 #include "chromatag/detector/options.h"
+#include "find_adiff.h"
 #include "image_view.h"
 #include "scan_rings.h"
 
@@ -35,10 +36,10 @@ struct RejectedRegion {
   static RejectedRegion Around(const std::array<cv::Point2f, 8>& red_border);
 };
 
-// InitialScan. With `rejected` (the frame's regions rejected so far), a seed
-// inside one of them is dropped at once, and a region rejected after a
-// centring pass is added.
-bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed,
+// InitialScan from a seed of the given kind (FindADiff). With `rejected`
+// (the frame's regions rejected so far), a seed inside one of them is
+// dropped at once, and a region rejected after a centring pass is added.
+bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed, Seed kind,
                  RingScanBuffers* buffers, Candidate* candidate,
                  std::vector<RejectedRegion>* rejected, RejectReason* why);
 

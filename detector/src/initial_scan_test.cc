@@ -43,8 +43,8 @@ RejectReason RejectionOf(const cv::Mat& image, cv::Point seed,
   Scratch scratch;
   Candidate candidate;
   RejectReason why = RejectReason::kPaleRed;
-  EXPECT_FALSE(
-      InitialScan(view, DetectorOptions{}, seed, &scratch.ring_scan, &candidate, rejected, &why))
+  EXPECT_FALSE(InitialScan(view, DetectorOptions{}, seed, Seed::kSeed, &scratch.ring_scan,
+                           &candidate, rejected, &why))
       << "seed " << seed << " accepted";
   return why;
 }
@@ -59,8 +59,8 @@ TEST(InitialScanTest, FindsTheCentreAndTheRingsOfATagLikePattern) {
   Candidate candidate;
   std::vector<RejectedRegion> rejected;
   RejectReason why;
-  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, &scratch.ring_scan,
-                          &candidate, &rejected, &why))
+  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, Seed::kSeed,
+                          &scratch.ring_scan, &candidate, &rejected, &why))
       << "rejected for " << static_cast<int>(why);
   const cv::Point2f centre(cx, cy);
   EXPECT_LT(cv::norm(candidate.centre - centre), 1.0) << candidate.centre;
@@ -99,13 +99,14 @@ TEST(InitialScanTest, RejectsRedOnWhiteAtTheFirstScan) {
   Candidate candidate;
   std::vector<RejectedRegion> rejected;
   RejectReason why;
-  ASSERT_FALSE(InitialScan(view, strict, seed, &scratch.ring_scan, &candidate, &rejected, &why));
+  ASSERT_FALSE(InitialScan(view, strict, seed, Seed::kSeed, &scratch.ring_scan, &candidate,
+                           &rejected, &why));
   EXPECT_EQ(why, RejectReason::kNotGreen);
   EXPECT_TRUE(rejected.empty());
   EXPECT_FALSE(candidate.enclosed);
 
-  ASSERT_FALSE(
-      InitialScan(view, DetectorOptions{}, seed, &scratch.ring_scan, &candidate, &rejected, &why));
+  ASSERT_FALSE(InitialScan(view, DetectorOptions{}, seed, Seed::kSeed, &scratch.ring_scan,
+                           &candidate, &rejected, &why));
   EXPECT_NE(why, RejectReason::kNotGreen);
 }
 

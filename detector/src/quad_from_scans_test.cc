@@ -55,8 +55,8 @@ TEST(QuadsFromScansTest, GivesEachRingsDrawnQuadAtAnyTurn) {
     const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
     Candidate candidate;
     RejectReason why;
-    ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {95, 100}, &scratch.ring_scan, &candidate,
-                            nullptr, &why))
+    ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {95, 100}, Seed::kSeed, &scratch.ring_scan,
+                            &candidate, nullptr, &why))
         << degrees << " degrees: " << RejectReasonName(why);
     const auto points_before = candidate.points;
     ASSERT_TRUE(QuadsFromScans(view, DetectorOptions{}, &scratch.ring_scan, &candidate))
@@ -103,8 +103,8 @@ TEST(QuadsFromScansTest, DeclinesWhenAScanMissesASide) {
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Candidate candidate;
   RejectReason why;
-  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {100, 100}, &scratch.ring_scan, &candidate,
-                          nullptr, &why))
+  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {100, 100}, Seed::kSeed, &scratch.ring_scan,
+                          &candidate, nullptr, &why))
       << RejectReasonName(why);
   EXPECT_FALSE(QuadsFromScans(view, DetectorOptions{}, &scratch.ring_scan, &candidate));
 }
@@ -116,8 +116,8 @@ TEST(QuadsFromScansTest, NeedsExactlyInitialScansFourScans) {
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Candidate candidate;
   RejectReason why;
-  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {95, 100}, &scratch.ring_scan, &candidate,
-                          nullptr, &why));
+  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {95, 100}, Seed::kSeed, &scratch.ring_scan,
+                          &candidate, nullptr, &why));
   ASSERT_TRUE(BuildPolygon(view, DetectorOptions{}, &scratch.ring_scan, &scratch.polygon,
                            &candidate, &why));
   ASSERT_GT(candidate.points[kBlackWhite].size(), 4u);

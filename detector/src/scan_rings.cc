@@ -178,11 +178,11 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
 }  // namespace
 
 bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point2f start,
-               cv::Point2f direction, float reference_red, RingScanBuffers* buffers,
-               RingHits* hits) {
+               cv::Point2f direction, float reference_red, RingScanBuffers* buffers, RingHits* hits,
+               int red_reach) {
   const float thresh = static_cast<float>(options.border_thresh);
   const int run = options.border_run;
-  const int reach = std::max(image.width(), image.height());
+  const int reach = red_reach >= 0 ? red_reach : std::max(image.width(), image.height());
 
   Crossing red_green;
   if (!ScanBorder<Border::kRedToGreen>(image, start, direction, reference_red,
@@ -229,6 +229,8 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
   // The quiet zone is the lightest part of a tag.
   if (black_white.value_after < green_l + thresh) return false;
   hits->border = {red_green.at, green_black.at, black_white.at};
+  hits->green_at = cv::Point(red_green.resume);
+  hits->white_at = cv::Point(black_white.resume);
   return true;
 }
 

@@ -33,10 +33,11 @@ inline float RedGreenThresh(const DetectorOptions& options, float reference_red)
 }
 
 // False if a border is not found within reach of the previous one or the scan
-// leaves the frame.
+// leaves the frame; the red/green border must lie within `red_reach` steps
+// of `start` (by default anywhere in the frame).
 bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point2f start,
-               cv::Point2f direction, float reference_red, RingScanBuffers* buffers,
-               RingHits* hits);
+               cv::Point2f direction, float reference_red, RingScanBuffers* buffers, RingHits* hits,
+               int red_reach = -1);
 
 }  // namespace chromatag::internal
 

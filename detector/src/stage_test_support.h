@@ -101,7 +101,8 @@ inline ::testing::AssertionResult ScanAndBuildPolygon(const ImageView& view, cv:
                                                       Candidate* candidate) {
   Scratch scratch;
   RejectReason why;
-  if (!InitialScan(view, DetectorOptions{}, seed, &scratch.ring_scan, candidate, nullptr, &why))
+  if (!InitialScan(view, DetectorOptions{}, seed, Seed::kSeed, &scratch.ring_scan, candidate,
+                   nullptr, &why))
     return ::testing::AssertionFailure() << "InitialScan rejected: " << RejectReasonName(why);
   if (!BuildPolygon(view, DetectorOptions{}, &scratch.ring_scan, &scratch.polygon, candidate, &why))
     return ::testing::AssertionFailure() << "BuildPolygon rejected: " << RejectReasonName(why);
