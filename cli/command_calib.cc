@@ -119,6 +119,15 @@ void PrintSummary(const CalibrationResult& result, const std::vector<std::string
       d.two_step_rises ? "on" : "off");
   for (const PairVerdict& v : result.thresholds.verdicts)
     Print("  %-24s %-5s %s\n", v.pair.c_str(), VerdictName(v.verdict), v.why.c_str());
+  const WhiteBalance& wb = result.white_balance;
+  if (wb.written()) {
+    Print(
+        "White balance: R %.3f, G %.3f, B %.3f (gains on linear light; every photo's paper "
+        "neutral within C*ab %.1f)\n",
+        wb.gains[0], wb.gains[1], wb.gains[2], wb.worst_residual_cast);
+  } else {
+    Print("White balance: none written, %s\n", wb.why.c_str());
+  }
   if (result.palette) {
     Print("Palette %s: score %.2f (sheet palette %.2f)\n", result.palette->palette.name.c_str(),
           result.palette->score, result.palette->sheet_palette_score);

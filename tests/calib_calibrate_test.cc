@@ -16,6 +16,8 @@
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/generator/color_lut.h"
+#include "icc_press.h"
+#include "synthetic_scene.h"
 
 namespace chromatag {
 namespace {
@@ -90,7 +92,7 @@ TEST(CalibCalibrateTest, FullRunWritesLoadableOutputs) {
   for (const PhotoResult& p : result->photos) {
     std::printf("%s: fit mean %.2f max %.2f, %d iterations; a gap %.1f/%.1f b %.1f %.1f\n",
                 p.name.c_str(), p.fit.mean_de, p.fit.max_de, p.fit.iterations, p.normalised.a_gap,
-                p.as_shot.a_gap, p.normalised.red_b_gap, p.normalised.green_b_gap);
+                p.seen.a_gap, p.normalised.red_b_gap, p.normalised.green_b_gap);
     EXPECT_LT(p.fit.mean_de, 2.0);
   }
   const DetectorOptions& d = result->thresholds.options;
@@ -116,6 +118,8 @@ TEST(CalibCalibrateTest, FullRunWritesLoadableOutputs) {
   EXPECT_DOUBLE_EQ(loaded.min_decision_margin, d.min_decision_margin);
   EXPECT_DOUBLE_EQ(loaded.max_green_a, d.max_green_a);
   EXPECT_EQ(loaded.two_step_rises, d.two_step_rises);
+  // Warm and cool light: no white balance fits both (the test below).
+  EXPECT_EQ(loaded.white_balance, (std::array<double, 3>{1.0, 1.0, 1.0}));
   EXPECT_TRUE(LoadPaletteFile(dir + "/palette.json", &error)) << error;
   EXPECT_TRUE(ColorLut::Load(dir + "/printer.cube", &error)) << error;
   std::filesystem::remove_all(dir);
@@ -272,6 +276,226 @@ TEST(CalibCalibrateTest, LutHalvesThePrintError) {
     }
     std::filesystem::remove_all(dir);
   }
+}
+
+}  // namespace
+}  // namespace chromatag
+
+namespace chromatag {
+namespace {
+
+// The iccv17 palette printed at 0.8 of its chroma (as SceneTag::print_chroma
+// prints it), with no hue turn or dot gain.
+SimPrinter FadedIccv17Printer() {
+  SimPrinter printer;
+  printer.chroma_scale = 0.8;
+  printer.hue_shift_deg = 0.0;
+  printer.dot_gain = 0.0;
+  printer.black_l = 10.0;
+  return printer;
+}
+
+// Two photos of the sheet under one light (`cast`, R, G, B), at two
+// exposures and angles; the brightest channel of the paper at 0.85.
+std::vector<PhotoInput> OneLight(const CalibSheetLayout& layout, const SimPrinter& printer,
+                                 const cv::Vec3d& cast) {
+  SimCamera near, far;
+  near.gains = far.gains = cast;
+  near.exposure = 0.85 / std::max({cast[0], cast[1], cast[2]});
+  far.exposure = 0.75 * near.exposure;
+  far.falloff = 0.3;
+  far.seed = 2;
+  far.page_corners_px = {{{560, 90}, {1180, 60}, {1130, 1140}, {520, 1170}}};
+  return {{"near.png", RenderSheetPhoto(layout, printer, near)},
+          {"far.png", RenderSheetPhoto(layout, printer, far)}};
+}
+
+// All 28 kept 16h5 IDs in iccv17 at 0.8 of its chroma, `size` px, through a
+// linear camera under `cast` at `exposure`, with blur and noise.
+testing::Scene CastScene(const cv::Vec3d& cast, double exposure, double size) {
+  const std::vector<int>& ids = TagFamily::Load("16h5")->kept_ids();
+  const double pitch = std::ceil(size * 1.9);
+  std::vector<testing::SceneTag> tags;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    testing::SceneTag tag;
+    tag.id = ids[i];
+    tag.black_square_px = size;
+    tag.centre = {pitch * (0.5 + static_cast<double>(i % 7)) + 0.3,
+                  pitch * (0.5 + static_cast<double>(i / 7)) - 0.2};
+    tag.rotation_deg = 7 + 13 * (i % 4);
+    tag.palette = "iccv17";
+    tag.print_chroma = 0.8;
+    tags.push_back(tag);
+  }
+  testing::SceneOptions options;
+  options.width = static_cast<int>(pitch * 7);
+  options.height = static_cast<int>(pitch * 4);
+  options.linear_camera = true;
+  options.exposure = exposure;
+  options.gain = cast;
+  options.blur_sigma = 0.7;
+  options.noise_sigma = 1;
+  options.shot_noise = 0.02;
+  options.seed = 7;
+  return testing::RenderScene(tags, options);
+}
+
+// The thresholds derived from the colours as shot, with no white balance.
+DetectorOptions AsShotThresholds(const CalibrationResult& result) {
+  std::vector<Margins> per_photo;
+  for (const PhotoResult& photo : result.photos) {
+    const auto shades = ReadShades(result.layout, photo.measurement);
+    const Margins as_shot = MarginsOf({shades[0], shades[1], shades[2], shades[3]},
+                                      shades[static_cast<int>(Shade::kWhite)].seen.L, true);
+    per_photo.push_back(Worst(photo.normalised, as_shot));
+  }
+  return DeriveThresholds(per_photo).options;
+}
+
+// Tags of `scene` found with their true ID; a wrong ID fails the test.
+int Found(const DetectorOptions& options, const testing::Scene& scene) {
+  DetectorOptions o = options;
+  o.families = {"16h5"};
+  std::string error;
+  const auto detector = Detector::Create(o, &error);
+  EXPECT_TRUE(detector) << error;
+  if (!detector) return 0;
+  int found = 0;
+  for (const Detection& d : detector->Detect(scene.bgr).detections) {
+    bool known = false;
+    for (const testing::TagTruth& t : scene.truth) known |= t.id == d.id;
+    EXPECT_TRUE(known) << "wrong ID " << d.id;
+    found += known ? 1 : 0;
+  }
+  return found;
+}
+
+// A green cast (red and blue at 0.6 of green) turns the faded reds towards
+// grey: the default detector finds 17 of 28 tags, the thresholds calibrated
+// as shot (no white balance) 25. The calibration measures the cast on the
+// paper and writes gains that undo it; with them the detector finds all 28,
+// as the default does in neutral light.
+TEST(CalibCalibrateTest, WhiteBalanceUndoesAGreenCastAndFindsEveryTag) {
+  const CalibSheetLayout layout = Sheet("iccv17");
+  const cv::Vec3d cast(0.6, 1.0, 0.6);
+  std::string error;
+  const auto result = Calibrate(layout, OneLight(layout, FadedIccv17Printer(), cast), {}, &error);
+  ASSERT_TRUE(result) << error;
+  const WhiteBalance& wb = result->white_balance;
+  std::printf(
+      "gains %.3f %.3f %.3f, residual cast %.2f, finding margin %.1f as shot, %.1f "
+      "balanced\n",
+      wb.gains[0], wb.gains[1], wb.gains[2], wb.worst_residual_cast, wb.finding_margin_as_shot,
+      wb.finding_margin_balanced);
+  ASSERT_EQ(wb.outcome, WhiteBalanceOutcome::kWritten) << wb.why;
+  // The gains undo the cast: 1 / 0.6 for red and blue, over the largest.
+  EXPECT_DOUBLE_EQ(wb.gains[0], 1.0);
+  EXPECT_NEAR(wb.gains[1], 0.6, 0.6 * 0.02);
+  EXPECT_DOUBLE_EQ(wb.gains[2], 1.0);
+  EXPECT_LT(wb.worst_residual_cast, 0.5);
+  // Without them the paler red reads at the detector's floor for a red.
+  EXPECT_LT(wb.finding_margin_as_shot, 2.0);
+  EXPECT_GT(wb.finding_margin_balanced, 8.0);
+  for (const std::string& w : result->warnings)
+    EXPECT_EQ(w.find("white balance"), std::string::npos) << w;
+
+  // The config file carries them.
+  const std::string dir = TempDir();
+  ASSERT_TRUE(WriteFilesAtomically(CalibrationFiles(*result, dir), &error)) << error;
+  DetectorOptions calibrated;
+  ASSERT_TRUE(LoadDetectorConfig(dir + "/detector.json", &calibrated, &error)) << error;
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(calibrated.white_balance, wb.gains);
+
+  const testing::Scene frame = CastScene(cast, 0.4, 60);
+  const int by_default = Found(DetectorOptions{}, frame);
+  const int by_thresholds_alone = Found(AsShotThresholds(*result), frame);
+  const int by_calibrated = Found(calibrated, frame);
+  const int in_neutral_light = Found(DetectorOptions{}, CastScene({1, 1, 1}, 0.4, 60));
+  std::printf(
+      "of 28 tags under the cast: default %d, thresholds as shot %d, calibrated %d; in "
+      "neutral light %d\n",
+      by_default, by_thresholds_alone, by_calibrated, in_neutral_light);
+  EXPECT_LE(by_default, 20);
+  EXPECT_LT(by_thresholds_alone, 28);
+  EXPECT_EQ(by_calibrated, 28);
+  EXPECT_EQ(in_neutral_light, 28);
+}
+
+// A tungsten lamp and daylight (the named cameras of the press tests):
+// each photo's own gains undo its light, but no one set undoes both, so the
+// config holds none and a warning says why.
+TEST(CalibCalibrateTest, PhotosUnderDifferentLightsGiveNoWhiteBalance) {
+  const CalibSheetLayout layout = Sheet("iccv17");
+  const SimPrinter printer = FadedIccv17Printer();
+  const cv::Mat page = RasterizeCalibPage(layout, 6.0);
+  std::vector<PhotoInput> photos;
+  for (const testing::NamedCamera& light : testing::TungstenAndDaylight()) {
+    photos.push_back(
+        {light.name + ".png",
+         testing::PrintAndPhotograph(
+             page, 6.0, [&](const Rgb8& sent) { return printer.Print(sent); }, {}, light.camera)});
+  }
+  std::string error;
+  const auto result = Calibrate(layout, photos, {}, &error);
+  ASSERT_TRUE(result) << error;
+  const WhiteBalance& wb = result->white_balance;
+  std::printf("tungsten %.3f %.3f %.3f, daylight %.3f %.3f %.3f; residual cast %.1f\n",
+              wb.per_photo[0][0], wb.per_photo[0][1], wb.per_photo[0][2], wb.per_photo[1][0],
+              wb.per_photo[1][1], wb.per_photo[1][2], wb.worst_residual_cast);
+  EXPECT_EQ(wb.outcome, WhiteBalanceOutcome::kDisagree);
+  EXPECT_EQ(wb.gains, (WhiteBalanceGains{1.0, 1.0, 1.0}));
+  EXPECT_EQ(result->thresholds.options.white_balance, (std::array<double, 3>{1.0, 1.0, 1.0}));
+  // Each photo's own gains undo its light (R 1.25, B 0.7; R 0.95, B 1.08).
+  EXPECT_NEAR(wb.per_photo[0][0], 0.7 / 1.25, 0.02);
+  EXPECT_NEAR(wb.per_photo[0][1], 0.7, 0.02);
+  EXPECT_NEAR(wb.per_photo[1][0], 1.0, 0.02);
+  EXPECT_NEAR(wb.per_photo[1][2], 0.95 / 1.08, 0.02);
+  EXPECT_GT(wb.worst_residual_cast, 3 * CalibrateOptions{}.white_balance.max_residual_cast);
+  int warned = 0;
+  for (const std::string& w : result->warnings) {
+    if (w.rfind("no white balance: the photos disagree on the light", 0) == 0) ++warned;
+  }
+  EXPECT_EQ(warned, 1);
+  for (const OutputFile& file : CalibrationFiles(*result, "out")) {
+    if (file.path != "out/detector.json") continue;
+    const size_t options_end = file.contents.find("\"calibration\"");
+    EXPECT_EQ(file.contents.substr(0, options_end).find("white_balance"), std::string::npos)
+        << file.contents;
+  }
+  for (const std::string& overlap : ReportOverlaps(*result)) ADD_FAILURE() << overlap;
+}
+
+// A warm cast (red 1.6, blue 0.5 of green) makes the reds redder: the
+// gains that undo it would darken the picture to its blue channel's level
+// and take more a* from the reds than the light does. The calibration
+// measures them and leaves them out, and the config finds more tags than
+// the same config with them.
+TEST(CalibCalibrateTest, AWarmCastNeedsNoWhiteBalance) {
+  const CalibSheetLayout layout = Sheet("iccv17");
+  const cv::Vec3d cast(1.6, 1.0, 0.5);
+  std::string error;
+  const auto result = Calibrate(layout, OneLight(layout, FadedIccv17Printer(), cast), {}, &error);
+  ASSERT_TRUE(result) << error;
+  const WhiteBalance& wb = result->white_balance;
+  std::printf("%s\n", wb.why.c_str());
+  EXPECT_EQ(wb.outcome, WhiteBalanceOutcome::kNotNeeded);
+  EXPECT_NEAR(wb.shared[0], 0.5 / 1.6, 0.02);
+  EXPECT_NEAR(wb.shared[1], 0.5, 0.02);
+  EXPECT_GT(wb.finding_margin_as_shot, wb.finding_margin_balanced + 5);
+  EXPECT_EQ(result->thresholds.options.white_balance, (std::array<double, 3>{1.0, 1.0, 1.0}));
+  for (const std::string& w : result->warnings)
+    EXPECT_EQ(w.find("white balance"), std::string::npos) << w;
+  DetectorOptions with_gains = result->thresholds.options;
+  with_gains.white_balance = wb.shared;
+  int as_written = 0, balanced = 0;
+  for (double size : {30.0, 45.0}) {
+    const testing::Scene frame = CastScene(cast, 0.4, size);
+    as_written += Found(result->thresholds.options, frame);
+    balanced += Found(with_gains, frame);
+  }
+  std::printf("of 56 tags: as written %d, with the gains %d\n", as_written, balanced);
+  EXPECT_GT(as_written, balanced);
 }
 
 }  // namespace

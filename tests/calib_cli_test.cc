@@ -112,6 +112,13 @@ TEST_F(CalibCliTest, GoodPhotosGiveOutputsTheOtherCommandsAccept) {
   const CommandResult r = Calibrate({Photo("warm.png", warm), Photo("dim.jpg", dim)}, out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("ADiffThresh"), std::string::npos) << r.out;
+  // A warm and a neutral photo: no one white balance fits both, and the
+  // summary and a warning say so.
+  EXPECT_NE(r.out.find("White balance: none written, the photos disagree on the light"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.err.find("warning: no white balance: the photos disagree"), std::string::npos)
+      << r.err;
   for (const char* name : {"detector.json", "palette.json", "printer.cube", "report.pdf",
                            "report.png", "measurements.json"})
     EXPECT_TRUE(fs::exists(out + "/" + name)) << name;
@@ -162,6 +169,31 @@ TEST_F(CalibCliTest, DetectWithTheCalibratedConfigFindsWashedOutTags) {
   const CommandResult bad = RunCommand(kCli, {"detect", "--config", dir_ + "/calib.pdf.json", tag});
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_EQ(testing::CountLines(bad.err), 1) << bad.err;
+}
+
+// Photos under one green cast: calibrate prints the white balance that
+// undoes it and writes it into the config, which detect reads back.
+TEST_F(CalibCliTest, OneLightGivesAWhiteBalanceThatDetectReads) {
+  SimCamera near, far;
+  near.gains = far.gains = {0.6, 1.0, 0.6};
+  far.exposure = 0.7;
+  far.seed = 5;
+  const std::string out = dir_ + "/out-green";
+  const CommandResult r = Calibrate({Photo("g1.png", near), Photo("g2.png", far)}, out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("White balance: R 1.000, G 0.6"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("white balance"), std::string::npos) << r.err;
+  const std::string config = Read(out + "/detector.json");
+  EXPECT_NE(config.find("\"white_balance\": ["), std::string::npos) << config;
+  const auto family = TagFamily::Load("16h5");
+  const cv::Mat frame = testing::RenderPrintedTag(
+      *family, 7, TagColors::FromPalette(layout_->palette), SimPrinter(), near, 14, 320, 240);
+  const std::string tag = dir_ + "/green-tag.png";
+  cv::imwrite(tag, frame);
+  const CommandResult detect =
+      RunCommand(kCli, {"detect", "--json", "--config", out + "/detector.json", tag});
+  EXPECT_EQ(detect.exit_code, 0) << detect.err;
+  EXPECT_NE(detect.out.find("\"id\":7"), std::string::npos) << detect.out;
 }
 
 // Each bad photo: exit 1, one line naming the photo and the problem, and no

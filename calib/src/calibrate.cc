@@ -49,6 +49,20 @@ Json MarginsJson(const Margins& m) {
           {"expected_decision_margin", Round2(m.decision())}};
 }
 
+Json GainsJson(const WhiteBalanceGains& g) { return {g[0], g[1], g[2]}; }
+
+// The white balance's provenance: written or not and why, the gains the
+// photos share and the cast each photo's paper keeps through them.
+Json WhiteBalanceJson(const WhiteBalance& wb) {
+  Json out = {{"written", wb.written()},
+              {"shared_gains", GainsJson(wb.shared)},
+              {"worst_residual_cast", Round2(wb.worst_residual_cast)},
+              {"finding_margin_as_shot", Round2(wb.finding_margin_as_shot)},
+              {"finding_margin_balanced", Round2(wb.finding_margin_balanced)}};
+  if (!wb.written()) out["why_not"] = wb.why;
+  return out;
+}
+
 std::string Provenance(const CalibrationResult& r) {
   Json photos = Json::array();
   for (const PhotoResult& p : r.photos) photos.push_back(p.name);
@@ -61,6 +75,7 @@ std::string Provenance(const CalibrationResult& r) {
                      {"palette", r.layout.palette.name},
                      {"photos", photos},
                      {"safety_factor", r.options.thresholds.safety_factor},
+                     {"white_balance", WhiteBalanceJson(r.white_balance)},
                      {"worst_margins", MarginsJson(r.thresholds.worst)},
                      {"verdicts", verdicts},
                      {"warnings", r.warnings}};
@@ -69,7 +84,8 @@ std::string Provenance(const CalibrationResult& r) {
 
 std::string MeasurementsJson(const CalibrationResult& r) {
   Json photos = Json::array();
-  for (const PhotoResult& p : r.photos) {
+  for (size_t photo = 0; photo < r.photos.size(); ++photo) {
+    const PhotoResult& p = r.photos[photo];
     std::vector<double> residual(r.layout.patches.size(), -1.0);
     for (size_t i = 0; i < p.fit_patches.size(); ++i)
       residual[p.fit_patches[i]] = p.fit.residual_de[i];
@@ -82,6 +98,7 @@ std::string MeasurementsJson(const CalibrationResult& r) {
                    {"flags", FlagNames(m.flags)},
                    {"pixels", m.pixels},
                    {"as_shot", LabJson(m.as_shot)},
+                   {"seen", LabJson(SeenThrough(m.camera_rgb, r.white_balance.gains))},
                    {"lab", LabJson(m.lab)}};
       const Rgb sent = patch.kind == PatchKind::kPaper ? Rgb{1, 1, 1} : ToRgb(patch.rgb);
       item["model"] = LabJson(p.fit.model.Predict(sent));
@@ -93,10 +110,12 @@ std::string MeasurementsJson(const CalibrationResult& r) {
                       {"px_per_mm", Round2(p.measurement.location.px_per_mm)},
                       {"white_level", Round2(p.measurement.white_level)},
                       {"flagged", p.measurement.flagged},
+                      {"white_balance", GainsJson(r.white_balance.per_photo[photo])},
+                      {"paper_residual_cast", LabJson(r.white_balance.residual[photo])},
                       {"fit_mean_de2000", Round2(p.fit.mean_de)},
                       {"fit_max_de2000", Round2(p.fit.max_de)},
                       {"margins_normalised", MarginsJson(p.normalised)},
-                      {"margins_as_shot", MarginsJson(p.as_shot)},
+                      {"margins_seen", MarginsJson(p.seen)},
                       {"patches", patches}});
   }
   const Json root = {{"schema", "chromatag-calib-measurements"},
@@ -111,11 +130,46 @@ std::string Join(const std::string& folder, const char* name) {
   return folder.back() == '/' ? folder + name : folder + "/" + name;
 }
 
+// Measures one photo and fits the printer to it; nullopt and "NAME: why" when
+// the photo cannot be used.
+std::optional<PhotoResult> MeasureAndFit(const CalibSheetLayout& layout, const PhotoInput& input,
+                                         const CalibrateOptions& options, std::string* error) {
+  std::string why;
+  PhotoResult photo;
+  photo.name = input.name;
+  const auto m = MeasurePhoto(input.bgr, layout, options.measure, options.locate, &why);
+  if (!m) {
+    if (error) *error = input.name + ": " + why;
+    return std::nullopt;
+  }
+  photo.measurement = *m;
+  const auto fit = FitPrinterModel(Samples(layout, *m, &photo.fit_patches), options.model, &why);
+  if (!fit) {
+    if (error) *error = input.name + ": " + why;
+    return std::nullopt;
+  }
+  photo.fit = *fit;
+  return photo;
+}
+
+// The photo's shades and margins, normalised and as a detector with
+// `white_balance` sees them; returns the worse of the two.
+Margins ReadMargins(const CalibSheetLayout& layout, const WhiteBalanceGains& white_balance,
+                    PhotoResult* photo) {
+  photo->shades = ReadShades(layout, photo->measurement, white_balance);
+  const std::array<ShadeReading, 4> chromatic = {photo->shades[0], photo->shades[1],
+                                                 photo->shades[2], photo->shades[3]};
+  const ShadeReading& white = photo->shades[static_cast<int>(Shade::kWhite)];
+  photo->normalised = MarginsOf(chromatic, white.lab.L, false);
+  photo->seen = MarginsOf(chromatic, white.seen.L, true);
+  return Worst(photo->normalised, photo->seen);
+}
+
 }  // namespace
 
 bool CalibrateOptions::IsValid(std::string* error) const {
   if (!locate.IsValid(error) || !measure.IsValid(error) || !model.IsValid(error) ||
-      !thresholds.IsValid(error) || !palette.IsValid(error))
+      !white_balance.IsValid(error) || !thresholds.IsValid(error) || !palette.IsValid(error))
     return false;
   if (lut_size < 2 || lut_size > 65) {
     if (error) *error = "LUT size must be in [2, 65]";
@@ -135,45 +189,38 @@ std::optional<CalibrationResult> Calibrate(const CalibSheetLayout& layout,
   CalibrationResult result;
   result.layout = layout;
   result.options = options;
-  std::vector<Margins> worst_per_photo;
   std::vector<PhotoMeasurement> measurements;
   std::vector<PrinterModel> models;
+  std::vector<std::string> names;
   for (const PhotoInput& input : photos) {
-    std::string why;
-    PhotoResult photo;
-    photo.name = input.name;
-    const auto m = MeasurePhoto(input.bgr, layout, options.measure, options.locate, &why);
-    if (!m) {
-      if (error) *error = input.name + ": " + why;
-      return std::nullopt;
-    }
-    photo.measurement = *m;
-    const auto fit = FitPrinterModel(Samples(layout, *m, &photo.fit_patches), options.model, &why);
-    if (!fit) {
-      if (error) *error = input.name + ": " + why;
-      return std::nullopt;
-    }
-    photo.fit = *fit;
-    photo.shades = ReadShades(layout, *m);
-    const std::array<ShadeReading, 4> chromatic = {photo.shades[0], photo.shades[1],
-                                                   photo.shades[2], photo.shades[3]};
-    const ShadeReading& white = photo.shades[static_cast<int>(Shade::kWhite)];
-    photo.normalised = MarginsOf(chromatic, white.lab.L, false);
-    photo.as_shot = MarginsOf(chromatic, white.as_shot.L, true);
-    worst_per_photo.push_back(Worst(photo.normalised, photo.as_shot));
-    if (fit->mean_de > kPoorFitMeanDeltaE) {
+    auto photo = MeasureAndFit(layout, input, options, error);
+    if (!photo) return std::nullopt;
+    if (photo->fit.mean_de > kPoorFitMeanDeltaE) {
       char text[200];
       std::snprintf(text, sizeof(text),
                     "%s: the printer model fits poorly (mean CIEDE2000 %.1f): uneven light or "
                     "glare? The LUT is less reliable",
-                    input.name.c_str(), fit->mean_de);
+                    input.name.c_str(), photo->fit.mean_de);
       result.warnings.push_back(text);
     }
-    measurements.push_back(*m);
-    models.push_back(fit->model);
-    result.photos.push_back(std::move(photo));
+    measurements.push_back(photo->measurement);
+    models.push_back(photo->fit.model);
+    names.push_back(input.name);
+    result.photos.push_back(std::move(*photo));
   }
+  // The thresholds are for the detector as the config sets it up: its
+  // white balance first, then the margins as it sees them.
+  result.white_balance = MeasureWhiteBalance(layout, measurements, names, options.white_balance);
+  // Photos that disagree, or a cast too strong, are a problem with the
+  // photos or the light; a white balance not needed is not.
+  const WhiteBalanceOutcome outcome = result.white_balance.outcome;
+  if (outcome == WhiteBalanceOutcome::kDisagree || outcome == WhiteBalanceOutcome::kTooStrong)
+    result.warnings.push_back("no white balance: " + result.white_balance.why);
+  std::vector<Margins> worst_per_photo;
+  for (PhotoResult& photo : result.photos)
+    worst_per_photo.push_back(ReadMargins(layout, result.white_balance.gains, &photo));
   result.thresholds = DeriveThresholds(worst_per_photo, options.thresholds);
+  result.thresholds.options.white_balance = result.white_balance.gains;
   result.warnings.insert(result.warnings.end(), result.thresholds.warnings.begin(),
                          result.thresholds.warnings.end());
   result.palette = ChoosePalette(layout, measurements, options.palette, &result.palette_error);
@@ -187,11 +234,11 @@ std::optional<CalibrationResult> Calibrate(const CalibSheetLayout& layout,
 std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
                                          const std::string& folder) {
   std::vector<OutputFile> files;
+  std::vector<std::string> fields = {"adiff_thresh", "border_thresh", "min_decision_margin",
+                                     "max_green_a", "two_step_rises"};
+  if (result.white_balance.written()) fields.push_back("white_balance");
   files.push_back({Join(folder, kDetectorConfigFile),
-                   DetectorConfigToJson(result.thresholds.options,
-                                        {"adiff_thresh", "border_thresh", "min_decision_margin",
-                                         "max_green_a", "two_step_rises"},
-                                        Provenance(result))});
+                   DetectorConfigToJson(result.thresholds.options, fields, Provenance(result))});
   if (result.palette)
     files.push_back({Join(folder, kPaletteFile), PaletteToJson(result.palette->palette)});
   files.push_back({Join(folder, kLutFile), result.cube});

@@ -264,6 +264,12 @@ void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
   y = Row(cr, y, "two-step rises",
           std::string(d.two_step_rises ? "on" : "off") + "   (default " +
               (defaults.two_step_rises ? "on" : "off") + ")");
+  const WhiteBalanceGains& g = r.white_balance.gains;
+  const WhiteBalanceOutcome outcome = r.white_balance.outcome;
+  y = Row(cr, y, "white balance, R / G / B",
+          outcome == WhiteBalanceOutcome::kWritten     ? F("%.3f / %.3f / %.3f", g[0], g[1], g[2])
+          : outcome == WhiteBalanceOutcome::kNotNeeded ? std::string("none: not needed")
+                                                       : std::string("none: see the warnings"));
   y += 8;
   Text(cr, 470, y, 10, "Verdict per pair", true);
   y += 15;

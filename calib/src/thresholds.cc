@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "chromatag/calib/white_balance.h"
+
 namespace chromatag {
 namespace {
 
@@ -162,7 +164,8 @@ const char* VerdictName(Verdict verdict) {
 }
 
 std::array<ShadeReading, kNumShades> ReadShades(const CalibSheetLayout& layout,
-                                                const PhotoMeasurement& photo) {
+                                                const PhotoMeasurement& photo,
+                                                const std::array<double, 3>& white_balance) {
   std::array<ShadeReading, kNumShades> out{};
   std::array<std::vector<const PatchMeasurement*>, kNumShades> members;
   for (const Patch& patch : layout.patches) {
@@ -176,6 +179,10 @@ std::array<ShadeReading, kNumShades> ReadShades(const CalibSheetLayout& layout,
     r.count = static_cast<int>(members[s].size());
     if (r.count == 0) continue;
     for (const PatchMeasurement* m : members[s]) {
+      const Lab seen = SeenThrough(m->camera_rgb, white_balance);
+      r.seen.L += seen.L / r.count;
+      r.seen.a += seen.a / r.count;
+      r.seen.b += seen.b / r.count;
       r.lab.L += m->lab.L / r.count;
       r.lab.a += m->lab.a / r.count;
       r.lab.b += m->lab.b / r.count;
@@ -192,8 +199,8 @@ std::array<ShadeReading, kNumShades> ReadShades(const CalibSheetLayout& layout,
   return out;
 }
 
-Margins MarginsOf(const std::array<ShadeReading, 4>& shades, double white_l, bool as_shot) {
-  auto lab = [&](int i) { return as_shot ? shades[i].as_shot : shades[i].lab; };
+Margins MarginsOf(const std::array<ShadeReading, 4>& shades, double white_l, bool seen) {
+  auto lab = [&](int i) { return seen ? shades[i].seen : shades[i].lab; };
   const Lab r1 = lab(0), r0 = lab(1), g1 = lab(2), g0 = lab(3);
   Margins m;
   m.a_gap = std::min(r1.a, r0.a) - std::max(g1.a, g0.a);

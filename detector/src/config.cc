@@ -4,6 +4,7 @@
 #include "chromatag/families/input_file.h"
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cstdint>
 #include <fstream>
@@ -34,24 +35,37 @@ int Integer(const Json& value, const std::string& key) {
   return value.get<int>();
 }
 
+// Three numbers, as [r, g, b].
+std::array<double, 3> Triple(const Json& value, const std::string& key) {
+  if (!value.is_array() || value.size() != 3)
+    throw ConfigError{"\"" + key + "\" must be a list of three numbers, [r, g, b]"};
+  std::array<double, 3> out;
+  for (size_t i = 0; i < 3; ++i) out[i] = Number(value[i], key);
+  return out;
+}
+
 // The options a config file names, in the order it is written: the one
 // table that reading, writing and the list of allowed names share (Python's
-// keyword arguments go through it too). Each has one of the three kinds.
+// keyword arguments go through it too). Each has one of the four kinds.
 struct Field {
   const char* name;
   int DetectorOptions::*integer;
   double DetectorOptions::*number;
   bool DetectorOptions::*flag;
+  std::array<double, 3> DetectorOptions::*triple;
 };
 
 constexpr Field Int(const char* name, int DetectorOptions::*member) {
-  return {name, member, nullptr, nullptr};
+  return {name, member, nullptr, nullptr, nullptr};
 }
 constexpr Field Num(const char* name, double DetectorOptions::*member) {
-  return {name, nullptr, member, nullptr};
+  return {name, nullptr, member, nullptr, nullptr};
 }
 constexpr Field Flag(const char* name, bool DetectorOptions::*member) {
-  return {name, nullptr, nullptr, member};
+  return {name, nullptr, nullptr, member, nullptr};
+}
+constexpr Field Gains(const char* name, std::array<double, 3> DetectorOptions::*member) {
+  return {name, nullptr, nullptr, nullptr, member};
 }
 
 // "families" comes first and is read apart (a list of names).
@@ -66,6 +80,7 @@ constexpr Field kFields[] = {
     Num("conv_thresh", &DetectorOptions::conv_thresh),
     Int("max_hamming", &DetectorOptions::max_hamming),
     Num("min_decision_margin", &DetectorOptions::min_decision_margin),
+    Gains("white_balance", &DetectorOptions::white_balance),
 };
 
 std::string AllowedNames() {
@@ -104,6 +119,8 @@ void Apply(const Json& options, DetectorOptions* out) {
       out->*field->integer = Integer(value, key);
     } else if (field->number) {
       out->*field->number = Number(value, key);
+    } else if (field->triple) {
+      out->*field->triple = Triple(value, key);
     } else {
       if (!value.is_boolean()) throw ConfigError{"\"" + key + "\" must be true or false"};
       out->*field->flag = value.get<bool>();
@@ -133,6 +150,8 @@ std::string DetectorConfigToJson(const DetectorOptions& options,
       chosen[field.name] = options.*field.integer;
     } else if (field.number) {
       chosen[field.name] = options.*field.number;
+    } else if (field.triple) {
+      chosen[field.name] = options.*field.triple;
     } else {
       chosen[field.name] = options.*field.flag;
     }

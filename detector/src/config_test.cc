@@ -18,6 +18,7 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   options.max_hamming = 1;
   options.min_decision_margin = 1.5;
   options.two_step_rises = true;
+  options.white_balance = {0.625, 1.0, 0.8125};
   DetectorOptions back;
   std::string error;
   ASSERT_TRUE(ParseDetectorConfig(DetectorConfigToJson(options), &back, &error)) << error;
@@ -32,6 +33,44 @@ TEST(DetectorConfigTest, RoundTripsEveryField) {
   EXPECT_DOUBLE_EQ(back.conv_thresh, 0.9);
   EXPECT_EQ(back.max_hamming, 1);
   EXPECT_DOUBLE_EQ(back.min_decision_margin, 1.5);
+  EXPECT_EQ(back.white_balance, options.white_balance);
+}
+
+// A config without a white balance leaves the caller's (none by default);
+// one with it sets all three gains, written as a list.
+TEST(DetectorConfigTest, WhiteBalanceIsAListOfThreeGains) {
+  const auto config = [](const std::string& options) {
+    return R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": )" + options +
+           "}";
+  };
+  DetectorOptions options;
+  std::string error;
+  ASSERT_TRUE(ParseDetectorConfig(config(R"({"adiff_thresh": 20})"), &options, &error)) << error;
+  EXPECT_EQ(options.white_balance, (std::array<double, 3>{1.0, 1.0, 1.0}));
+  ASSERT_TRUE(ParseDetectorConfig(config(R"({"white_balance": [1, 0.6, 0.9]})"), &options, &error))
+      << error;
+  EXPECT_EQ(options.white_balance, (std::array<double, 3>{1.0, 0.6, 0.9}));
+  EXPECT_NE(DetectorConfigToJson(options, {"white_balance"}).find("\"white_balance\": [\n"),
+            std::string::npos);
+  const struct {
+    const char* options;
+    const char* says;
+  } bad[] = {
+      {R"({"white_balance": 0.8})", "\"white_balance\" must be a list of three numbers, [r, g, b]"},
+      {R"({"white_balance": [1, 0.8]})", "must be a list of three numbers"},
+      {R"({"white_balance": [1, "0.8", 1]})", "\"white_balance\" must be a number"},
+      {R"({"white_balance": [1.5, 1, 1.5]})",
+       "the largest gain must be 1; divide all three by it: [1, 0.667, 1]"},
+      {R"({"white_balance": [1, 0.1, 1]})", "a gain below 0.2"},
+      {R"({"white_balance": [1, 0, 1]})", "gains must be finite and positive"},
+  };
+  for (const auto& c : bad) {
+    DetectorOptions kept;
+    kept.white_balance = {1.0, 0.5, 0.5};
+    EXPECT_FALSE(ParseDetectorConfig(config(c.options), &kept, &error)) << c.options;
+    EXPECT_NE(error.find(c.says), std::string::npos) << error;
+    EXPECT_EQ(kept.white_balance, (std::array<double, 3>{1.0, 0.5, 0.5}));
+  }
 }
 
 // One table of names: the file written holds each name once, an unknown
@@ -51,7 +90,7 @@ TEST(DetectorConfigTest, OneTableNamesEveryField) {
     EXPECT_NE(text.find("\"" + name + "\""), std::string::npos) << name;
     EXPECT_NE(error.find(name), std::string::npos) << error;
   }
-  EXPECT_EQ(DetectorConfigFieldNames().size(), 11u);
+  EXPECT_EQ(DetectorConfigFieldNames().size(), 12u);
   EXPECT_EQ(text.find("refine_corners"), std::string::npos);
   EXPECT_TRUE(
       ParseDetectorConfig(config(R"({"refine_corners": true, "step": 2})"), &options, &error))

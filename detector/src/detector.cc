@@ -154,6 +154,9 @@ struct Detector::Impl {
   DetectorOptions options;
   internal::StageSwitches switches;
   std::vector<internal::FamilyDecoder> families;
+  // The colour table: the shared one, or for a white balance this
+  // detector's own, with the gains folded in (kernels/color_table.h).
+  std::unique_ptr<const internal::ColorTable> own_table;
   const internal::ColorTable* table = nullptr;
   // The vector kernels for this CPU, chosen once here (kernels/kernels.h).
   const internal::Kernels* kernels = nullptr;
@@ -262,7 +265,12 @@ std::unique_ptr<Detector> internal::DetectorAccess::Create(const DetectorOptions
   // once each.
   impl->options.families.clear();
   for (const auto& entry : impl->families) impl->options.families.push_back(entry.family->name());
-  impl->table = &internal::ColorTable::Get();
+  if (options.white_balance == internal::ColorTable::kNoGains) {
+    impl->table = &internal::ColorTable::Get();
+  } else {
+    impl->own_table = std::make_unique<const internal::ColorTable>(options.white_balance);
+    impl->table = impl->own_table.get();
+  }
   impl->kernels = &internal::Kernels::ForCpu();
   return std::unique_ptr<Detector>(new Detector(std::move(impl)));
 }

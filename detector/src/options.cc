@@ -1,6 +1,8 @@
 #include "chromatag/detector/options.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "chromatag/families/family.h"
 
@@ -29,6 +31,37 @@ bool CameraIntrinsics::IsValid(std::string* error) const {
   }
   return true;
 }
+
+namespace {
+
+bool WhiteBalanceIsValid(const std::array<double, 3>& gains, std::string* error) {
+  auto fail = [&](const char* format, double a = 0, double b = 0, double c = 0) {
+    if (error) {
+      char why[160], text[320];
+      std::snprintf(why, sizeof(why), format, a, b, c);
+      std::snprintf(text, sizeof(text),
+                    "white_balance [%g, %g, %g]: %s (gains for R, G, B on linear light, each in "
+                    "[%g, 1], the largest 1; [1, 1, 1] for none)",
+                    gains[0], gains[1], gains[2], why, kMinWhiteBalanceGain);
+      *error = text;
+    }
+    return false;
+  };
+  for (double gain : gains) {
+    if (!(gain > 0.0 && std::isfinite(gain))) return fail("gains must be finite and positive");
+  }
+  const double largest = *std::max_element(gains.begin(), gains.end());
+  if (largest != 1.0) {
+    return fail("the largest gain must be 1; divide all three by it: [%.3g, %.3g, %.3g]",
+                gains[0] / largest, gains[1] / largest, gains[2] / largest);
+  }
+  for (double gain : gains) {
+    if (gain < kMinWhiteBalanceGain) return fail("a gain below %g", kMinWhiteBalanceGain);
+  }
+  return true;
+}
+
+}  // namespace
 
 bool DetectorOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& message) {
@@ -71,6 +104,7 @@ bool DetectorOptions::IsValid(std::string* error) const {
   if (!(min_decision_margin >= 0.0) || !std::isfinite(min_decision_margin)) {
     return fail("min_decision_margin must be a finite number >= 0");
   }
+  if (!WhiteBalanceIsValid(white_balance, error)) return false;
   if (camera && !camera->IsValid(error)) return false;
   if (!(tag_size >= 0.0) || !std::isfinite(tag_size))
     return fail("tag_size must be a finite length in metres >= 0 (0: no pose)");

@@ -883,7 +883,7 @@ PYBIND11_MODULE(_chromatag, m) {
       "         dist_coeffs=None, camera_model='pinhole', camera_file=None,\n"
       "         tag_size=0.0, **options)\n\n"
       "options are the names a detector config holds (step, row_step, adiff_thresh,\n"
-      "border_thresh, min_decision_margin, ...; docs/calibration.md) and\n"
+      "border_thresh, min_decision_margin, white_balance, ...; docs/calibration.md) and\n"
       "report_rejected; config a file written by\n"
       "'chromatag calibrate'. The camera: camera_matrix and dist_coeffs as OpenCV's\n"
       "(camera_model 'fisheye' for cv::fisheye's k1-k4), or camera_file, an OpenCV,\n"

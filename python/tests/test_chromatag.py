@@ -13,10 +13,10 @@ import chromatag
 cv2 = pytest.importorskip("cv2")
 
 
-def scene(family="16h5", tag_id=3, cell_px=12, at=(60, 50), size=(400, 480)):
+def scene(family="16h5", tag_id=3, cell_px=12, at=(60, 50), size=(400, 480), palette="default"):
     """A tag pasted on a mid-grey frame; returns the frame and the black square's
     top-left corner in pixel-centre coordinates."""
-    tag = chromatag.render_tag(family, tag_id, cell_px)
+    tag = chromatag.render_tag(family, tag_id, cell_px, palette=palette)
     frame = np.full((size[0], size[1], 3), 128, np.uint8)
     x, y = at
     frame[y:y + tag.shape[0], x:x + tag.shape[1]] = tag
@@ -226,6 +226,28 @@ def test_one_default_family_set_and_one_table_of_option_names():
     # The benchmarks' switches are not options; the error lists the names.
     with pytest.raises(chromatag.Error, match="unknown option \"grow_regions\".*row_step"):
         chromatag.Detector(grow_regions=False)
+
+
+def test_white_balance_is_an_option_of_three_gains(tmp_path):
+    # A green cast in linear light (red and blue at 0.6 of green), undone by
+    # the gains that a calibration would write.
+    frame, _ = scene(palette="iccv17")
+    v = frame / 255.0
+    linear = np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+    linear[..., 0] *= 0.6  # B (the frame is BGR)
+    linear[..., 2] *= 0.6  # R
+    cast = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+    cast = np.round(255 * cast).astype(np.uint8)
+    detections = chromatag.Detector(white_balance=(1.0, 0.6, 1.0)).detect(cast)
+    assert [(d.family, d.id) for d in detections] == [("16h5", 3)]
+    config = tmp_path / "detector.json"
+    config.write_text(json.dumps({"schema": "chromatag-detector-config", "schema_version": 1,
+                                  "options": {"white_balance": [1.0, 0.6, 1.0]}}))
+    assert len(chromatag.Detector(config=str(config)).detect(cast)) == 1
+    with pytest.raises(chromatag.Error, match="largest gain must be 1; divide all three by it"):
+        chromatag.Detector(white_balance=[1.5, 1.0, 1.5])
+    with pytest.raises(chromatag.Error, match="list of three numbers"):
+        chromatag.Detector(white_balance=0.8)
 
 
 @pytest.mark.parametrize("offset_m", [0.0, 0.01])

@@ -190,7 +190,7 @@ PrintedShades ShadesOf(const TagCells& t) {
     r.count = static_cast<int>(linear.size());
   }
   out.paper_as_shot = XyzToLab(LinearRgbToXyz(t.white));
-  out.margins = MarginsOf(out.shades, 100.0, /*as_shot=*/false);
+  out.margins = MarginsOf(out.shades, 100.0, /*seen=*/false);
   out.measured = true;
   return out;
 }

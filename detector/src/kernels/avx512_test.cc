@@ -45,6 +45,35 @@ TEST(Avx512KernelTest, ComputedAIsFastAForEveryColour) {
   }
   EXPECT_EQ(mismatches, 0);
 }
+
+// With a white balance folded into the channel weights, the kernel still
+// computes exactly FastA: every green and blue level for every fifth red.
+TEST(Avx512KernelTest, ComputedAIsFastAWithGains) {
+  if (!Kernels::Available(KernelPath::kAvx512)) GTEST_SKIP() << "this CPU has no AVX-512 with VBMI";
+  for (const ColorTable::Gains& gains :
+       {ColorTable::Gains{0.6, 1.0, 0.6}, ColorTable::Gains{1.0, 0.2, 0.2},
+        ColorTable::Gains{0.2, 0.2, 1.0}}) {
+    const ColorTable table(gains);
+    std::vector<uint8_t> row(12 * 256, 0);
+    std::vector<int16_t> a(256);
+    long mismatches = 0;
+    for (int red = 0; red < 256; red += 5) {
+      for (int green = 0; green < 256; ++green) {
+        for (int blue = 0; blue < 256; ++blue) {
+          row[12 * blue + 2] = static_cast<uint8_t>(red);
+          row[12 * blue + 1] = static_cast<uint8_t>(green);
+          row[12 * blue] = static_cast<uint8_t>(blue);
+        }
+        const RowSampler sampler{
+            row.data(), static_cast<int>(row.size()), 256, 12, 2, 0, nullptr, 0, 0, 0, 0};
+        ComputedARowAvx512(sampler, table.fast_a_tables(), a.data());
+        for (int blue = 0; blue < 256; ++blue)
+          mismatches += a[blue] != table.FastA(red, green, blue);
+      }
+    }
+    EXPECT_EQ(mismatches, 0) << "gains " << gains[0] << " " << gains[1] << " " << gains[2];
+  }
+}
 #endif
 
 }  // namespace

@@ -27,13 +27,14 @@ const ColorTable& ColorTable::Get() {
   return table;
 }
 
-ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
+ColorTable::ColorTable(const Gains& gains)
+    : gains_(gains), coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
   // Each channel's contribution to X/Xn, Y, Z/Zn: the matrix columns of
-  // LinearRgbToXyz applied to a unit channel, divided by the white.
+  // LinearRgbToXyz applied to the channel's gain, divided by the white.
   const double white[3] = {kD65White.X, kD65White.Y, kD65White.Z};
   for (int channel = 0; channel < 3; ++channel) {
     Rgb unit;
-    (channel == 0 ? unit.r : channel == 1 ? unit.g : unit.b) = 1.0;
+    (channel == 0 ? unit.r : channel == 1 ? unit.g : unit.b) = gains[channel];
     const Xyz column = LinearRgbToXyz(unit);
     const double per_unit[3] = {column.X / white[0], column.Y / white[1], column.Z / white[2]};
     for (int v = 0; v < 256; ++v) {
@@ -54,7 +55,7 @@ ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
   }
   for (int channel = 0; channel < 3; ++channel) {
     Rgb unit;
-    (channel == 0 ? unit.r : channel == 1 ? unit.g : unit.b) = 1.0;
+    (channel == 0 ? unit.r : channel == 1 ? unit.g : unit.b) = gains[channel];
     const Xyz column = LinearRgbToXyz(unit);
     fast_a_.x_weight[channel] = static_cast<int16_t>(std::lround(column.X / white[0] * 32768));
     fast_a_.y_weight[channel] = static_cast<int16_t>(std::lround(column.Y / white[1] * 32768));
@@ -66,12 +67,15 @@ ColorTable::ColorTable() : coarse_a_(32 * 32 * 32 + kCoarsePadding, 0) {
     fast_a_.f[i] = fixed_f(t);
     fast_a_.f_step[i] = static_cast<int16_t>(fixed_f(next) - fast_a_.f[i]);
   }
-  // Coarse a*: the exact a* of each 8x8x8 block's centre colour.
+  // Coarse a*: the exact a* of each 8x8x8 block's centre colour, gained.
+  double centre_linear[32];
+  for (int i = 0; i < 32; ++i) centre_linear[i] = SrgbToLinear((i * 8 + 3.5) / 255.0);
   for (int r = 0; r < 32; ++r) {
     for (int g = 0; g < 32; ++g) {
       for (int b = 0; b < 32; ++b) {
-        const Rgb centre{(r * 8 + 3.5) / 255.0, (g * 8 + 3.5) / 255.0, (b * 8 + 3.5) / 255.0};
-        const double a = std::clamp(SrgbToLab(centre).a, -127.0, 127.0);
+        const Rgb centre{gains[0] * centre_linear[r], gains[1] * centre_linear[g],
+                         gains[2] * centre_linear[b]};
+        const double a = std::clamp(XyzToLab(LinearRgbToXyz(centre)).a, -127.0, 127.0);
         coarse_a_[(r << 10) | (g << 5) | b] = static_cast<int8_t>(std::lround(a));
       }
     }

@@ -23,6 +23,14 @@
 //   16.7 million), twice as tight as the coarse table, so fewer rises need
 //   the accurate re-check, and without the coarse table's random reads.
 //
+// A camera's white balance (DetectorOptions::white_balance: per-channel gains
+// on linear light, the largest 1) is folded into all three when a table is
+// built for it: into the per-channel linear tables, the coarse table's
+// colours and the computed a*'s channel weights, so that a detector with a
+// white balance does no more work per pixel than one without. Every bound
+// above holds for the gained colour: the table's L*, a*, b* of (r, g, b) are
+// those of the linear colour (g_r R, g_g G, g_b B).
+//
 // A ColorTable is immutable after construction and safe to share between
 // threads.
 #ifndef CHROMATAG_DETECTOR_SRC_KERNELS_COLOR_TABLE_H_
@@ -49,10 +57,19 @@ class ColorTable {
   // (measured 5.7 and checked by a test; rounded up).
   static constexpr int kCoarseErrorBound = 6;
 
-  // The process-wide table, built on first use (thread-safe).
+  // Per-channel gains on linear light, R, G, B.
+  using Gains = std::array<double, 3>;
+  static constexpr Gains kNoGains = {1.0, 1.0, 1.0};
+
+  // The process-wide table without gains, built on first use (thread-safe).
   static const ColorTable& Get();
 
-  ColorTable();
+  // A table for `gains`: each in (0, 1] (DetectorOptions::IsValid holds
+  // them to the range the bounds are tested for), so X/Xn and Y stay in
+  // [0, 1] and the fixed-point ranges hold.
+  explicit ColorTable(const Gains& gains = kNoGains);
+
+  const Gains& gains() const { return gains_; }
 
   LabF Lab(uint8_t r, uint8_t g, uint8_t b) const {
     const int x = xyz_[0][r][0] + xyz_[1][g][0] + xyz_[2][b][0];
@@ -164,6 +181,7 @@ class ColorTable {
     return f_[i] + (f_[i + 1] - f_[i]) * frac;
   }
 
+  Gains gains_;
   int32_t xyz_[3][256][3];
   float f_[(1 << kFBits) + 2];
   std::vector<int8_t> coarse_a_;

@@ -63,6 +63,84 @@ TEST(ColorTableTest, ComputedAIsWithinItsBoundForEveryColour) {
   std::printf("worst |computed a* - a*|: %.3f\n", worst);
 }
 
+// The gain sets the white balance tests use: casts a camera's white
+// balance corrects (a tungsten lamp, 0.6 / 1 / 0.6 and its opposite) and
+// the extremes DetectorOptions allows (kMinWhiteBalanceGain, 0.2).
+const ColorTable::Gains kGainSets[] = {{1.0, 0.6, 1.0}, {0.6, 1.0, 0.6}, {0.45, 0.7, 1.0},
+                                       {1.0, 0.2, 0.2}, {0.2, 1.0, 0.2}, {0.2, 0.2, 1.0},
+                                       {1.0, 1.0, 0.2}, {0.2, 1.0, 1.0}, {1.0, 0.2, 1.0}};
+
+struct Worst {
+  double l = 0, a = 0, b = 0, coarse = 0, fast = 0;
+};
+
+// Worst errors of `table` over the colours whose channels are multiples of
+// `stride` (and 255): the accurate path against the exact conversion of the
+// gained colour, the coarse a* against the exact a*, the computed a*
+// against the accurate one.
+Worst WorstErrors(const ColorTable& table, int stride) {
+  const ColorTable::Gains& gains = table.gains();
+  std::vector<int> values;
+  for (int v = 0; v < 255; v += stride) values.push_back(v);
+  values.push_back(255);
+  double linear[256];
+  for (int v = 0; v < 256; ++v) linear[v] = SrgbToLinear(v / 255.0);
+  Worst w;
+  for (int r : values) {
+    for (int g : values) {
+      for (int b : values) {
+        const Lab exact = XyzToLab(
+            LinearRgbToXyz({gains[0] * linear[r], gains[1] * linear[g], gains[2] * linear[b]}));
+        const LabF fast = table.Lab(r, g, b);
+        w.l = std::max(w.l, std::abs(fast.L - exact.L));
+        w.a = std::max(w.a, std::abs(fast.a - exact.a));
+        w.b = std::max(w.b, std::abs(fast.b - exact.b));
+        w.coarse = std::max(w.coarse, std::abs(table.CoarseA(r, g, b) - exact.a));
+        const double computed = table.FastA(r, g, b) / ColorTable::kFastAUnitsPerA;
+        w.fast = std::max(w.fast, std::abs(computed - table.A(r, g, b)));
+      }
+    }
+  }
+  return w;
+}
+
+// Every colour for the first gain set (a green cast's, whose computed a*
+// comes closest to its bound: 2.50), every third level of each channel for
+// the others (every colour for all of them: coarse a* within 5.18, computed
+// a* within 2.50, 11 s).
+TEST(ColorTableTest, GainsAreFoldedIntoEveryPath) {
+  bool first = true;
+  for (const ColorTable::Gains& gains : kGainSets) {
+    const ColorTable table(gains);
+    const Worst w = WorstErrors(table, first ? 1 : 3);
+    first = false;
+    std::printf(
+        "gains %.2f %.2f %.2f: worst |error| L* %.4f a* %.4f b* %.4f, coarse %.2f, "
+        "computed %.3f\n",
+        gains[0], gains[1], gains[2], w.l, w.a, w.b, w.coarse, w.fast);
+    EXPECT_LT(w.l, 0.05);
+    EXPECT_LT(w.a, 0.05);
+    EXPECT_LT(w.b, 0.05);
+    EXPECT_LE(w.coarse, ColorTable::kCoarseErrorBound);
+    EXPECT_LE(w.fast, ColorTable::kFastAErrorBound);
+  }
+}
+
+// The paper white under a cast, balanced: a green-tinted white (as a
+// camera's green channel reads a tungsten-lit page against a daylight
+// setting's red and blue) reads neutral through the gains that undo it.
+TEST(ColorTableTest, GainsNeutraliseTheCastTheyUndo) {
+  const ColorTable plain;
+  const ColorTable balanced({1.0, 0.6, 1.0});
+  const int g = static_cast<int>(std::lround(255 * LinearToSrgb(SrgbToLinear(150 / 255.0) / 0.6)));
+  const LabF cast = plain.Lab(150, static_cast<uint8_t>(g), 150);
+  const LabF neutral = balanced.Lab(150, static_cast<uint8_t>(g), 150);
+  EXPECT_LT(cast.a, -20.f);
+  EXPECT_NEAR(neutral.a, 0.f, 0.3f);
+  EXPECT_NEAR(neutral.b, 0.f, 0.3f);
+  EXPECT_NEAR(neutral.L, plain.L(150, 150, 150), 0.3f);
+}
+
 TEST(ColorTableTest, SingleChannelsAgreeWithLab) {
   const ColorTable& table = ColorTable::Get();
   for (int v = 0; v < 256; v += 5) {

@@ -1,6 +1,7 @@
 // `chromatag calibrate` as a library call: measure every photo of the
-// calibration sheet, fit the printer per photo, derive detector thresholds,
-// choose a palette, bake a printer LUT, and lay out the report.
+// calibration sheet, fit the printer per photo, measure the camera's white
+// balance, derive detector thresholds, choose a palette, bake a printer LUT,
+// and lay out the report.
 #ifndef CHROMATAG_CALIB_CALIBRATE_H_
 #define CHROMATAG_CALIB_CALIBRATE_H_
 
@@ -18,6 +19,7 @@
 #include "chromatag/calib/palette_choice.h"
 #include "chromatag/calib/printer_model.h"
 #include "chromatag/calib/thresholds.h"
+#include "chromatag/calib/white_balance.h"
 #include "chromatag/generator/file_util.h"
 
 namespace chromatag {
@@ -26,6 +28,7 @@ struct CalibrateOptions {
   LocateOptions locate;
   MeasureOptions measure;
   PrinterModelOptions model;
+  WhiteBalanceOptions white_balance;
   ThresholdOptions thresholds;
   PaletteChoiceOptions palette;
   int lut_size = 17;  // Grid of the .cube LUT per side, [2, 65].
@@ -45,18 +48,24 @@ struct PhotoResult {
   std::vector<int> fit_patches;  // Patch index of each of fit.residual_de.
   std::array<ShadeReading, kNumShades> shades;
   Margins normalised;  // The sheet palette's margins, white-normalised...
-  Margins as_shot;     // ...and as the camera delivered them.
+  // ...and as the calibrated detector sees them: through the config's white
+  // balance (as the camera delivered them when it holds none).
+  Margins seen;
 };
 
 struct CalibrationResult {
   CalibSheetLayout layout;
   CalibrateOptions options;
   std::vector<PhotoResult> photos;
+  // The camera's white balance; thresholds.options.white_balance holds
+  // white_balance.gains.
+  WhiteBalance white_balance;
   DerivedThresholds thresholds;
   std::optional<PaletteChoice> palette;  // None if no candidate set qualifies.
   std::string palette_error;             // Why not, then.
   std::string cube;                      // .cube text.
-  // Thin margins, a palette that could not be chosen, poor fits.
+  // Thin margins, a palette that could not be chosen, poor fits, photos
+  // that disagree on the white balance.
   std::vector<std::string> warnings;
 };
 
@@ -88,8 +97,9 @@ inline constexpr const char* kMeasurementsFile = "measurements.json";
 inline constexpr const char* kCameraFile = "camera.yaml";
 
 // The files to write into `folder` (for WriteFilesAtomically): the detector
-// config, the palette (if one was chosen), the LUT, the report as PDF and PNG,
-// and every measurement as JSON.
+// config (the derived thresholds, and the white balance when written), the
+// palette (if one was chosen), the LUT, the report as PDF and PNG, and every
+// measurement as JSON.
 std::vector<OutputFile> CalibrationFiles(const CalibrationResult& result,
                                          const std::string& folder);
 

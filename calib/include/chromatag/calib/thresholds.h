@@ -23,6 +23,9 @@ namespace chromatag {
 struct ShadeReading {
   Lab lab;      // White-normalised.
   Lab as_shot;  // As the camera delivered it.
+  // As the detector sees it: the camera's colour through the detector's
+  // white balance (as_shot when it has none).
+  Lab seen;
   // Spread of b* between the repeats (standard deviation; print and light
   // unevenness) and of single pixels' a* and b* (the photo's noise).
   double repeat_spread_b = 0.0;
@@ -50,15 +53,19 @@ struct Margins {
 };
 
 // Margins from four shade readings (red-1, red-0, green-1, green-0), the
-// white's L* and whether to use the as-shot or the normalised colours.
-Margins MarginsOf(const std::array<ShadeReading, 4>& shades, double white_l, bool as_shot);
+// white's L* and whether to use the colours as the detector sees them
+// (ShadeReading::seen) or the normalised ones.
+Margins MarginsOf(const std::array<ShadeReading, 4>& shades, double white_l, bool seen);
 
 // The worse of each member (smaller gaps, larger spreads and noise).
 Margins Worst(const Margins& a, const Margins& b);
 
-// Readings of the palette's shades in one measured photo (index: Shade).
+// Readings of the palette's shades in one measured photo (index: Shade),
+// `seen` through a detector with `white_balance` (DetectorOptions).
 std::array<ShadeReading, kNumShades> ReadShades(const CalibSheetLayout& layout,
-                                                const PhotoMeasurement& photo);
+                                                const PhotoMeasurement& photo,
+                                                const std::array<double, 3>& white_balance = {
+                                                    1.0, 1.0, 1.0});
 
 struct ThresholdOptions {
   // Every threshold keeps this factor between itself and the measured
@@ -108,7 +115,8 @@ struct DerivedThresholds {
 };
 
 // Derives ADiffThresh, BorderThresh, min_decision_margin and max_green_a
-// from the worst margins over `photos` (each: normalised and as shot);
+// from the worst margins over `photos` (each: normalised and as the detector
+// sees it);
 // two_step_rises stays on, as in the detector's defaults.
 DerivedThresholds DeriveThresholds(const std::vector<Margins>& per_photo_worst,
                                    const ThresholdOptions& options = {});

@@ -3,6 +3,7 @@
 #ifndef CHROMATAG_DETECTOR_OPTIONS_H_
 #define CHROMATAG_DETECTOR_OPTIONS_H_
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,13 @@ inline constexpr double kMinTagRedA = 12.0;
 
 // DetectorOptions::max_green_a lies in [-kMaxGreenALimit, kMaxGreenALimit].
 inline constexpr double kMaxGreenALimit = 100.0;
+
+// DetectorOptions::white_balance's gains lie in [kMinWhiteBalanceGain, 1]: a
+// channel read at a fifth of another's under the light is a cast beyond what
+// a camera's white balance leaves (a tungsten lamp through a daylight
+// setting is about a third), and the colour table's error bounds are tested
+// down to it.
+inline constexpr double kMinWhiteBalanceGain = 0.2;
 
 // The share of DetectorOptions::min_decision_margin that a read of `family`
 // at Hamming distance `hamming` from its code must reach: all of it for a
@@ -121,6 +129,17 @@ struct DetectorOptions {
   // read (max_hamming) is judged by how well its code fits the cells
   // instead, and reports the margin of the read it replaced.
   double min_decision_margin = 2.0;
+
+  // The camera's white balance: gains on linear light for R, G, B, applied
+  // to every pixel before CIELAB, that make the paper white read neutral
+  // under the light the camera works in. `chromatag calibrate` measures
+  // them on the calibration sheet's paper (docs/calibration.md). Each in
+  // [kMinWhiteBalanceGain, 1], the largest exactly 1: gains only darken
+  // channels, so every colour stays in the range the colour table covers.
+  // {1, 1, 1}, the default: none, the colours as the camera gave them, and
+  // each tag is read against its own white. Folded into the detector's
+  // colour table at Create, so a white balance costs nothing per pixel.
+  std::array<double, 3> white_balance = {1.0, 1.0, 1.0};
 
   // Report every rejected candidate (DetectionResult::rejected): where it
   // was, which stage abandoned it and why. Off costs nothing.
