@@ -20,7 +20,8 @@ enum Ring { kRedGreen = 0, kGreenBlack = 1, kBlackWhite = 2 };
 inline constexpr int kNumRings = 3;
 
 // Where one scan from the centre crossed each border (sub-pixel), and the
-// pixels it took as the green ring's and the quiet zone's colours.
+// pixels that show the green ring's and the quiet zone's colours (the ring's
+// middle, half a black ring's width into the quiet zone).
 struct RingHits {
   std::array<cv::Point2f, kNumRings> border;
   cv::Point green_at;

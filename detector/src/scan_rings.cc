@@ -229,8 +229,13 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
   // The quiet zone is the lightest part of a tag.
   if (black_white.value_after < green_l + thresh) return false;
   hits->border = {red_green.at, green_black.at, black_white.at};
-  hits->green_at = cv::Point(red_green.resume);
-  hits->white_at = cv::Point(black_white.resume);
+  // The colours of the green ring and the quiet zone where they are their
+  // own: the middle of the green ring, and half the black ring's width into
+  // the quiet zone (at least one cell wide), clear of blurred edges.
+  const cv::Point2f green_middle = 0.5f * (red_green.at + green_black.at);
+  const cv::Point2f into_white = black_white.at + 0.5f * (black_white.at - green_black.at);
+  hits->green_at = cv::Point(RoundToInt(green_middle.x), RoundToInt(green_middle.y));
+  hits->white_at = cv::Point(RoundToInt(into_white.x), RoundToInt(into_white.y));
   return true;
 }
 
