@@ -198,6 +198,16 @@ RejectedCandidate Rejection(const internal::Candidate& candidate, cv::Point seed
   return out;
 }
 
+// Whether the centre of `detection` lies inside an area accepted before.
+bool InAcceptedArea(const std::vector<internal::DetectedArea>& areas, const Detection& detection) {
+  const cv::Vec3d c = detection.image_from_tag * cv::Vec3d(0.5, 0.5, 1.0);
+  const cv::Point2d centre(c[0] / c[2], c[1] / c[2]);
+  for (const internal::DetectedArea& area : areas) {
+    if (area.Contains(centre)) return true;
+  }
+  return false;
+}
+
 // The accepted tag grown by one cell, so that FindADiff skips its quiet zone.
 internal::DetectedArea AreaOf(const Detection& detection, int black_square_cells) {
   internal::DetectedArea area;
@@ -388,6 +398,10 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
           continue;
         }
       }
+      // A tag already accepted in this frame, found again from another seed
+      // (one outside its area, whose scans still led to it: under a cast the
+      // quiet zone or the card around it can seed): reported once.
+      if (InAcceptedArea(scratch.areas, detection)) continue;
       if (options.camera && options.tag_size > 0) {
         const Clock::time_point start = Clock::now();
         detection.has_pose =

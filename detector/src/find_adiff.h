@@ -30,6 +30,11 @@ struct DetectedArea {
   double min_y = 0, max_y = 0;
   // The range [x_begin, x_end] the area covers on row y; false if none.
   bool RowSpan(double y, double* x_begin, double* x_end) const;
+  // Whether `p` lies in the area (its row span, edges included).
+  bool Contains(cv::Point2d p) const {
+    double begin = 0, end = 0;
+    return RowSpan(p.y, &begin, &end) && begin <= p.x && p.x <= end;
+  }
 };
 
 // FindADiff's position on its current sampled row. On the first call the

@@ -331,6 +331,10 @@ TEST(DetectedAreaTest, RowSpanOfADiamond) {
   EXPECT_DOUBLE_EQ(end, 80);
   EXPECT_FALSE(diamond.RowSpan(5, &begin, &end));
   EXPECT_FALSE(diamond.RowSpan(71, &begin, &end));
+  EXPECT_TRUE(diamond.Contains({50, 50}));
+  EXPECT_TRUE(diamond.Contains({35, 40}));
+  EXPECT_FALSE(diamond.Contains({35, 20}));
+  EXPECT_FALSE(diamond.Contains({50, 75}));
 }
 
 }  // namespace
