@@ -371,10 +371,12 @@ int Found(const DetectorOptions& options, const testing::Scene& scene) {
 }
 
 // A green cast (red and blue at 0.6 of green) turns the faded reds towards
-// grey: the default detector finds 17 of 28 tags, the thresholds calibrated
-// as shot (no white balance) 25. The calibration measures the cast on the
-// paper and writes gains that undo it; with them the detector finds all 28,
-// as the default does in neutral light.
+// grey. The calibration measures the cast on the paper and writes gains that
+// undo it; with them the detector finds all 28 tags, as the default does in
+// neutral light. (So, here, do the default detector and thresholds
+// calibrated from the colours as shot, since each tag is judged in the light
+// of its own quiet zone; with the gains the stages before a quiet zone is
+// found see the paper as neutral too.)
 TEST(CalibCalibrateTest, WhiteBalanceUndoesAGreenCastAndFindsEveryTag) {
   const CalibSheetLayout layout = Sheet("iccv17");
   const cv::Vec3d cast(0.6, 1.0, 0.6);
@@ -416,9 +418,9 @@ TEST(CalibCalibrateTest, WhiteBalanceUndoesAGreenCastAndFindsEveryTag) {
       "of 28 tags under the cast: default %d, thresholds as shot %d, calibrated %d; in "
       "neutral light %d\n",
       by_default, by_thresholds_alone, by_calibrated, in_neutral_light);
-  EXPECT_LE(by_default, 20);
-  EXPECT_LT(by_thresholds_alone, 28);
   EXPECT_EQ(by_calibrated, 28);
+  EXPECT_GE(by_calibrated, by_default);
+  EXPECT_GE(by_calibrated, by_thresholds_alone);
   EXPECT_EQ(in_neutral_light, 28);
 }
 
