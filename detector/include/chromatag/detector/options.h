@@ -32,11 +32,14 @@ struct CameraIntrinsics {
 // "pinhole" or "fisheye".
 const char* LensModelName(LensModel model);
 
-// The smallest a* the detector accepts as a tag's red, in CIELAB a* units:
-// the palettes' reds have 40 or more, and a colour cast, dim light or a
-// washed-out print lower it. A rise that ends below this is green meeting
-// black or white, not a tag's centre. The calibration tool fails prints whose
-// reds come close.
+// The smallest a* the detector accepts as a tag's red, in CIELAB a* units,
+// seen in the tag's own light (each channel over its quiet zone's white,
+// the white put at paper white): the palettes' reds have 40 or more, a
+// washed-out print lowers it. As shot, a cast and dim light move a* far
+// more (a faded red under a green cast at 0.35 of the light reads 10, in
+// its own light 31): a seed paler than this must show a tag's colours in
+// its own light before the scans go on. The calibration tool fails prints
+// whose reds come close.
 inline constexpr double kMinTagRedA = 12.0;
 
 // DetectorOptions::max_green_a lies in [-kMaxGreenALimit, kMaxGreenALimit].
