@@ -101,6 +101,19 @@ cv::Mat ColourImage(const py::object& object, py::object* keep) {
   return three;
 }
 
+// A few numbers (a camera matrix, distortion coefficients, a position) as
+// a C-order array of doubles, or an Error saying `expected`. The count is
+// checked before the conversion: a broadcast view can describe billions of
+// elements, and converting it would write every one out.
+py::array_t<double, py::array::c_style | py::array::forcecast> SmallNumbers(
+    const py::object& value, py::ssize_t max_count, const std::string& expected) {
+  const py::array array = py::array::ensure(value);  // No copy of an array.
+  if (!array || array.size() > max_count) throw Error(expected);
+  auto numbers = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+  if (!numbers) throw Error(expected);
+  return numbers;
+}
+
 py::array_t<double> Points(const cv::Point2d* points, int n) {
   py::array_t<double> out({n, 2});
   auto view = out.mutable_unchecked<2>();
@@ -225,18 +238,19 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
       {"schema", kDetectorConfigSchema}, {"schema_version", 1}, {"options", fields}};
   if (!ParseDetectorConfig(text.dump(), &options, &error)) throw Error(error);
   if (!camera_matrix.is_none()) {
-    const auto k =
-        py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(camera_matrix);
-    if (!k || k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3)
-      throw Error("camera_matrix must be 3 x 3 ([[fx, 0, cx], [0, fy, cy], [0, 0, 1]])");
+    const std::string k_expected =
+        "camera_matrix must be 3 x 3 ([[fx, 0, cx], [0, fy, cy], [0, 0, 1]])";
+    const auto k = SmallNumbers(camera_matrix, 9, k_expected);
+    if (k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3) throw Error(k_expected);
     CameraIntrinsics camera;
     camera.fx = k.at(0, 0);
     camera.fy = k.at(1, 1);
     camera.cx = k.at(0, 2);
     camera.cy = k.at(1, 2);
     if (!dist_coeffs.is_none()) {
-      const auto d = py::array_t<double, py::array::forcecast>::ensure(dist_coeffs);
-      if (!d) throw Error("dist_coeffs must be numbers (k1, k2, p1, p2[, k3[, k4, k5, k6]])");
+      const auto d = SmallNumbers(dist_coeffs, 64,
+                                  "dist_coeffs must be numbers (k1, k2, p1, p2[, k3[, k4, k5, "
+                                  "k6]])");
       for (py::ssize_t i = 0; i < d.size(); ++i) camera.distortion.push_back(d.data()[i]);
     }
     if (camera_model != "pinhole" && camera_model != "fisheye")
@@ -360,13 +374,14 @@ BoardTag MakeBoardTag(const std::string& family, int id, double size, const py::
   tag.family = family.rfind("tag", 0) == 0 ? family.substr(3) : family;
   tag.id = id;
   tag.size = size;
-  const auto t = py::array_t<double, py::array::forcecast>::ensure(position);
-  if (!t || t.size() != 3) throw Error("position must be 3 numbers (x, y, z), metres");
+  const std::string t_expected = "position must be 3 numbers (x, y, z), metres";
+  const auto t = SmallNumbers(position, 3, t_expected);
+  if (t.size() != 3) throw Error(t_expected);
   tag.translation = {t.data()[0], t.data()[1], t.data()[2]};
   if (!rotation.is_none()) {
-    const auto r = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(rotation);
-    if (!r || r.ndim() != 2 || r.shape(0) != 3 || r.shape(1) != 3)
-      throw Error("rotation must be 3 x 3 (body_from_tag)");
+    const std::string r_expected = "rotation must be 3 x 3 (body_from_tag)";
+    const auto r = SmallNumbers(rotation, 9, r_expected);
+    if (r.ndim() != 2 || r.shape(0) != 3 || r.shape(1) != 3) throw Error(r_expected);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) tag.rotation(i, j) = r.at(i, j);
   }

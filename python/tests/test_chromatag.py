@@ -118,6 +118,25 @@ def test_bad_options_raise_value_errors():
         chromatag.Detector().detect(scene()[0], order="bgra")
 
 
+def test_small_inputs_refuse_huge_views_before_copying():
+    # 2**31 elements that cost no memory as a view and 16 GB as doubles.
+    huge = np.broadcast_to(np.zeros((1,), np.uint8), (4096, 4096, 128))
+    k = np.array([[500.0, 0, 240], [0, 500.0, 200], [0, 0, 1]])
+    with pytest.raises(ValueError, match="camera_matrix must be 3 x 3"):
+        chromatag.Detector(camera_matrix=huge)
+    with pytest.raises(ValueError, match="dist_coeffs must be numbers"):
+        chromatag.Detector(camera_matrix=k, dist_coeffs=huge)
+    with pytest.raises(ValueError, match="position must be 3 numbers"):
+        chromatag.BoardTag("16h5", 0, 0.03, huge)
+    with pytest.raises(ValueError, match="rotation must be 3 x 3"):
+        chromatag.BoardTag("16h5", 0, 0.03, [0.0, 0.0, 0.0], huge)
+    # A strided (reversed) view is read in its own order.
+    reversed_k = np.ascontiguousarray(k[::-1, ::-1])[::-1, ::-1]
+    tag = chromatag.BoardTag("16h5", 0, 0.03, np.array([3.0, 2.0, 1.0])[::-1])
+    assert list(tag.position) == [1.0, 2.0, 3.0]
+    chromatag.Detector(camera_matrix=reversed_k, dist_coeffs=np.array([0.0, 0, 0, 0.1])[::-1])
+
+
 def test_pose_from_camera_and_tag_size():
     frame, _ = scene(cell_px=12)
     f = 500.0

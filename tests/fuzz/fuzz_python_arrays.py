@@ -4,8 +4,8 @@ conversions: every entry point that takes an image or a matrix.
 
 Each input is an array of a random dtype (including object, bool, float16,
 complex, big-endian), 0 to 5 dimensions, sides of 0 to 4096 built as
-broadcast or strided views (so even huge shapes cost no memory), C or
-Fortran order, read-only or not, plus random argument values. The module
+broadcast or strided views (so even huge shapes cost no memory: only
+arrays of up to 4M elements are ever written out), C or Fortran order, read-only or not, plus random argument values. The module
 must answer each with a result or a Python exception (chromatag.Error,
 TypeError, ValueError, MemoryError, OverflowError); a crash of the
 interpreter is the failure. The cases before the random ones are the seeds:
@@ -13,6 +13,7 @@ the ones that once broke it.
 
 usage: fuzz_python_arrays.py SECONDS [SEED]
 """
+import math
 import random
 import sys
 import time
@@ -37,6 +38,8 @@ SEEDS = [
     lambda: np.zeros((5, 0, 4), np.uint8),
     lambda: np.array(b'not an image'),
     lambda: np.zeros((3, 3), object),
+    # 2**31 elements: as doubles, 16 GB that a conversion would write out.
+    lambda: np.broadcast_to(np.zeros((1,), np.uint8), (4096, 4096, 128)),
 ]
 
 
@@ -54,7 +57,14 @@ def make_array(rng):
     for _ in range(ndim):
         shape.append(rng.choice([0, 1, 2, 3, 4, 7, 64, 4096, 2**31 + rng.randint(0, 9),
                                  rng.randint(0, 300)]))
-    base_shape = tuple(1 if s > 512 else s for s in shape)
+    # Memory for up to 4M elements: the other sides (and any over 512) are
+    # broadcast, since sides under 512 can still multiply to billions.
+    small = math.prod(shape) <= 1 << 22
+    base_shape = []
+    for side in shape:
+        keep = side <= 512 and math.prod(base_shape) * side <= 1 << 22
+        base_shape.append(side if keep else 1)
+    base_shape = tuple(base_shape)
     try:
         base = np.zeros(base_shape, dtype=dtype)
     except (ValueError, MemoryError):
@@ -62,11 +72,11 @@ def make_array(rng):
     if rng.random() < 0.3 and base.size:
         base = (np.arange(base.size) % 256).astype(dtype).reshape(base_shape)
     array = np.broadcast_to(base, tuple(shape)) if shape else base
-    if ndim and rng.random() < 0.3 and all(s < 512 for s in shape):
+    if ndim and rng.random() < 0.3 and small:
         array = np.ascontiguousarray(array)
         slices = tuple(slice(None, None, rng.choice([1, 2, -1])) for _ in shape)
         array = array[slices]
-    if rng.random() < 0.2 and all(s < 512 for s in shape):
+    if rng.random() < 0.2 and small:
         array = np.asfortranarray(array)
     if rng.random() < 0.2 and array.flags.writeable:
         array.flags.writeable = False
