@@ -307,11 +307,13 @@ TEST_F(CliHardeningTest, LibraryLinesStayOutOfTheToolsOutput) {
   EXPECT_NE(through.err.find("Corrupt JPEG data"), std::string::npos) << through.err;
   EXPECT_EQ(through.exit_code, 0);
   // A crash shows what the libraries printed: the damaged JPEG is read,
-  // then the tool waits on a stream that never answers and is aborted.
+  // then the tool waits on a stream that never answers (its socket is open)
+  // and is aborted.
   const auto crash = testing::RunCommand(
       "/bin/sh", {"-c",
-                  "\"$0\" detect \"$1\" udp://127.0.0.1:9 >/dev/null & pid=$!; sleep 3; "
-                  "kill -ABRT $pid; wait $pid",
+                  "\"$0\" detect \"$1\" udp://127.0.0.1:9 >/dev/null & pid=$!; i=0; "
+                  "while [ $i -lt 600 ] && ! ls -l /proc/$pid/fd | grep -q socket; do "
+                  "sleep 0.1; i=$((i+1)); done; sleep 0.5; kill -ABRT $pid; wait $pid",
                   CHROMATAG_CLI_PATH, dir_ + "/damaged.jpg"});
   EXPECT_EQ(crash.exit_code, 128 + SIGABRT) << crash.err;
   EXPECT_NE(
