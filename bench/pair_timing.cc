@@ -36,8 +36,8 @@ int main(int argc, char** argv) {
   app.add_option("--off", off,
                  "the detector's addition (or DetectorOptions switch) that the second setting "
                  "turns off")
-      ->check(
-          CLI::IsMember({"quads_from_scans", "grow_regions", "refine_corners", "two_step_rises"}))
+      ->check(CLI::IsMember(
+          {"quads_from_scans", "grow_regions", "refine_corners", "two_step_rises", "cast_seeds"}))
       ->required();
   try {
     app.parse(argc, argv);
@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
   internal::StageSwitches b_switches;
   if (off == "two_step_rises") {
     b.two_step_rises = false;
+  } else if (off == "cast_seeds") {
+    b.cast_seeds = false;
   } else {
     (off == "quads_from_scans" ? b_switches.quads_from_scans
      : off == "grow_regions"   ? b_switches.grow_regions

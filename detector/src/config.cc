@@ -76,6 +76,7 @@ constexpr Field kFields[] = {
     Num("border_thresh", &DetectorOptions::border_thresh),
     Int("border_run", &DetectorOptions::border_run),
     Flag("two_step_rises", &DetectorOptions::two_step_rises),
+    Flag("cast_seeds", &DetectorOptions::cast_seeds),
     Num("max_green_a", &DetectorOptions::max_green_a),
     Num("conv_thresh", &DetectorOptions::conv_thresh),
     Int("max_hamming", &DetectorOptions::max_hamming),

@@ -90,7 +90,7 @@ TEST(DetectorConfigTest, OneTableNamesEveryField) {
     EXPECT_NE(text.find("\"" + name + "\""), std::string::npos) << name;
     EXPECT_NE(error.find(name), std::string::npos) << error;
   }
-  EXPECT_EQ(DetectorConfigFieldNames().size(), 12u);
+  EXPECT_EQ(DetectorConfigFieldNames().size(), 13u);
   EXPECT_EQ(text.find("refine_corners"), std::string::npos);
   EXPECT_TRUE(
       ParseDetectorConfig(config(R"({"refine_corners": true, "step": 2})"), &options, &error))

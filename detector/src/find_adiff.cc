@@ -55,14 +55,14 @@ int ComputedARiseThreshold(double adiff_thresh) {
   return static_cast<int>(std::clamp(units, -32768.0, 32767.0));
 }
 
-int ComputedATwoStepRedFloor() {
-  return static_cast<int>(std::floor((kTwoStepCastMinRedA - ColorTable::kFastAErrorBound) *
+int ComputedATwoStepRedFloor(const DetectorOptions& options) {
+  return static_cast<int>(std::floor((TwoStepMinRedA(options) - ColorTable::kFastAErrorBound) *
                                      ColorTable::kFastAUnitsPerA));
 }
 
-int ComputedAGreenLimit() {
-  return static_cast<int>(
-      std::ceil((kTwoStepCastGreenA + ColorTable::kFastAErrorBound) * ColorTable::kFastAUnitsPerA));
+int ComputedAGreenLimit(const DetectorOptions& options) {
+  return static_cast<int>(std::ceil((TwoStepGreenA(options) + ColorTable::kFastAErrorBound) *
+                                    ColorTable::kFastAUnitsPerA));
 }
 
 bool RowScanComputesA(const ImageView& image, const DetectorOptions& options) {
@@ -89,8 +89,8 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
     // The computed a* (ColorTable::FastA units) has thresholds of its own.
     sampler.threshold = ComputedARiseThreshold(options.adiff_thresh);
     sampler.step_thresh = ComputedARiseThreshold(kTwoStepShare * options.adiff_thresh);
-    sampler.green_limit = options.two_step_rises ? ComputedAGreenLimit() : -32768;
-    sampler.red_floor = ComputedATwoStepRedFloor();
+    sampler.green_limit = options.two_step_rises ? ComputedAGreenLimit(options) : -32768;
+    sampler.red_floor = ComputedATwoStepRedFloor(options);
     return image.kernels().scan_row_computed_a(sampler, image.table().fast_a_tables(), rises);
   }
   // The coarse table is within kCoarseErrorBound of the accurate a*, so a
@@ -101,11 +101,12 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
   sampler.step_thresh = static_cast<int>(std::floor(kTwoStepShare * options.adiff_thresh)) -
                         2 * ColorTable::kCoarseErrorBound;
   // Without two_step_rises, no sample counts as green.
-  sampler.green_limit = options.two_step_rises ? static_cast<int>(std::ceil(kTwoStepCastGreenA)) +
-                                                     ColorTable::kCoarseErrorBound
-                                               : INT_MIN;
+  sampler.green_limit =
+      options.two_step_rises
+          ? static_cast<int>(std::ceil(TwoStepGreenA(options))) + ColorTable::kCoarseErrorBound
+          : INT_MIN;
   sampler.red_floor =
-      static_cast<int>(std::floor(kTwoStepCastMinRedA)) - ColorTable::kCoarseErrorBound - 1;
+      static_cast<int>(std::floor(TwoStepMinRedA(options))) - ColorTable::kCoarseErrorBound - 1;
   return image.kernels().scan_row_coarse(sampler, coarse, rises);
 }
 
@@ -176,8 +177,9 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
     const float two_before =
         has_two ? table.A(q[r - 3 * step], q[1 - 3 * step], q[b - 3 * step]) : kNoSample;
     // L* only where the rise in two steps needs it.
-    const LabF lab = two_before < kTwoStepCastGreenA ? table.Lab(p[r], p[1], p[b])
-                                                     : LabF{0.f, table.A(p[r], p[1], p[b]), 0.f};
+    const LabF lab = two_before < TwoStepGreenA(options)
+                         ? table.Lab(p[r], p[1], p[b])
+                         : LabF{0.f, table.A(p[r], p[1], p[b]), 0.f};
     *kind = SeedsAt(options, lab, table.A(q[r], q[1], q[b]), two_before);
     if (*kind != Seed::kNone) {
       *seed = cv::Point(x, y);

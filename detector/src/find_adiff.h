@@ -85,11 +85,11 @@ inline RowCursor SampledRow(int height, const DetectorOptions& options, int row)
 // samples' FastA is within kFastAErrorBound of its accurate a*.
 int ComputedARiseThreshold(double adiff_thresh);
 // The FastA below which the computed a* takes a sample two back as green
-// (SeedsAt): every sample whose accurate a* is below kTwoStepCastGreenA.
-int ComputedAGreenLimit();
+// (SeedsAt): every sample whose accurate a* is below TwoStepGreenA.
+int ComputedAGreenLimit(const DetectorOptions& options);
 // The FastA above which it takes a sample as red enough to end such a rise:
-// every sample whose accurate a* is at least kTwoStepCastMinRedA.
-int ComputedATwoStepRedFloor();
+// every sample whose accurate a* is at least TwoStepMinRedA.
+int ComputedATwoStepRedFloor(const DetectorOptions& options);
 
 // Whether FindADiff computes a* with these options and the view's kernels.
 // Then its row scan does not read the coarse a* table, and FindADiff brings
@@ -126,6 +126,15 @@ inline constexpr float kTwoStepMinL = 15.f;
 inline constexpr float kTwoStepCastGreenA = 3.f;
 inline constexpr float kTwoStepCastMinRedA = 8.f;
 
+// The levels a rise over two samples must pass: the looser ones with
+// DetectorOptions::cast_seeds.
+inline float TwoStepGreenA(const DetectorOptions& options) {
+  return options.cast_seeds ? kTwoStepCastGreenA : kTwoStepGreenA;
+}
+inline float TwoStepMinRedA(const DetectorOptions& options) {
+  return options.cast_seeds ? kTwoStepCastMinRedA : kTwoStepMinRedA;
+}
+
 // What a sample's rise is: none, a seed, or a seed only if the light is
 // cast or dim (the looser levels above).
 enum class Seed { kNone, kSeed, kInACast };
@@ -142,7 +151,8 @@ inline Seed SeedsAt(const DetectorOptions& options, LabF lab, float before, floa
         before - two_before > step && a >= kTwoStepCastMinRedA && lab.L >= kTwoStepMinL)) {
     return Seed::kNone;
   }
-  return two_before < kTwoStepGreenA && a >= kTwoStepMinRedA ? Seed::kSeed : Seed::kInACast;
+  if (two_before < kTwoStepGreenA && a >= kTwoStepMinRedA) return Seed::kSeed;
+  return options.cast_seeds ? Seed::kInACast : Seed::kNone;
 }
 
 // FindADiff's scan of sampled row y: fills `rises` (one entry per sample at

@@ -178,6 +178,12 @@ TEST(FindADiffTwoStepTest, RisesThatOnlyACastExplainsAreSeedsInACast) {
   EXPECT_EQ(Seeds(view, DetectorOptions{}, {}, 4, &kinds),
             (std::vector<cv::Point>{{24, 4}, {64, 4}, {104, 4}}));
   EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kInACast, Seed::kInACast, Seed::kSeed}));
+  // Without cast_seeds only the ordinary seed is left.
+  DetectorOptions strict;
+  strict.cast_seeds = false;
+  kinds.clear();
+  EXPECT_EQ(Seeds(view, strict, {}, 4, &kinds), (std::vector<cv::Point>{{104, 4}}));
+  EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kSeed}));
 }
 
 // Rows of random colours, many short runs and some long ones, at widths
@@ -222,6 +228,9 @@ TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
             options.step = 4;
             options.adiff_thresh = adiff;
             options.two_step_rises = two_step_rises;
+            // The cast levels on half the rows' widths, the strict ones on
+            // the others.
+            options.cast_seeds = width % 2 == 0;
             const int count = (width + 3) / 4;
             for (int y = 0; y < image.rows; ++y) {
               std::vector<int32_t> coarse(count);
@@ -247,11 +256,12 @@ TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
                   exact.push_back(i);
                 auto sat = [](int v) { return std::clamp(v, -32768, 32767); };
                 const int rise = sat(fast_at(i) - fast_at(i - 1));
-                const bool two_step =
-                    options.two_step_rises && i >= 2 && fast_at(i - 2) < ComputedAGreenLimit() &&
-                    fast_at(i) > ComputedATwoStepRedFloor() &&
-                    sat(fast_at(i) - fast_at(i - 2)) > thresh && rise > step_thresh &&
-                    sat(fast_at(i - 1) - fast_at(i - 2)) > step_thresh;
+                const bool two_step = options.two_step_rises && i >= 2 &&
+                                      fast_at(i - 2) < ComputedAGreenLimit(options) &&
+                                      fast_at(i) > ComputedATwoStepRedFloor(options) &&
+                                      sat(fast_at(i) - fast_at(i - 2)) > thresh &&
+                                      rise > step_thresh &&
+                                      sat(fast_at(i - 1) - fast_at(i - 2)) > step_thresh;
                 if (rise > thresh || two_step) computed.push_back(i);
               }
               true_rises += exact.size();

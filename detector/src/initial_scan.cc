@@ -192,7 +192,8 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
       // A red paler than kMinTagRedA is judged in its own light too.
       const bool green = GreenPastRed(reference_red, deepest_a, min_drop, max_green_a);
       if (green && reference_red >= static_cast<float>(kMinTagRedA)) break;
-      if (green || GreenPastRedInACast(reference_red, deepest_a, min_drop, max_green_a)) {
+      if (green || (options.cast_seeds &&
+                    GreenPastRedInACast(reference_red, deepest_a, min_drop, max_green_a))) {
         if (!*in_own_light) {
           const int skip = std::max(0, k - 2 * options.border_run);
           *in_own_light = ColoursInProbeLight(image, options, centre, direction, skip,
@@ -338,7 +339,8 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // A tag's red half-width is under half the frame unless the tag is larger
   // than the frame.
   const int reach = std::max(image.width(), image.height()) / 2;
-  if (reference_red < kMinSeedRedA) return reject(RejectReason::kPaleRed);
+  if (reference_red < (options.cast_seeds ? kMinSeedRedA : static_cast<float>(kMinTagRedA)))
+    return reject(RejectReason::kPaleRed);
   // A seed that only a cast or dim light could make a tag's, or a red paler
   // than kMinTagRedA, must show a tag's colours in its own light first: one
   // ring scan back along the row, where the rise came from (the seed lies

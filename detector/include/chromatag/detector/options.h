@@ -113,6 +113,18 @@ struct DetectorOptions {
   // to trade those tags for speed.
   bool two_step_rises = true;
 
+  // Seeds and scans that only a colour cast or dim light explains (not in
+  // the paper): rises over two samples from a green a cast lifted to a* 3 or
+  // up to a red it took down to a* 8, seeds of a red as pale as a* 6, and
+  // drops into green of 1.2 times a pale red's own a*. Each such candidate
+  // must first show a tag's colours in the light of its own quiet zone
+  // (kMinTagRedA) before its scans go on. Finds tags of washed-out prints
+  // under strong casts in dim light (without it, a green cast at 0.4 of the
+  // light with JPEG leaves 1 of 28 tags of a faded iccv17 print) for about a
+  // sixth more time on the benchmark's tag-free frames (docs/calibration.md).
+  // On by default; off trades those tags for that time.
+  bool cast_seeds = true;
+
   // ConvThresh: BuildPolygon stops when polygon area over the area it could
   // still reach exceeds this ratio. (0, 1).
   double conv_thresh = 0.98;
