@@ -51,6 +51,8 @@ const char* RejectReasonName(RejectReason reason) {
       return "not green past the red";
     case RejectReason::kCentreNotRed:
       return "centre not red";
+    case RejectReason::kRedTooSmall:
+      return "red too small";
     case RejectReason::kNoConvergence:
       return "centre did not converge";
     case RejectReason::kRingScan:
@@ -324,6 +326,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   const int num_rows = internal::NumSampledRows(view.height(), options);
   for (int row = 0; row < num_rows; ++row) {
     internal::RowCursor cursor = internal::SampledRow(view.height(), options, row);
+    internal::ForgetRegionsAbove(static_cast<float>(cursor.y), &scratch.rejected);
     cv::Point seed;
     internal::Seed kind = internal::Seed::kNone;
     while (internal::FindADiff(view, options, scratch.areas, &scratch.row_scan, &cursor, &seed,

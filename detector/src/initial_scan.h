@@ -36,6 +36,12 @@ struct RejectedRegion {
   static RejectedRegion Around(const std::array<cv::Point2f, 8>& red_border);
 };
 
+// Drops the regions that end above row y. Rows are sampled top to bottom,
+// so no later seed can lie in one, and a busy frame's seeds (thousands in
+// the chroma noise of a dark one) no longer each test every region the
+// frame has rejected.
+void ForgetRegionsAbove(float y, std::vector<RejectedRegion>* regions);
+
 // InitialScan from a seed of the given kind (FindADiff). With `rejected`
 // (the frame's regions rejected so far), a seed inside one of them is
 // dropped at once, and a region rejected after a centring pass is added.

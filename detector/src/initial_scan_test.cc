@@ -127,6 +127,47 @@ TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
   EXPECT_EQ(rejected.size(), 1u);
 }
 
+// A red one pixel tall on green (a speck of a dark frame's chroma noise, or
+// a thin red line) is no tag's: dropped after the scans up and down, before
+// the other six and without a rejected region. A red five pixels across, in
+// a tag's rings, is not.
+TEST(InitialScanTest, RejectsARedTooSmallForATag) {
+  cv::Mat image(100, 200, CV_8UC3, kGreen);
+  cv::rectangle(image, {60, 50}, {140, 50}, kRed, cv::FILLED);
+  std::vector<RejectedRegion> rejected;
+  EXPECT_EQ(RejectionOf(image, {62, 50}, &rejected), RejectReason::kRedTooSmall);
+  EXPECT_TRUE(rejected.empty());
+
+  const cv::Mat small =
+      testing::RenderRings({100, 100}, 50, 50, {2, 4, 6}, /*with_green=*/true, /*with_black=*/true);
+  const ImageView view(small, PixelOrder::kBgr, ColorTable::Get());
+  Scratch scratch;
+  Candidate candidate;
+  RejectReason why = RejectReason::kPaleRed;
+  EXPECT_TRUE(InitialScan(view, DetectorOptions{}, {48, 50}, Seed::kSeed, &scratch.ring_scan,
+                          &candidate, &rejected, &why))
+      << RejectReasonName(why);
+}
+
+// Rows are sampled top to bottom: a region that ends above the row can hold
+// no later seed and is forgotten; the others stay.
+TEST(InitialScanTest, ForgetsRegionsThatEndAboveTheRow) {
+  std::array<cv::Point2f, 8> border;
+  std::vector<RejectedRegion> regions;
+  for (float top : {10.f, 40.f, 70.f}) {
+    for (int i = 0; i < 8; ++i) {
+      border[i] = cv::Point2f(50, top + 5) + 5.f * kScanDirections[i];
+    }
+    regions.push_back(RejectedRegion::Around(border));
+  }
+  ForgetRegionsAbove(40.f, &regions);
+  ASSERT_EQ(regions.size(), 2u);
+  EXPECT_TRUE(regions[0].Contains({50, 45}));
+  EXPECT_TRUE(regions[1].Contains({50, 75}));
+  ForgetRegionsAbove(100.f, &regions);
+  EXPECT_TRUE(regions.empty());
+}
+
 // Red on green without a black ring passes the centring but not the ring
 // scans (white follows the green); the region then joins `rejected`, around
 // the drawn red.

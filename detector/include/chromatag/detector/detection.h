@@ -101,6 +101,7 @@ enum class RejectReason {
   kNoRedGreenBorder,      // A centring scan met no red/green border (or left the frame).
   kNotGreen,              // Past the red/green border a* does not fall into a green.
   kCentreNotRed,          // Re-centring left the red.
+  kRedTooSmall,           // The red is narrower than a tag's the detector could read.
   kNoConvergence,         // The centre did not settle.
   kRingScan,              // A scan from the centre did not cross the three rings.
   kRingProportions,       // The rings' widths are not a tag's.
@@ -125,7 +126,7 @@ enum class RejectReason {
   kSquareNotQuad,  // The dark region's outline is not a quadrilateral of a tag's size.
   kNoInnerRings,   // No family's green/black and red/green sides were found inside it.
 };
-inline constexpr int kNumRejectReasons = 24;
+inline constexpr int kNumRejectReasons = 25;
 const char* RejectReasonName(RejectReason reason);  // "in rejected region", ...
 // The stage of Algorithm 1 a reason belongs to (GrowRegion's own four map to
 // kGrowRegion; it also fails with Decode's).
