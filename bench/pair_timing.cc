@@ -3,7 +3,7 @@
 // (pair_timing.h): how much a part of the detector costs or saves under the
 // comparison's conditions, free of the machine's drift between runs.
 //
-//   pair_timing [--set camera|classic] [--frames N] [--seed S] --off OPTION
+//   pair_timing [--set camera|classic] [--frames N] [--seed S] (--off OPTION | --on OPTION)
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -21,9 +21,9 @@ using namespace chromatag::bench;
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "ChromaTag's time with its defaults and with one option off, paired frame by frame "
+      "ChromaTag's time with its defaults and with one option switched, paired frame by frame "
       "after AprilTag 3 and ArUco"};
-  std::string set = "camera", off;
+  std::string set = "camera", off, on;
   int frames = 1500;
   uint64_t seed = 1;
   app.add_option("--set", set, "data set (as tag_comparison)")
@@ -33,17 +33,26 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 1'000'000))
       ->capture_default_str();
   app.add_option("--seed", seed, "data set seed")->capture_default_str();
-  app.add_option("--off", off,
-                 "the detector's addition (or DetectorOptions switch) that the second setting "
-                 "turns off")
-      ->check(CLI::IsMember(
-          {"quads_from_scans", "grow_regions", "refine_corners", "two_step_rises", "cast_seeds"}))
-      ->required();
+  CLI::Option* off_option =
+      app.add_option("--off", off,
+                     "the detector's addition (or DetectorOptions switch, on by default) that the "
+                     "second setting turns off")
+          ->check(CLI::IsMember(
+              {"quads_from_scans", "grow_regions", "refine_corners", "two_step_rises"}));
+  CLI::Option* on_option =
+      app.add_option("--on", on,
+                     "the DetectorOptions switch, off by default, that the second setting turns on")
+          ->check(CLI::IsMember({"cast_seeds"}));
+  off_option->excludes(on_option);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help.
     std::cerr << "pair_timing: error: " << e.what() << " (see pair_timing --help)\n";
+    return 2;
+  }
+  if (off.empty() && on.empty()) {
+    std::cerr << "pair_timing: error: give --off OPTION or --on OPTION (see pair_timing --help)\n";
     return 2;
   }
   cv::setNumThreads(1);  // Every detector on this thread, as in tag_comparison.
@@ -57,10 +66,10 @@ int main(int argc, char** argv) {
   a.families = setup.families;
   DetectorOptions b = a;
   internal::StageSwitches b_switches;
-  if (off == "two_step_rises") {
+  if (on == "cast_seeds") {
+    b.cast_seeds = true;
+  } else if (off == "two_step_rises") {
     b.two_step_rises = false;
-  } else if (off == "cast_seeds") {
-    b.cast_seeds = false;
   } else {
     (off == "quads_from_scans" ? b_switches.quads_from_scans
      : off == "grow_regions"   ? b_switches.grow_regions
@@ -72,7 +81,8 @@ int main(int argc, char** argv) {
   std::printf(
       "pair_timing --set %s --frames %d --seed %llu: defaults (A) against %s %s (B), "
       "medians in us\n\n",
-      set.c_str(), frames, static_cast<unsigned long long>(seed), off.c_str(), "off");
+      set.c_str(), frames, static_cast<unsigned long long>(seed),
+      on.empty() ? off.c_str() : on.c_str(), on.empty() ? "off" : "on");
   std::printf(
       "| frames | n | A | B | B - A, paired | B - A, A timed first | B - A, B timed first | "
       "detections A / B |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");

@@ -146,7 +146,10 @@ Scene CastScene(double size, cv::Vec3d gain, double exposure, int jpeg_quality) 
 // its own light (the quiet zone's white), where its colours are a tag's
 // again: DetectorOptions::cast_seeds.
 TEST(DetectorConditionsTest, StrongCastsOnAFadedPrintInDimLight) {
-  auto detector = BothFamiliesDetector();
+  DetectorOptions in_casts;
+  in_casts.families = {"16h5", "36h11"};
+  in_casts.cast_seeds = true;
+  const auto detector = Detector::Create(in_casts);
   struct Condition {
     std::string name;
     cv::Vec3d gain;  // R, G, B.
@@ -158,10 +161,7 @@ TEST(DetectorConditionsTest, StrongCastsOnAFadedPrintInDimLight) {
                                   {"magenta cast, dim", {1.5, 1, 1.5}, 0.4, 0},
                                   {"cyan cast", {0.64, 1, 1}, 0.83, 0},
                                   {"cyan cast, dim, JPEG 75", {0.64, 1, 1}, 0.6, 75}};
-  DetectorOptions strict;
-  strict.families = {"16h5", "36h11"};
-  strict.cast_seeds = false;
-  const auto strict_detector = Detector::Create(strict);
+  const auto strict_detector = BothFamiliesDetector();  // cast_seeds off, the default.
   size_t strict_found = 0, total = 0;
   for (const Condition& c : conditions) {
     const Scene scene = CastScene(100, c.gain, c.exposure, c.jpeg_quality);

@@ -175,14 +175,14 @@ TEST(FindADiffTwoStepTest, RisesThatOnlyACastExplainsAreSeedsInACast) {
   }
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   std::vector<Seed> kinds;
-  EXPECT_EQ(Seeds(view, DetectorOptions{}, {}, 4, &kinds),
+  DetectorOptions in_casts;
+  in_casts.cast_seeds = true;
+  EXPECT_EQ(Seeds(view, in_casts, {}, 4, &kinds),
             (std::vector<cv::Point>{{24, 4}, {64, 4}, {104, 4}}));
   EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kInACast, Seed::kInACast, Seed::kSeed}));
-  // Without cast_seeds only the ordinary seed is left.
-  DetectorOptions strict;
-  strict.cast_seeds = false;
+  // Without cast_seeds (the default) only the ordinary seed is left.
   kinds.clear();
-  EXPECT_EQ(Seeds(view, strict, {}, 4, &kinds), (std::vector<cv::Point>{{104, 4}}));
+  EXPECT_EQ(Seeds(view, DetectorOptions{}, {}, 4, &kinds), (std::vector<cv::Point>{{104, 4}}));
   EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kSeed}));
 }
 

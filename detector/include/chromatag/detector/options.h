@@ -120,10 +120,13 @@ struct DetectorOptions {
   // must first show a tag's colours in the light of its own quiet zone
   // (kMinTagRedA) before its scans go on. Finds tags of washed-out prints
   // under strong casts in dim light (without it, a green cast at 0.4 of the
-  // light with JPEG leaves 1 of 28 tags of a faded iccv17 print) for about a
-  // sixth more time on the benchmark's tag-free frames (docs/calibration.md).
-  // On by default; off trades those tags for that time.
-  bool cast_seeds = true;
+  // light with JPEG leaves 1 of 28 tags of a faded iccv17 print), for about
+  // a sixth more time on tag-free frames; on the benchmark's camera set, with
+  // its casts of a white balance left wrong, it finds 6 more of 5,967 tags.
+  // Off by default, since its time would take the detector under its speed
+  // floor on tag-free frames (docs/calibration.md); turn it on for strong
+  // casts or dim light on a faded print.
+  bool cast_seeds = false;
 
   // ConvThresh: BuildPolygon stops when polygon area over the area it could
   // still reach exceeds this ratio. (0, 1).
