@@ -147,7 +147,8 @@ std::string PrintRecallSection(const Context& c) {
     out << "The calibrated configs (the defaults: " << Fixed(DetectorOptions{}.adiff_thresh, 1)
         << ", " << Fixed(DetectorOptions{}.border_thresh, 1) << ", "
         << Fixed(DetectorOptions{}.min_decision_margin, 1) << ", "
-        << Fixed(DetectorOptions{}.max_green_a, 1) << ", off):\n\n"
+        << Fixed(DetectorOptions{}.max_green_a, 1) << ", "
+        << (DetectorOptions{}.two_step_rises ? "on" : "off") << "):\n\n"
         << Markdown({"print", "ADiffThresh", "BorderThresh", "min decision margin", "max green a*",
                      "two-step rises"},
                     configs)
