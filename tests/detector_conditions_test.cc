@@ -144,36 +144,36 @@ Scene CastScene(double size, cv::Vec3d gain, double exposure, int jpeg_quality) 
 // detector's absolute floors; a magenta one (both at 1.5) lifts the green's
 // to 0; a cyan one (red at 0.64) does some of both. Each tag is judged in
 // its own light (the quiet zone's white), where its colours are a tag's
-// again: DetectorOptions::cast_seeds.
+// again. The defaults find every tag but under the green cast in dim light
+// with JPEG (17 of 28 when measured); DetectorOptions::cast_seeds finds
+// those too.
 TEST(DetectorConditionsTest, StrongCastsOnAFadedPrintInDimLight) {
   DetectorOptions in_casts;
   in_casts.families = {"16h5", "36h11"};
   in_casts.cast_seeds = true;
-  const auto detector = Detector::Create(in_casts);
+  const auto with_cast_seeds = Detector::Create(in_casts);
+  const auto defaults = BothFamiliesDetector();
   struct Condition {
     std::string name;
     cv::Vec3d gain;  // R, G, B.
     double exposure;
     int jpeg_quality;
+    bool defaults_find_all;
   };
-  const Condition conditions[] = {{"green cast", {0.6, 1, 0.6}, 0.5, 0},
-                                  {"green cast, dim, JPEG 75", {0.6, 1, 0.6}, 0.4, 75},
-                                  {"magenta cast, dim", {1.5, 1, 1.5}, 0.4, 0},
-                                  {"cyan cast", {0.64, 1, 1}, 0.83, 0},
-                                  {"cyan cast, dim, JPEG 75", {0.64, 1, 1}, 0.6, 75}};
-  const auto strict_detector = BothFamiliesDetector();  // cast_seeds off, the default.
-  size_t strict_found = 0, total = 0;
+  const Condition conditions[] = {{"green cast", {0.6, 1, 0.6}, 0.5, 0, true},
+                                  {"green cast, dim, JPEG 75", {0.6, 1, 0.6}, 0.4, 75, false},
+                                  {"magenta cast, dim", {1.5, 1, 1.5}, 0.4, 0, true},
+                                  {"cyan cast", {0.64, 1, 1}, 0.83, 0, true},
+                                  {"cyan cast, dim, JPEG 75", {0.64, 1, 1}, 0.6, 75, true}};
   for (const Condition& c : conditions) {
     const Scene scene = CastScene(100, c.gain, c.exposure, c.jpeg_quality);
-    ExpectEveryTagFoundOnce(*detector, scene, 1.5, c.name);
-    const size_t found = strict_detector->Detect(scene.bgr).detections.size();
-    EXPECT_LE(found, scene.truth.size()) << c.name;
-    strict_found += found;
-    total += scene.truth.size();
+    ExpectEveryTagFoundOnce(*with_cast_seeds, scene, 1.5, c.name + ", cast_seeds");
+    if (c.defaults_find_all) {
+      ExpectEveryTagFoundOnce(*defaults, scene, 1.5, c.name);
+    } else {
+      EXPECT_LT(defaults->Detect(scene.bgr).detections.size(), scene.truth.size()) << c.name;
+    }
   }
-  // Without the seeds only a cast explains, the green cast in dim light
-  // with JPEG loses nearly every tag (1 of 28 found when measured).
-  EXPECT_LT(strict_found, total - 14);
 }
 
 // 28 tags of `family` in the iccv17 shades (what the paper's authors

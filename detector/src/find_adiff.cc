@@ -55,8 +55,8 @@ int ComputedARiseThreshold(double adiff_thresh) {
   return static_cast<int>(std::clamp(units, -32768.0, 32767.0));
 }
 
-int ComputedATwoStepRedFloor(const DetectorOptions& options) {
-  return static_cast<int>(std::floor((TwoStepMinRedA(options) - ColorTable::kFastAErrorBound) *
+int ComputedATwoStepRedFloor() {
+  return static_cast<int>(std::floor((kTwoStepCastMinRedA - ColorTable::kFastAErrorBound) *
                                      ColorTable::kFastAUnitsPerA));
 }
 
@@ -90,7 +90,7 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
     sampler.threshold = ComputedARiseThreshold(options.adiff_thresh);
     sampler.step_thresh = ComputedARiseThreshold(kTwoStepShare * options.adiff_thresh);
     sampler.green_limit = options.two_step_rises ? ComputedAGreenLimit(options) : -32768;
-    sampler.red_floor = ComputedATwoStepRedFloor(options);
+    sampler.red_floor = ComputedATwoStepRedFloor();
     return image.kernels().scan_row_computed_a(sampler, image.table().fast_a_tables(), rises);
   }
   // The coarse table is within kCoarseErrorBound of the accurate a*, so a
@@ -106,7 +106,7 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
           ? static_cast<int>(std::ceil(TwoStepGreenA(options))) + ColorTable::kCoarseErrorBound
           : INT_MIN;
   sampler.red_floor =
-      static_cast<int>(std::floor(TwoStepMinRedA(options))) - ColorTable::kCoarseErrorBound - 1;
+      static_cast<int>(std::floor(kTwoStepCastMinRedA)) - ColorTable::kCoarseErrorBound - 1;
   return image.kernels().scan_row_coarse(sampler, coarse, rises);
 }
 

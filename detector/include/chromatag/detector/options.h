@@ -114,18 +114,15 @@ struct DetectorOptions {
   bool two_step_rises = true;
 
   // Seeds and scans that only a colour cast or dim light explains (not in
-  // the paper): rises over two samples from a green a cast lifted to a* 3 or
-  // up to a red it took down to a* 8, seeds of a red as pale as a* 6, and
-  // drops into green of 1.2 times a pale red's own a*. Each such candidate
-  // must first show a tag's colours in the light of its own quiet zone
-  // (kMinTagRedA) before its scans go on. Finds tags of washed-out prints
-  // under strong casts in dim light (without it, a green cast at 0.4 of the
-  // light with JPEG leaves 1 of 28 tags of a faded iccv17 print), for about
-  // a sixth more time on tag-free frames; on the benchmark's camera set, with
-  // its casts of a white balance left wrong, it finds 6 more of 5,967 tags.
-  // Off by default, since its time would take the detector under its speed
-  // floor on tag-free frames (docs/calibration.md); turn it on for strong
-  // casts or dim light on a faded print.
+  // the paper), beyond the rises into a pale red that the defaults take:
+  // rises over two samples from a green a cast lifted to a* 3, seeds of a
+  // red as pale as a* 6, and drops into green of 1.2 times a pale red's own
+  // a*. Each such candidate must first show a tag's colours in the light of
+  // its own quiet zone (kMinTagRedA) before its scans go on. Finds the tags
+  // of a faded print under a green cast in dim light with JPEG (28 of 28
+  // tags of a test card; the defaults find 17), for about a sixth more time
+  // on tag-free frames. Off by default, since that time would take the
+  // detector under its speed floor on tag-free frames (docs/calibration.md).
   bool cast_seeds = false;
 
   // ConvThresh: BuildPolygon stops when polygon area over the area it could
