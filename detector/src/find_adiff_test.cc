@@ -115,6 +115,19 @@ TEST_P(FindADiffTest, SkipsDetectedAreas) {
 
 INSTANTIATE_TEST_SUITE_P(Steps, FindADiffTest, testing::Values(1, 3, 4, 5, 8));
 
+// An 8 x 120 image of vertical stripes: each (end, colour) paints the
+// columns up to `end` (exclusive) from the previous stripe's end.
+cv::Mat Stripes(const std::vector<std::pair<int, Rgb8>>& stripes) {
+  cv::Mat image(8, 120, CV_8UC3);
+  int x = 0;
+  for (const auto& [end, c] : stripes) {
+    for (; x < end; ++x) {
+      for (int y = 0; y < image.rows; ++y) image.at<cv::Vec3b>(y, x) = {c.b, c.g, c.r};
+    }
+  }
+  return image;
+}
+
 // A red/green border blurred over two samples: green (a* -12), a blend
 // (a* 6) for one sample, then red (a* 28). Neither step passes ADiffThresh
 // 25; the rise over both, from green, seeds with two_step_rises, at the
@@ -122,20 +135,16 @@ INSTANTIATE_TEST_SUITE_P(Steps, FindADiffTest, testing::Values(1, 3, 4, 5, 8));
 TEST(FindADiffTwoStepTest, SeedsWhereTheRiseFromGreenTakesTwoSamples) {
   const Rgb8 green = LabToSrgb8({50, -12, 10}), blend = LabToSrgb8({50, 6, 10}),
              red = LabToSrgb8({50, 28, 10}), grey = LabToSrgb8({50, 0, 0});
-  cv::Mat image(8, 120, CV_8UC3);
-  for (int x = 0; x < image.cols; ++x) {
-    // Green to red at 40-47 and 100-107 from green, grey to red at 72-79.
-    const Rgb8 c = x < 40    ? green
-                   : x < 44  ? blend
-                   : x < 64  ? red
-                   : x < 72  ? grey
-                   : x < 76  ? blend
-                   : x < 92  ? red
-                   : x < 100 ? green
-                   : x < 104 ? blend
-                             : red;
-    for (int y = 0; y < image.rows; ++y) image.at<cv::Vec3b>(y, x) = {c.b, c.g, c.r};
-  }
+  // Green to red at 40-47 and 100-107 from green, grey to red at 72-79.
+  const cv::Mat image = Stripes({{40, green},
+                                 {44, blend},
+                                 {64, red},
+                                 {72, grey},
+                                 {76, blend},
+                                 {92, red},
+                                 {100, green},
+                                 {104, blend},
+                                 {120, red}});
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   for (bool two_step : {false, true}) {
     DetectorOptions options;
@@ -158,21 +167,17 @@ TEST(FindADiffTwoStepTest, RisesThatOnlyACastExplainsAreSeedsInACast) {
   const Rgb8 cast_green = LabToSrgb8({50, 1, 10}), cast_blend = LabToSrgb8({50, 15, 10}),
              red = LabToSrgb8({50, 30, 10}), green = LabToSrgb8({40, -20, 10}),
              pale_blend = LabToSrgb8({40, -5, 10}), pale_red = LabToSrgb8({40, 10, 10});
-  cv::Mat image(8, 120, CV_8UC3);
-  for (int x = 0; x < image.cols; ++x) {
-    // A cast green to red at 20-27, a green to a pale red at 60-67, a green
-    // to a red at 100-107.
-    const Rgb8 c = x < 20    ? cast_green
-                   : x < 24  ? cast_blend
-                   : x < 40  ? red
-                   : x < 60  ? green
-                   : x < 64  ? pale_blend
-                   : x < 80  ? pale_red
-                   : x < 100 ? green
-                   : x < 104 ? pale_blend
-                             : red;
-    for (int y = 0; y < image.rows; ++y) image.at<cv::Vec3b>(y, x) = {c.b, c.g, c.r};
-  }
+  // A cast green to red at 20-27, a green to a pale red at 60-67, a green
+  // to a red at 100-107.
+  const cv::Mat image = Stripes({{20, cast_green},
+                                 {24, cast_blend},
+                                 {40, red},
+                                 {60, green},
+                                 {64, pale_blend},
+                                 {80, pale_red},
+                                 {100, green},
+                                 {104, pale_blend},
+                                 {120, red}});
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   std::vector<Seed> kinds;
   DetectorOptions in_casts;

@@ -52,13 +52,14 @@ constexpr int kGreenLookAhead = 6;
 // A red paler than the drop into green that CentringPass asks for needs a
 // drop of this many times its own a* (GreenPastRed).
 constexpr float kMinDropOverRed = 1.2f;
-// The palest seed InitialScan starts from, in a*: a cast and dim light take a
-// faded print's red to a* 10; the red's a* in the candidate's own light
-// (kMinTagRedA) is checked once the final scans have found its white.
+// With DetectorOptions::cast_seeds, the palest seed InitialScan starts from,
+// in a*: a cast and dim light take a faded print's red to a* 10; the red's
+// a* in the candidate's own light (kMinTagRedA) is checked once the final
+// scans have found its white.
+constexpr float kMinSeedRedA = 6.f;
 // Pixels beyond where the red/green border is expected that a probe of the
 // candidate's own light (ColoursInProbeLight) looks for it.
 constexpr int kProbeSlack = 6;
-constexpr float kMinSeedRedA = 6.f;
 // A run past the red threshold whose lowest a* stays within this many
 // thresholds of ReferenceRed is a dip inside the red, not its border; a scan
 // goes past at most kMaxRedDips of them (CentringPass).

@@ -120,9 +120,9 @@ struct DetectorOptions {
   // a*. Each such candidate must first show a tag's colours in the light of
   // its own quiet zone (kMinTagRedA) before its scans go on. Finds the tags
   // of a faded print under a green cast in dim light with JPEG (28 of 28
-  // tags of a test card; the defaults find 17), for about a sixth more time
-  // on tag-free frames. Off by default, since that time would take the
-  // detector under its speed floor on tag-free frames (docs/calibration.md).
+  // tags of a test card; the defaults find 17), for about a tenth more of
+  // the median time on tag-free frames, more than the detector's margin
+  // over its speed floor there; so off by default (docs/calibration.md).
   bool cast_seeds = false;
 
   // ConvThresh: BuildPolygon stops when polygon area over the area it could
