@@ -37,8 +37,8 @@ int main(int argc, char** argv) {
       app.add_option("--off", off,
                      "the detector's addition (or DetectorOptions switch, on by default) that the "
                      "second setting turns off")
-          ->check(CLI::IsMember(
-              {"quads_from_scans", "grow_regions", "refine_corners", "two_step_rises"}));
+          ->check(CLI::IsMember({"quads_from_scans", "grow_regions", "refine_corners",
+                                 "two_step_rises", "colour_split_read"}));
   CLI::Option* on_option =
       app.add_option("--on", on,
                      "the DetectorOptions switch, off by default, that the second setting turns on")
@@ -70,6 +70,8 @@ int main(int argc, char** argv) {
     b.cast_seeds = true;
   } else if (off == "two_step_rises") {
     b.two_step_rises = false;
+  } else if (off == "colour_split_read") {
+    b_switches.colour_split_read = false;
   } else {
     (off == "quads_from_scans" ? b_switches.quads_from_scans
      : off == "grow_regions"   ? b_switches.grow_regions

@@ -28,10 +28,18 @@ struct FamilyDecoder {
   // the complement of each kept code in each of its four orientations
   // (SwappedCodes; Decode compares close-code reads with them).
   std::vector<Code> swapped_codes;
+  // Each kept ID's code in its four orientations: kept_ids()[i] turned r
+  // quarter turns at 4 i + r (OrientedCodes; the soft reads try them all).
+  std::vector<Code> oriented_codes;
+  // Whether a read the blur model refuses gets the colour-by-colour soft
+  // read (StageSwitches::colour_split_read; always on for users).
+  bool colour_split_read = true;
 };
 
 // The swapped prints' codes of `family` (FamilyDecoder::swapped_codes).
 std::vector<Code> SwappedCodes(const TagFamily& family);
+// FamilyDecoder::oriented_codes of `family`.
+std::vector<Code> OrientedCodes(const TagFamily& family);
 
 // Decode reads each cell as the mean colour of a samples x samples grid of
 // pixels: the ones nearest to centre + s du + t dv, s and t evenly from -1 to

@@ -66,6 +66,7 @@ std::vector<FamilyDecoder> Families(const std::vector<std::string>& names) {
     entry.family = TagFamily::Load(name);
     entry.decoder = CodeDecoder::Create(entry.family, CodeDecoder::DefaultRadius(*entry.family));
     entry.swapped_codes = SwappedCodes(*entry.family);
+    entry.oriented_codes = OrientedCodes(*entry.family);
     families.push_back(std::move(entry));
   }
   return families;

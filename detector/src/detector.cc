@@ -271,6 +271,8 @@ std::unique_ptr<Detector> internal::DetectorAccess::Create(const DetectorOptions
     entry.decoder = CodeDecoder::Create(entry.family, radius, error);
     if (!entry.decoder) return nullptr;
     entry.swapped_codes = internal::SwappedCodes(*entry.family);
+    entry.oriented_codes = internal::OrientedCodes(*entry.family);
+    entry.colour_split_read = switches.colour_split_read;
     impl->families.push_back(std::move(entry));
   }
   // options() names the families as the library does ("16h5" for "tag16h5"),

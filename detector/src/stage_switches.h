@@ -27,6 +27,10 @@ struct StageSwitches {
   // whose red is enclosed by green but which the ring scans or a later stage
   // lose.
   bool grow_regions = true;
+
+  // Decode's second soft read (ColourSplitRead in decode.cc), which scores
+  // each colour's split of the cells against that colour's own gap.
+  bool colour_split_read = true;
 };
 
 // Detector::Create with some of the detector's additions turned off.
