@@ -429,15 +429,18 @@ double SwappedPrintMisfit(const TagFamily& family, const std::vector<Code>& riva
 }
 
 // A read that the rules above refuse gets a soft-decision read
-// (SoftDecode), first with the blur model (BlurModelRead): every code of the family (each kept ID
-// in each orientation) and every swapped print within a few bits of the observed bits is fitted to
-// the cells' shade values with the blur model (FitBlurModel), and the best fit is taken when it is
-// a code, explains the cells (root mean square misfit at most kMaxSoftMisfit of the smaller shade
-// gap) and every rival fits clearly worse (kMinSoftRivalRatio). The hard read splits each colour at
-// one threshold, so a cell that JPEG's 4:2:0 chroma, demosaicing or blur pulls across it is a wrong
-// bit that the margin and doubt rules then refuse; the fit weighs each cell by its distance from
-// what each code predicts, its neighbours' share included. Measured by logging every soft read with
-// the truth on the camera set's first 8,000 frames:
+// (SoftDecode), first with the blur model (BlurModelRead): every code of the
+// family (each kept ID in each orientation) and every swapped print within a
+// few bits of the observed bits is fitted to the cells' shade values with the
+// blur model (FitBlurModel), and the best fit is taken when it is a code,
+// explains the cells (root mean square misfit at most kMaxSoftMisfit of the
+// smaller shade gap) and every rival fits clearly worse (kMinSoftRivalRatio).
+// The hard read splits each colour at one threshold, so a cell that JPEG's
+// 4:2:0 chroma, demosaicing or blur pulls across it is a wrong bit that the
+// margin and doubt rules then refuse; the fit weighs each cell by its
+// distance from what each code predicts, its neighbours' share included.
+// Measured by logging every soft read with the truth on the camera set's
+// first 8,000 frames:
 // - 16h5 (close codes): reads further than kSoftReadBits (the hard
 //   decoder's radius) from the observed bits gave wrong IDs, with rivals
 //   1.4-2.3 times worse; within it, the two wrong reads (12 px tags) had
@@ -465,42 +468,84 @@ constexpr double kMaxSoftMisfit = 0.3;
 constexpr double kMinSoftGapBalance = 0.2;
 constexpr double kMinSoftRivalRatio(bool close_codes) { return close_codes ? 2.0 : 1.5; }
 
-// Fills *match on success; *swapped_fits_best tells whether a swapped print
-// fits the cells kMinSwappedRivalRatio times better than any other pattern.
-bool BlurModelRead(const FamilyDecoder& entry, Code observed, const PayloadGrid& grid,
-                   int read_bits, bool close_codes, CodeMatch* match, bool* swapped_fits_best) {
-  const TagFamily& family = *entry.family;
-  const int rival_bits = close_codes ? kSoftRivalBits : family.max_safe_radius();
-  double best = std::numeric_limits<double>::infinity(), rival = best;
-  CodeMatch best_match;
-  Code best_code = 0;
+// Where a swapped print fits the cells this many times better than every
+// code near the observed bits, the blur model has found a swapped print, and
+// the colour split (which does not model blur) does not overrule it
+// (SoftDecode). On the stress frames of swapped prints
+// (detector_conditions_test) the split read one as ID 19 where the swapped
+// print fitted 1.66 times better than anything else; the camera-set tags that
+// refusing wherever a swapped print fits best lost had it at 1.00-1.25.
+constexpr double kMinSwappedOverCodeRatio = 1.5;
+
+// The family's codes (each kept ID in each orientation) and swapped prints
+// within `rival_bits` of the observed bits, ranked by a score (lower is
+// better, infinite where a pattern cannot explain the cells).
+struct PatternSearch {
+  double best = std::numeric_limits<double>::infinity();
+  double rival = std::numeric_limits<double>::infinity();  // The runner-up's score.
+  double best_code_score = std::numeric_limits<double>::infinity();
+  double best_swapped_score = std::numeric_limits<double>::infinity();
+  CodeMatch best_match;  // The best pattern: ID -1 for a swapped print.
+  Code best_pattern = 0;
   bool best_is_code = false;
+};
+
+template <typename Score>
+PatternSearch SearchPatterns(const FamilyDecoder& entry, Code observed, int rival_bits,
+                             const Score& score) {
+  PatternSearch search;
   auto consider = [&](Code pattern, bool is_code, int id, int rotation) {
     const int bits = HammingDistance(pattern, observed);
     if (bits > rival_bits) return;
-    const double misfit = FitBlurModel(family, pattern, grid).rms;
-    if (misfit < best) {
-      rival = best;
-      best = misfit;
-      best_is_code = is_code && bits <= read_bits;
-      best_match = {id, rotation, bits};
-      best_code = pattern;
+    const double value = score(pattern);
+    double& best_of_kind = is_code ? search.best_code_score : search.best_swapped_score;
+    best_of_kind = std::min(best_of_kind, value);
+    if (value < search.best) {
+      search.rival = search.best;
+      search.best = value;
+      search.best_match = {id, rotation, bits};
+      search.best_pattern = pattern;
+      search.best_is_code = is_code;
     } else {
-      rival = std::min(rival, misfit);
+      search.rival = std::min(search.rival, value);
     }
   };
+  const TagFamily& family = *entry.family;
   for (size_t i = 0; i < entry.oriented_codes.size(); ++i) {
     consider(entry.oriented_codes[i], true, family.kept_ids()[i / 4], static_cast<int>(i % 4));
   }
   for (Code swapped : entry.swapped_codes) consider(swapped, false, -1, 0);
-  *swapped_fits_best = best_match.id < 0 && rival >= kMinSwappedRivalRatio * best;
-  if (!best_is_code || !(best <= kMaxSoftMisfit) || rival < kMinSoftRivalRatio(close_codes) * best)
-    return false;
+  return search;
+}
+
+// Whether a swapped print lies within kSoftMinSwappedBits of `code`.
+bool NearASwappedPrint(const FamilyDecoder& entry, Code code) {
   for (Code swapped : entry.swapped_codes) {
-    if (HammingDistance(swapped, best_code) < kSoftMinSwappedBits) return false;
+    if (HammingDistance(swapped, code) < kSoftMinSwappedBits) return true;
   }
-  if (FitBlurModel(family, best_code, grid).gap_balance < kMinSoftGapBalance) return false;
-  *match = best_match;
+  return false;
+}
+
+// Fills *match on success; *swapped_fits_best tells whether a swapped print
+// fits the cells kMinSwappedOverCodeRatio times better than every code.
+bool BlurModelRead(const FamilyDecoder& entry, Code observed, const PayloadGrid& grid,
+                   int read_bits, bool close_codes, CodeMatch* match, bool* swapped_fits_best) {
+  const TagFamily& family = *entry.family;
+  const int rival_bits = close_codes ? kSoftRivalBits : family.max_safe_radius();
+  const PatternSearch search = SearchPatterns(entry, observed, rival_bits, [&](Code pattern) {
+    return FitBlurModel(family, pattern, grid).rms;
+  });
+  *swapped_fits_best =
+      std::isfinite(search.best_swapped_score) &&
+      kMinSwappedOverCodeRatio * search.best_swapped_score <= search.best_code_score;
+  if (!search.best_is_code || search.best_match.hamming > read_bits ||
+      !(search.best <= kMaxSoftMisfit) ||
+      search.rival < kMinSoftRivalRatio(close_codes) * search.best)
+    return false;
+  if (NearASwappedPrint(entry, search.best_pattern)) return false;
+  if (FitBlurModel(family, search.best_pattern, grid).gap_balance < kMinSoftGapBalance)
+    return false;
+  *match = search.best_match;
   return true;
 }
 
@@ -509,7 +554,7 @@ struct ColourSums {
   Code mask[2] = {0, 0};  // Cells of the colour (0 red, 1 green), as code bits.
   double sum[2] = {0, 0}, sum2[2] = {0, 0};
   int count[2] = {0, 0};
-  std::array<float, 64> shade{};  // By code bit: shade[i] is bit i's cell.
+  std::array<float, 64> shade{};  // By code bit: shade[i] is bit i's cell (Code is 64 bits).
 };
 
 ColourSums SumColours(const TagFamily& family, const PayloadGrid& grid) {
@@ -531,8 +576,11 @@ ColourSums SumColours(const TagFamily& family, const PayloadGrid& grid) {
 // How well `pattern` splits each colour's cells into its two shades: per
 // colour, the cells' squared distances from their shade's mean over the
 // squared gap between the two means, summed over both colours and divided by
-// the cells; infinite if a shade is missing or the means are out of order
-// (red-1 above red-0, green-1 below green-0). Each colour is judged against
+// the cells; infinite if a shade is missing (so a pattern whose 16h5 red
+// cells are all one shade is never read this way) or the means are out of
+// their order (red-1 lies above red-0, green-1 below green-0). The score is
+// a squared ratio: 0.25 is a root mean square of half the gap, and a rival
+// 4 times worse lies twice as far from it. Each colour is judged against
 // its own gap, so a print whose reds are faded to a few units apart weighs
 // its reds' noise against that gap and not against the greens'.
 // *balance (if given): the smaller colour's gap over the larger's.
@@ -559,7 +607,10 @@ double ColourSplitScore(const ColourSums& sums, Code pattern, double* balance = 
 // code of the family and every swapped print scored by ColourSplitScore, the
 // best taken when it is a code within the soft read's radius, splits the
 // cells well (kMaxColourSplitScore: root mean square within half the gap)
-// and every rival splits them clearly worse (kMinColourSplitRivalRatio). The
+// and every rival splits them clearly worse (kMinColourSplitRivalRatio);
+// as for the blur model's read, never an ID with a swapped print within
+// kSoftMinSwappedBits, and both colours' gaps present (kMinSoftGapBalance,
+// here of the shades' means). The
 // blur model's misfit is measured against the smaller of the two colours'
 // gaps; on a faded print under a cast, dim light and JPEG the reds' gap
 // shrinks to a few b* units, and the greens, read cleanly, then count for
@@ -570,9 +621,10 @@ double ColourSplitScore(const ColourSums& sums, Code pattern, double* balance = 
 //   0.38-0.47 with no rival in reach;
 // - with the ratios at 2 (16h5) and 1.5 (36h11) and the score at 0.6, one
 //   15 px 16h5 tag read as another ID (score 0.19, its rival 2.3 times
-//   worse); at 4 and 3 no read on either set is wrong, and 48 more tags are
-//   found on the camera set (21 of them 30 px or more at up to 60 degrees),
-//   none lost.
+//   worse); with 4 and 3 and 0.25 (the score that the 36h11 reads above
+//   pass with twice their own) no read on either set is wrong, and 48 more
+//   tags are found on the camera set (21 of them 30 px or more at up to 60
+//   degrees), none lost.
 // 36h11's rivals are looked for within kColourSplitRivalBits of the observed
 // bits (16h5's among all its codes): the same reads on both sets as with
 // every code, at 14 us a read instead of 340.
@@ -584,41 +636,18 @@ bool ColourSplitRead(const FamilyDecoder& entry, Code observed, const PayloadGri
                      int read_bits, bool close_codes, CodeMatch* match) {
   const TagFamily& family = *entry.family;
   const ColourSums sums = SumColours(family, grid);
-  double best = std::numeric_limits<double>::infinity(), rival = best;
-  CodeMatch best_match;
-  Code best_code = 0;
-  bool best_is_code = false;
   const int rival_bits = close_codes ? family.num_bits() : kColourSplitRivalBits;
-  auto consider = [&](Code pattern, bool is_code, int id, int rotation) {
-    const int bits = HammingDistance(pattern, observed);
-    if (bits > rival_bits) return;
-    const double score = ColourSplitScore(sums, pattern);
-    if (score < best) {
-      rival = best;
-      best = score;
-      best_match = {id, rotation, bits};
-      best_is_code = is_code && bits <= read_bits;
-      best_code = pattern;
-    } else {
-      rival = std::min(rival, score);
-    }
-  };
-  for (size_t i = 0; i < entry.oriented_codes.size(); ++i) {
-    consider(entry.oriented_codes[i], true, family.kept_ids()[i / 4], static_cast<int>(i % 4));
-  }
-  for (Code swapped : entry.swapped_codes) consider(swapped, false, -1, 0);
-  if (!best_is_code || !(best <= kMaxColourSplitScore) ||
-      rival < kMinColourSplitRivalRatio(close_codes) * best)
+  const PatternSearch search = SearchPatterns(
+      entry, observed, rival_bits, [&](Code pattern) { return ColourSplitScore(sums, pattern); });
+  if (!search.best_is_code || search.best_match.hamming > read_bits ||
+      !(search.best <= kMaxColourSplitScore) ||
+      search.rival < kMinColourSplitRivalRatio(close_codes) * search.best)
     return false;
-  if (close_codes) {
-    for (Code swapped : entry.swapped_codes) {
-      if (HammingDistance(swapped, best_code) < kSoftMinSwappedBits) return false;
-    }
-  }
+  if (NearASwappedPrint(entry, search.best_pattern)) return false;
   double balance = 0;
-  ColourSplitScore(sums, best_code, &balance);
+  ColourSplitScore(sums, search.best_pattern, &balance);
   if (balance < kMinSoftGapBalance) return false;
-  *match = best_match;
+  *match = search.best_match;
   return true;
 }
 
@@ -639,12 +668,7 @@ bool SoftDecode(const DetectorOptions& options, const FamilyDecoder& entry, Code
   if (BlurModelRead(entry, observed, grid, read_bits, close_codes, match, &swapped_fits_best))
     return true;
   // The colour split does not model blur, which can carry a swapped 16h5
-  // print's cells to another ID's: where the blur model fits a swapped print
-  // kMinSwappedRivalRatio times better than anything else, the split does
-  // not overrule it. On the stress frames of swapped prints
-  // (detector_conditions_test) the split read one as ID 19, the swapped
-  // print fitting 1.66 times better; the camera-set tags that a stricter
-  // rule (any swapped print fitting best) lost had it at 1.00-1.25.
+  // print's cells to another ID's (kMinSwappedOverCodeRatio).
   if (close_codes && swapped_fits_best) return false;
   return entry.colour_split_read &&
          ColourSplitRead(entry, observed, grid, read_bits, close_codes, match);
@@ -798,6 +822,7 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
 
 std::vector<Code> OrientedCodes(const TagFamily& family) {
   std::vector<Code> codes;
+  codes.reserve(4 * family.kept_ids().size());
   for (int id : family.kept_ids()) {
     for (int r = 0; r < 4; ++r) codes.push_back(family.Rotate(family.CodeOf(id), r));
   }
