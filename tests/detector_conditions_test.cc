@@ -388,7 +388,8 @@ TEST(DetectorConditionsTest, SwappedShadesNeverDecodeUnderBlurNoiseCastsAndJpeg)
   EXPECT_GT(tags_seen, 2 * 8 * 28 / 2);
 }
 
-// Swapped 16h5 prints under a camera's conditions drawn at random (blur in
+// Swapped 16h5 prints (or, with `reds_alike`, prints whose two reds print
+// alike) under a camera's conditions drawn at random (blur in
 // linear light up to 2 px, noise, exposure, tone curve, cast, demosaicing,
 // JPEG): frame `index` of the stress set that decoded swapped tags as
 // another ID before Decode compared each 16h5 read with the swapped prints
@@ -399,7 +400,7 @@ TEST(DetectorConditionsTest, SwappedShadesNeverDecodeUnderBlurNoiseCastsAndJpeg)
 // than the ID read; the same three with and without the colour-split read.
 // Frame 270 is one the colour split read as ID 19 (its rival 4.7 times
 // worse) while the blur model fitted a swapped print best.
-Scene SwappedStressFrame(int index, const std::string& family_name) {
+Scene SwappedStressFrame(int index, const std::string& family_name, bool reds_alike = false) {
   const auto family = TagFamily::Load(family_name);
   const std::vector<int>& ids = family->kept_ids();
   std::mt19937 rng(1000 + index);
@@ -419,7 +420,8 @@ Scene SwappedStressFrame(int index, const std::string& family_name) {
     tag.tilt_deg = 55 * u(rng);
     tag.tilt_axis_deg = 180 * u(rng);
     tag.palette = u(rng) < 0.5 ? "default" : "iccv17";
-    tag.swap_shades = true;
+    tag.swap_shades = !reds_alike;
+    tag.reds_alike = reds_alike;
     tag.print_chroma = 0.75 + 0.25 * u(rng);
     tags.push_back(tag);
   }
@@ -448,6 +450,31 @@ TEST(DetectorConditionsTest, SwappedShadesUnderRandomCameraConditions) {
                     << " " << d.id << " (hamming " << d.hamming << ", margin " << d.decision_margin
                     << ")";
     }
+  }
+}
+
+// Prints whose two reds print alike (a press that loses the reds' split;
+// `chromatag verify --print` fails such a sheet, docs/verify.md) under the
+// stress frames' random camera conditions, 400 frames of 8 tags a family.
+// Not yet guarded: with 16h5's four red cells under blur, the neighbouring
+// greens' shades make the reds look split, and a read corrected by two bits
+// (the blur model's soft read) can name another ID. Measured: 16h5 5 wrong
+// IDs (frames 112, 158, 247, 294, 382), 36h11 1 (frame 204), with and
+// without the colour-split read. The bound holds them there until a guard
+// takes them to zero.
+TEST(DetectorConditionsTest, PrintsWhoseRedsPrintAlikeRarelyReadAsAnotherId) {
+  auto detector = BothFamiliesDetector();
+  for (const auto& [family, known_wrong] : {std::pair{"16h5", 5}, std::pair{"36h11", 1}}) {
+    int wrong = 0;
+    for (int index = 0; index < 400; ++index) {
+      const Scene scene = SwappedStressFrame(index, family, /*reds_alike=*/true);
+      for (const Detection& d : detector->Detect(scene.bgr).detections) {
+        bool right = false;
+        for (const TagTruth& t : scene.truth) right |= t.family == d.family->name() && t.id == d.id;
+        wrong += right ? 0 : 1;
+      }
+    }
+    EXPECT_LE(wrong, known_wrong) << family;
   }
 }
 

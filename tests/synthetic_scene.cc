@@ -228,6 +228,7 @@ Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options
       std::swap(colors[Shade::kRed1], colors[Shade::kRed0]);
       std::swap(colors[Shade::kGreen1], colors[Shade::kGreen0]);
     }
+    if (tag.reds_alike) colors[Shade::kRed1] = colors[Shade::kRed0];
     TagDrawOptions draw;
     draw.quiet_zone_cells = tag.quiet_zone_cells;
     const int cells = family->black_square_cells();

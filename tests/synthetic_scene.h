@@ -28,6 +28,7 @@ struct SceneTag {
   double distance = 4.0;
   std::string palette = "default";
   bool swap_shades = false;  // Print red-1 as red-0 and green-1 as green-0, and back.
+  bool reds_alike = false;   // Print red-1 as red-0: a press that loses the reds' split.
   int quiet_zone_cells = 2;
   // As printed: the four chromatic shades' a* and b* scaled by this (printers
   // desaturate), in (0, 1].
