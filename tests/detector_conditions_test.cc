@@ -177,22 +177,53 @@ TEST(DetectorConditionsTest, StrongCastsOnAFadedPrintInDimLight) {
   }
 }
 
-// 28 tags of `family` in the iccv17 shades (what the paper's authors
+// 28 tags of a family in the iccv17 shades (what the paper's authors
 // measured on their own prints: red-1 and red-0 8 b* units apart, the greens
-// 11), `size` px, through a linear camera at `exposure` of the light, with
-// blur, noise and JPEG at quality 70 (4:2:0 chroma).
-Scene Iccv17JpegScene(const std::string& family, double size, double exposure) {
+// 11), through a linear camera: the conditions of the scenes below.
+struct Iccv17Camera {
+  std::string family = "36h11";
+  double size = 55;          // Black square, px.
+  double print_chroma = 1;   // 0.8: a faded print.
+  double tilt_step_deg = 0;  // Tags tilted 0-4 steps, about turning axes.
+  cv::Vec3d gain{1, 1, 1};   // A cast (R, G, B).
+  double exposure = 1;
+  double blur_sigma = 0.7;
+  bool blur_in_linear_light = false;
+  double noise_sigma = 1;
+  int jpeg_quality = 70;  // 4:2:0 chroma.
+  unsigned seed = 1;
+};
+
+Scene Iccv17Scene(const Iccv17Camera& camera) {
   SceneOptions options;
-  std::vector<SceneTag> tags = Grid(family, size, 7, "iccv17", false, &options);
+  std::vector<SceneTag> tags = Grid(camera.family, camera.size, 7, "iccv17", false, &options);
   tags.resize(28);
-  options.height = static_cast<int>(4 * std::ceil(size * 1.9));
+  for (size_t i = 0; i < tags.size(); ++i) {
+    tags[i].print_chroma = camera.print_chroma;
+    tags[i].tilt_deg = camera.tilt_step_deg * static_cast<double>(i % 5);
+    tags[i].tilt_axis_deg = camera.tilt_step_deg > 0 ? 40.0 * static_cast<double>(i) : 0.0;
+  }
+  options.height = static_cast<int>(4 * std::ceil(camera.size * 1.9));
   options.linear_camera = true;
-  options.exposure = exposure;
-  options.blur_sigma = 0.7;
-  options.noise_sigma = 1;
+  options.gain = camera.gain;
+  options.exposure = camera.exposure;
+  options.blur_sigma = camera.blur_sigma;
+  options.blur_in_linear_light = camera.blur_in_linear_light;
+  options.noise_sigma = camera.noise_sigma;
   options.shot_noise = 0.02;
-  options.jpeg_quality = 70;
+  options.jpeg_quality = camera.jpeg_quality;
+  options.seed = camera.seed;
   return RenderScene(tags, options);
+}
+
+// `size` px tags of `family` at `exposure` of the light, with blur, noise
+// and JPEG at quality 70.
+Scene Iccv17JpegScene(const std::string& family, double size, double exposure) {
+  Iccv17Camera camera;
+  camera.family = family;
+  camera.size = size;
+  camera.exposure = exposure;
+  return Iccv17Scene(camera);
 }
 
 // The detections of `scene` with a true ID and corners within 1.5 px; a
@@ -241,26 +272,21 @@ TEST(DetectorConditionsTest, SmallIccv17TagsThroughJpegAreReadByFittingNearbyCod
   }
 }
 
-// 28 36h11 tags of a faded iccv17 print (Grid; a* and b* x 0.8, the reds'
-// two shades then 6 b* units apart), `size` px, through a linear camera with
-// `gain` left on red and blue, at `exposure` of the light, with blur, noise
-// and JPEG at `jpeg_quality`.
+// 36h11 tags of a faded print (a* and b* x 0.8, the reds' two shades then
+// 6 b* units apart), `size` px, with `gain` left on red and blue, at
+// `exposure` of the light, blur, noise and JPEG at `jpeg_quality`.
 Scene FadedCastScene(double size, cv::Vec3d gain, double exposure, int jpeg_quality) {
-  SceneOptions options;
-  std::vector<SceneTag> tags = Grid("36h11", size, 7, "iccv17", false, &options);
-  tags.resize(28);
-  for (size_t i = 0; i < tags.size(); ++i) tags[i].print_chroma = 0.8;
-  options.height = static_cast<int>(4 * std::ceil(size * 1.9));
-  options.linear_camera = true;
-  options.gain = gain;
-  options.exposure = exposure;
-  options.blur_sigma = 0.8;
-  options.blur_in_linear_light = true;
-  options.noise_sigma = 1.5;
-  options.shot_noise = 0.02;
-  options.jpeg_quality = jpeg_quality;
-  options.seed = 7;
-  return RenderScene(tags, options);
+  Iccv17Camera camera;
+  camera.size = size;
+  camera.print_chroma = 0.8;
+  camera.gain = gain;
+  camera.exposure = exposure;
+  camera.blur_sigma = 0.8;
+  camera.blur_in_linear_light = true;
+  camera.noise_sigma = 1.5;
+  camera.jpeg_quality = jpeg_quality;
+  camera.seed = 7;
+  return Iccv17Scene(camera);
 }
 
 // On a faded print under a cast, in dim light and through JPEG, the reds'
@@ -288,28 +314,20 @@ TEST(DetectorConditionsTest, FadedPrintsUnderACastInDimLightThroughJpegAreReadCo
   }
 }
 
-// 28 36h11 tags of a faded iccv17 print, `size` px, tilted up to 40
-// degrees, on a dim card (`exposure` of the light) through blur, noise and
-// JPEG at `jpeg_quality`.
+// 36h11 tags of a faded print, `size` px, tilted up to 40 degrees, on a dim
+// card (`exposure` of the light) through blur, noise and JPEG.
 Scene DimJpegScene(double size, double exposure, int jpeg_quality) {
-  SceneOptions options;
-  std::vector<SceneTag> tags = Grid("36h11", size, 7, "iccv17", false, &options);
-  tags.resize(28);
-  for (size_t i = 0; i < tags.size(); ++i) {
-    tags[i].print_chroma = 0.8;
-    tags[i].tilt_deg = 10.0 * (i % 5);
-    tags[i].tilt_axis_deg = 40.0 * i;
-  }
-  options.height = static_cast<int>(4 * std::ceil(size * 1.9));
-  options.linear_camera = true;
-  options.exposure = exposure;
-  options.blur_sigma = 1.2;
-  options.blur_in_linear_light = true;
-  options.noise_sigma = 1.5;
-  options.shot_noise = 0.02;
-  options.jpeg_quality = jpeg_quality;
-  options.seed = 11;
-  return RenderScene(tags, options);
+  Iccv17Camera camera;
+  camera.size = size;
+  camera.print_chroma = 0.8;
+  camera.tilt_step_deg = 10;
+  camera.exposure = exposure;
+  camera.blur_sigma = 1.2;
+  camera.blur_in_linear_light = true;
+  camera.noise_sigma = 1.5;
+  camera.jpeg_quality = jpeg_quality;
+  camera.seed = 11;
+  return Iccv17Scene(camera);
 }
 
 // On a dim card through JPEG the seed often lies on the red's blurred edge,
