@@ -73,7 +73,9 @@ constexpr float kMinGreenDropFraction = 0.8f;
 // A scan whose drop from the seed's a* falls short, but is at least this
 // fraction of the drop needed, is judged again from the red's peak a* in
 // the scans made so far (sampled half way along each), and the colours are
-// then checked in the tag's own light as for a pale red. On the camera set's
+// then checked in the tag's own light as for a pale red, the red where the
+// peak was sampled (the seed's pale edge may be paler than a tag's red in
+// that light too). On the camera set's
 // first 8,000 frames this found one 88 px 36h11 tag at 0.3 of the light
 // through JPEG 60 and lost none. Switched on and off frame by frame on 600
 // of its tag-free frames (a scratch build), the check cost about 1 % of the
@@ -115,14 +117,14 @@ bool GreenPastRedInACast(float reference_red, float deepest_a, float min_drop, f
   return reference_red - deepest_a >= needed && deepest_a < max_green_a;
 }
 
-// Whether the red at `centre` and the green of one ring scan in `direction`
-// (from `skip` steps out, finding the red/green border within `red_reach`
-// steps of there: the caller knows about where it lies) are a tag's in the light of that scan's
-// quiet zone (TagLight): the red's a* at least kMinTagRedA, the green's below
-// DetectorOptions::max_green_a.
+// Whether the red at `red_at` and the green of one ring scan from `centre`
+// in `direction` (from `skip` steps out, finding the red/green border within
+// `red_reach` steps of there: the caller knows about where it lies) are a
+// tag's in the light of that scan's quiet zone (TagLight): the red's a* at
+// least kMinTagRedA, the green's below DetectorOptions::max_green_a.
 bool ColoursInProbeLight(const ImageView& image, const DetectorOptions& options, cv::Point2f centre,
-                         cv::Point2f direction, int skip, int red_reach, float reference_red,
-                         RingScanBuffers* buffers) {
+                         cv::Point red_at, cv::Point2f direction, int skip, int red_reach,
+                         float reference_red, RingScanBuffers* buffers) {
   const cv::Point2f start = centre + static_cast<float>(skip) * direction;
   RingHits hits;
   if (!ScanRings(image, options, start, direction, reference_red, buffers, &hits, red_reach))
@@ -130,9 +132,7 @@ bool ColoursInProbeLight(const ImageView& image, const DetectorOptions& options,
   TagLight light;
   light.AddWhite(image, hits.white_at);
   if (!light.Settle()) return false;
-  const cv::Point at(RoundToInt(static_cast<double>(centre.x)),
-                     RoundToInt(static_cast<double>(centre.y)));
-  return light.BalancedAt(image, at).a >= static_cast<float>(kMinTagRedA) &&
+  return light.BalancedAt(image, red_at).a >= static_cast<float>(kMinTagRedA) &&
          light.BalancedAt(image, hits.green_at).a < static_cast<float>(options.max_green_a);
 }
 
@@ -201,6 +201,8 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
   // Each scanned direction's red run, in steps (the red's peak a* is sampled
   // half way along, only when a drop needs it: kPeakCheckDrop).
   std::array<int, 8> red_steps{};
+  const cv::Point centre_at(RoundToInt(static_cast<double>(centre.x)),
+                            RoundToInt(static_cast<double>(centre.y)));
   for (int i : kCentringOrder) {
     // Red -> green only: the a* drop of the full scan, without the rings.
     const cv::Point2f direction = kScanDirections[i];
@@ -221,6 +223,7 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
       // drop that is a tag's only from the red's peak (kPeakCheckDrop).
       bool green = GreenPastRed(reference_red, deepest_a, min_drop, max_green_a);
       bool by_peak = false;
+      cv::Point peak_at = centre_at;
       if (!green && done != 0 && reference_red - deepest_a >= kPeakCheckDrop * min_drop &&
           reference_red - deepest_a >= kRedDipDepth * red_thresh) {
         float peak_red = reference_red;
@@ -228,7 +231,12 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
           if (!(done >> j & 1u)) continue;
           const cv::Point2f q =
               centre + 0.5f * static_cast<float>(red_steps[j]) * kScanDirections[j];
-          peak_red = std::max(peak_red, image.A(RoundToInt(q.x), RoundToInt(q.y)));
+          const cv::Point at(RoundToInt(q.x), RoundToInt(q.y));
+          const float a = image.A(at.x, at.y);
+          if (a > peak_red) {
+            peak_red = a;
+            peak_at = at;
+          }
         }
         green = by_peak = GreenPastRed(peak_red, deepest_a, min_drop, max_green_a);
       }
@@ -237,8 +245,10 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
                     GreenPastRedInACast(reference_red, deepest_a, min_drop, max_green_a))) {
         if (!*in_own_light) {
           const int skip = std::max(0, k - 2 * options.border_run);
-          *in_own_light = ColoursInProbeLight(image, options, centre, direction, skip,
-                                              k + kProbeSlack - skip, reference_red, buffers);
+          // A drop judged from the red's peak has its red judged there too.
+          *in_own_light =
+              ColoursInProbeLight(image, options, centre, by_peak ? peak_at : centre_at, direction,
+                                  skip, k + kProbeSlack - skip, reference_red, buffers);
         }
         if (*in_own_light) break;
         *why = green && !by_peak ? RejectReason::kPaleRed : RejectReason::kNotGreen;
@@ -402,7 +412,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // at the red's edge, so the rings follow within a few cells).
   bool in_own_light = false;
   if (kind == Seed::kInACast || reference_red < static_cast<float>(kMinTagRedA)) {
-    if (!ColoursInProbeLight(image, options, centre, kScanDirections[4], 0,
+    if (!ColoursInProbeLight(image, options, centre, seed, kScanDirections[4], 0,
                              2 * options.step + kProbeSlack, reference_red, buffers)) {
       return reject(RejectReason::kPaleRed);
     }

@@ -76,6 +76,37 @@ TEST(InitialScanTest, FindsTheCentreAndTheRingsOfATagLikePattern) {
   }
 }
 
+// A dim red (a* 26) seeded in a paler patch two pixels wide at its left edge
+// (a* 13.6, as a blurred edge leaves it), in a green ring deep (a* -12) but
+// pale (a* -6) below: the drop from the seed into the pale green is 19.5,
+// short of a tag's 20, but from the red's peak (sampled in the scan that went
+// up through it) 32. InitialScan judges that drop from the peak, checks the
+// colours in the tag's own light with the red read at the peak (the patch
+// itself is too pale in that light) and finds the tag.
+TEST(InitialScanTest, JudgesAShortDropFromTheRedsPeak) {
+  const int cx = 100, cy = 90;
+  cv::Mat image(180, 200, CV_8UC3, cv::Scalar(235, 235, 235));
+  auto square = [&](int half, cv::Scalar bgr) {
+    cv::rectangle(image, {cx - half, cy - half}, {cx + half, cy + half}, bgr, cv::FILLED);
+  };
+  square(kBlackHalf, cv::Scalar(20, 20, 20));
+  square(kGreenHalf, cv::Scalar(85, 105, 85));  // Deep green, a* -12.
+  cv::rectangle(image, {cx - kGreenHalf, cy + kRedHalf + 1}, {cx + kGreenHalf, cy + kGreenHalf},
+                cv::Scalar(90, 100, 90), cv::FILLED);  // Pale green below, a* -6.
+  square(kRedHalf, cv::Scalar(60, 60, 120));           // Dim red, a* 26.
+  cv::rectangle(image, {cx - kRedHalf, cy - 2}, {cx - kRedHalf + 1, cy + 2},
+                cv::Scalar(72, 72, 104), cv::FILLED);  // The pale patch, a* 13.6.
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  Scratch scratch;
+  Candidate candidate;
+  std::vector<RejectedRegion> rejected;
+  RejectReason why;
+  ASSERT_TRUE(InitialScan(view, DetectorOptions{}, {cx - kRedHalf, cy}, Seed::kSeed,
+                          &scratch.ring_scan, &candidate, &rejected, &why))
+      << "rejected for " << RejectReasonName(why);
+  EXPECT_LT(cv::norm(candidate.centre - cv::Point2f(cx, cy)), 1.5) << candidate.centre;
+}
+
 // A seed on grey (a* about 0) is too pale to be a tag's red.
 TEST(InitialScanTest, RejectsASeedOnGreyAsPale) {
   cv::Mat image = RenderRings({200, 200}, 100, 100);
