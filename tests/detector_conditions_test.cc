@@ -273,18 +273,24 @@ TEST(DetectorConditionsTest, SmallIccv17TagsThroughJpegAreReadByFittingNearbyCod
 }
 
 // 36h11 tags of a faded print (a* and b* x 0.8, the reds' two shades then
-// 6 b* units apart), `size` px, with `gain` left on red and blue, at
-// `exposure` of the light, blur, noise and JPEG at `jpeg_quality`.
-Scene FadedCastScene(double size, cv::Vec3d gain, double exposure, int jpeg_quality) {
+// 6 b* units apart), `size` px, at `exposure` of the light, blurred by
+// `blur_sigma` in linear light, with noise and JPEG at `jpeg_quality`.
+Iccv17Camera FadedPrintCamera(double size, double exposure, double blur_sigma, int jpeg_quality) {
   Iccv17Camera camera;
   camera.size = size;
   camera.print_chroma = 0.8;
-  camera.gain = gain;
   camera.exposure = exposure;
-  camera.blur_sigma = 0.8;
+  camera.blur_sigma = blur_sigma;
   camera.blur_in_linear_light = true;
   camera.noise_sigma = 1.5;
   camera.jpeg_quality = jpeg_quality;
+  return camera;
+}
+
+// The faded print with `gain` left on red and blue.
+Scene FadedCastScene(double size, cv::Vec3d gain, double exposure, int jpeg_quality) {
+  Iccv17Camera camera = FadedPrintCamera(size, exposure, 0.8, jpeg_quality);
+  camera.gain = gain;
   camera.seed = 7;
   return Iccv17Scene(camera);
 }
@@ -314,18 +320,10 @@ TEST(DetectorConditionsTest, FadedPrintsUnderACastInDimLightThroughJpegAreReadCo
   }
 }
 
-// 36h11 tags of a faded print, `size` px, tilted up to 40 degrees, on a dim
-// card (`exposure` of the light) through blur, noise and JPEG.
+// The faded print's tags tilted up to 40 degrees, on a dim card.
 Scene DimJpegScene(double size, double exposure, int jpeg_quality) {
-  Iccv17Camera camera;
-  camera.size = size;
-  camera.print_chroma = 0.8;
+  Iccv17Camera camera = FadedPrintCamera(size, exposure, 1.2, jpeg_quality);
   camera.tilt_step_deg = 10;
-  camera.exposure = exposure;
-  camera.blur_sigma = 1.2;
-  camera.blur_in_linear_light = true;
-  camera.noise_sigma = 1.5;
-  camera.jpeg_quality = jpeg_quality;
   camera.seed = 11;
   return Iccv17Scene(camera);
 }

@@ -75,12 +75,12 @@ constexpr float kMinGreenDropFraction = 0.8f;
 // the scans made so far (sampled half way along each), and the colours are
 // then checked in the tag's own light as for a pale red, the red where the
 // peak was sampled (the seed's pale edge may be paler than a tag's red in
-// that light too). On the camera set's
-// first 8,000 frames this found one 88 px 36h11 tag at 0.3 of the light
-// through JPEG 60 and lost none. Switched on and off frame by frame on 600
-// of its tag-free frames (a scratch build), the check cost about 1 % of the
-// mean time (+0.9 and +1.4 % in two runs, within about as much noise). A
-// run short of kRedDipDepth thresholds stays a dip inside the red.
+// that light too). On the camera set's first 8,000 frames this found one
+// 88 px 36h11 tag at 0.3 of the light through JPEG 60 and lost none.
+// Switched on and off frame by frame on 600 of its tag-free frames (a
+// scratch build), the check cost about 1 % of the mean time (+0.9 and
+// +1.4 % in two runs, within about as much noise). A run short of
+// kRedDipDepth thresholds stays a dip inside the red.
 constexpr float kPeakCheckDrop = 0.5f;
 // Ring widths along one scan (RingProportionsFit): a tag's green and black
 // rings are one cell each, its red half-width one (16h5) or two (36h11)
@@ -198,11 +198,6 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
   const float min_drop = kMinGreenDropFraction * static_cast<float>(options.adiff_thresh);
   const float max_green_a = static_cast<float>(options.max_green_a);
   unsigned done = 0;  // The directions scanned, as bits.
-  // Each scanned direction's red run, in steps (the red's peak a* is sampled
-  // half way along, only when a drop needs it: kPeakCheckDrop).
-  std::array<int, 8> red_steps{};
-  const cv::Point centre_at(RoundToInt(static_cast<double>(centre.x)),
-                            RoundToInt(static_cast<double>(centre.y)));
   for (int i : kCentringOrder) {
     // Red -> green only: the a* drop of the full scan, without the rings.
     const cv::Point2f direction = kScanDirections[i];
@@ -223,14 +218,15 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
       // drop that is a tag's only from the red's peak (kPeakCheckDrop).
       bool green = GreenPastRed(reference_red, deepest_a, min_drop, max_green_a);
       bool by_peak = false;
-      cv::Point peak_at = centre_at;
+      cv::Point peak_at;
       if (!green && done != 0 && reference_red - deepest_a >= kPeakCheckDrop * min_drop &&
           reference_red - deepest_a >= kRedDipDepth * red_thresh) {
+        // The red's peak, half way to each border found so far.
         float peak_red = reference_red;
+        peak_at = cv::Point(RoundToInt(centre.x), RoundToInt(centre.y));
         for (int j = 0; j < 8; ++j) {
           if (!(done >> j & 1u)) continue;
-          const cv::Point2f q =
-              centre + 0.5f * static_cast<float>(red_steps[j]) * kScanDirections[j];
+          const cv::Point2f q = 0.5f * (centre + (*border)[j]);
           const cv::Point at(RoundToInt(q.x), RoundToInt(q.y));
           const float a = image.A(at.x, at.y);
           if (a > peak_red) {
@@ -246,9 +242,10 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
         if (!*in_own_light) {
           const int skip = std::max(0, k - 2 * options.border_run);
           // A drop judged from the red's peak has its red judged there too.
-          *in_own_light =
-              ColoursInProbeLight(image, options, centre, by_peak ? peak_at : centre_at, direction,
-                                  skip, k + kProbeSlack - skip, reference_red, buffers);
+          const cv::Point red_at =
+              by_peak ? peak_at : cv::Point(RoundToInt(centre.x), RoundToInt(centre.y));
+          *in_own_light = ColoursInProbeLight(image, options, centre, red_at, direction, skip,
+                                              k + kProbeSlack - skip, reference_red, buffers);
         }
         if (*in_own_light) break;
         *why = green && !by_peak ? RejectReason::kPaleRed : RejectReason::kNotGreen;
@@ -265,7 +262,6 @@ bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Po
       ++k;
     }
     (*border)[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
-    red_steps[i] = k - options.border_run;
     // Once the opposite scan is in: the red's width across the centre.
     done |= 1u << i;
     const int opposite = (i + 4) % 8;
