@@ -695,9 +695,10 @@ bool ColourSplitRead(const FamilyDecoder& entry, Code observed, const PayloadGri
 //   reds that gained 1.14 and greens another code explained better;
 // - on the camera set's first 8,000 frames and the classic set's 10,000
 //   (tag_comparison, every read right), the true reads' nearest rival of
-//   the first kind fitted 1.02 times worse or more; the second refuses two
-//   blur-model reads of 16h5 tags of about 20 px on the classic set (gains
-//   1.14 and 1.15), whose reds were as uninformative as those prints'. Asked
+//   the first kind fitted 1.02 times worse or more; the second refuses a
+//   blur-model read of a 16h5 tag of 20 px on the classic set (two, with
+//   gains of 1.14 and 1.15, when every code is fitted; see below), whose
+//   reds were as uninformative as those prints'. Asked
 //   of 36h11 too, it refused two true reads on the camera set (21 and 45 px,
 //   gains 1.08-1.17) and no wrong one.
 // Such a print's cells are its greens and one red level, so a rival that
