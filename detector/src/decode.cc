@@ -582,14 +582,25 @@ struct ColourSums {
   std::array<float, 64> shade{};  // By code bit: shade[i] is bit i's cell (Code is 64 bits).
 };
 
+// The payload's cells of `colour`, as code bits.
+Code CellsOf(const TagFamily& family, CellColor colour) {
+  const int d = family.payload_width();
+  Code cells = 0;
+  for (int cell = 0; cell < d * d; ++cell) {
+    if (family.CellColorAt(cell / d, cell % d) == colour) cells |= Code{1} << (d * d - 1 - cell);
+  }
+  return cells;
+}
+
 ColourSums SumColours(const TagFamily& family, const PayloadGrid& grid) {
   const int d = family.payload_width(), w = d + 2;
   ColourSums sums;
+  sums.mask[0] = CellsOf(family, CellColor::kRed);
+  sums.mask[1] = CellsOf(family, CellColor::kGreen);
   for (int cell = 0; cell < d * d; ++cell) {
     const int bit = d * d - 1 - cell;
-    const int c = family.CellColorAt(cell / d, cell % d) == CellColor::kRed ? 0 : 1;
+    const int c = (sums.mask[0] >> bit) & 1u ? 0 : 1;
     const float x = grid[(cell / d + 1) * w + cell % d + 1].shade;
-    sums.mask[c] |= Code{1} << bit;
     sums.shade[bit] = x;
     sums.sum[c] += x;
     sums.sum2[c] += static_cast<double>(x) * x;
@@ -690,9 +701,9 @@ bool ColourSplitRead(const FamilyDecoder& entry, Code observed, const PayloadGri
 // Measured with every read that corrected bits logged:
 // - on stress frames of such prints (detector_conditions_test, 2,000 frames
 //   of 8 tags a family: 36 wrong 16h5 IDs and 2 wrong 36h11 IDs without this
-//   check), every wrong ID but one had a rival of the first kind, at
-//   0.12-0.88 of the read's misfit; the one left (a one-bit 16h5 read) had
-//   reds that gained 1.14 and greens another code explained better;
+//   check), every wrong ID but one had a rival of the first kind (the seven
+//   logged at 0.12-0.88 of the read's misfit); the one left (a one-bit 16h5
+//   read) had reds that gained 1.14 and greens another code explained better;
 // - on the camera set's first 8,000 frames and the classic set's 10,000
 //   (tag_comparison, every read right), the true reads' nearest rival of
 //   the first kind fitted 1.02 times worse or more; the second refuses a
@@ -724,12 +735,7 @@ bool AlikeRedsRivalFitsBetter(const FamilyDecoder& entry, Code code, Code observ
   }
   // Rivals whose greens lie more than kAlikeRedsGreenSlack bits further from
   // the observed greens than the read's do are not fitted.
-  const int d = family.payload_width();
-  Code greens = 0;
-  for (int cell = 0; cell < d * d; ++cell) {
-    if (family.CellColorAt(cell / d, cell % d) == CellColor::kGreen)
-      greens |= Code{1} << (d * d - 1 - cell);
-  }
+  const Code greens = CellsOf(family, CellColor::kGreen);
   const int own_green_bits = HammingDistance(code & greens, observed & greens);
   for (Code other : entry.oriented_codes) {
     if (other != code &&
