@@ -363,17 +363,44 @@ TEST(DetectorConditionsTest, DimCardsThroughJpegJudgeTheDropFromTheRedsPeak) {
 // print under a warm cast, 34 px at 0.9 of the light 21 -> 27, 40 px at 0.5
 // 18 -> 22; the swapped prints of that other ID under the same conditions
 // are all still refused.
-TEST(DetectorConditionsTest, Id25OnAFadedPrintIsToldFromTheSwappedPrintOneRedCellAway) {
+// The 16h5 IDs whose swapped print (the complement of the code, turned)
+// lies within `bits` of the code of `id`.
+std::vector<int> SwappedPrintsNear(int id, int bits) {
   const auto family = TagFamily::Load("16h5");
   const Code all = (Code{1} << family->num_bits()) - 1;
-  int rival = -1;
-  for (int id : family->kept_ids()) {
+  std::vector<int> near;
+  for (int other : family->kept_ids()) {
     for (int r = 0; r < 4; ++r) {
-      if (HammingDistance(~family->Rotate(family->CodeOf(id), r) & all, family->CodeOf(25)) == 1)
-        rival = id;
+      if (HammingDistance(~family->Rotate(family->CodeOf(other), r) & all, family->CodeOf(id)) <=
+          bits) {
+        near.push_back(other);
+        break;
+      }
     }
   }
-  ASSERT_GE(rival, 0);
+  return near;
+}
+
+// Swapped prints of `ids` under `camera`'s conditions: none decodes, and
+// at least 20 reach Decode, where they are refused.
+void ExpectSwappedPrintsRefused(Iccv17Camera camera, const std::vector<int>& ids,
+                                const std::string& what) {
+  auto detector = BothFamiliesDetector();
+  camera.swap_shades = true;
+  for (int id : ids) {
+    camera.only_id = id;
+    const DetectionResult swapped = detector->Detect(Iccv17Scene(camera).bgr);
+    for (const Detection& d : swapped.detections) {
+      ADD_FAILURE() << what << ": a swapped print of ID " << id << " read as " << d.id;
+    }
+    EXPECT_GE(swapped.summary.rejected[static_cast<int>(Stage::kDecode)], 20)
+        << what << ", swapped prints of ID " << id;
+  }
+}
+
+TEST(DetectorConditionsTest, Id25OnAFadedPrintIsToldFromTheSwappedPrintOneRedCellAway) {
+  const std::vector<int> rivals = SwappedPrintsNear(25, 1);
+  ASSERT_EQ(rivals.size(), 1u);
   auto detector = BothFamiliesDetector();
   for (const auto& [size, exposure, at_least] :
        {std::tuple{34.0, 0.9, 26}, std::tuple{40.0, 0.5, 21}}) {
@@ -385,15 +412,34 @@ TEST(DetectorConditionsTest, Id25OnAFadedPrintIsToldFromTheSwappedPrintOneRedCel
     camera.only_id = 25;
     const std::string what = "ID 25 at " + std::to_string(size) + " px";
     EXPECT_GE(RightDetections(*detector, Iccv17Scene(camera), what), at_least) << what;
-    camera.only_id = rival;
-    camera.swap_shades = true;
-    const DetectionResult swapped = detector->Detect(Iccv17Scene(camera).bgr);
-    for (const Detection& d : swapped.detections) {
-      ADD_FAILURE() << "a swapped print of ID " << rival << " at " << size << " px read as "
-                    << d.id;
-    }
-    // The swapped prints are located and reach Decode, where they are refused.
-    EXPECT_GE(swapped.summary.rejected[static_cast<int>(Stage::kDecode)], 20) << size;
+    ExpectSwappedPrintsRefused(camera, rivals, what);
+  }
+}
+
+// 16h5 IDs 16 and 28 (like 8 others) lie two bits from a swapped print, and
+// on a faded print in dim light their hard reads often correct a red cell,
+// which only a soft read may do. The colour-split read takes such an ID
+// where the swapped prints near it fit the cells kMinSwappedRmsRatio times
+// worse than its code (decode.cc, ColourSplitRead): measured without and
+// with that, of 28 tags, ID 16 at 40 px, 0.4 of the light, a cool cast and
+// JPEG 65 8 -> 18; ID 28 at 36 px, 0.35 of the light 19 -> 25. The swapped
+// prints near each under the same conditions are all still refused.
+TEST(DetectorConditionsTest, IdsTwoBitsFromASwappedPrintAreReadByTheColourSplitWhenItFitsFarWorse) {
+  auto detector = BothFamiliesDetector();
+  for (const auto& [id, size, exposure, quality, gain, at_least] :
+       {std::tuple{16, 40.0, 0.4, 65, cv::Vec3d(0.8, 1, 1.2), 16},
+        std::tuple{28, 36.0, 0.35, 0, cv::Vec3d(1, 1, 1), 23}}) {
+    const std::vector<int> rivals = SwappedPrintsNear(id, 2);
+    ASSERT_FALSE(rivals.empty()) << id;
+    Iccv17Camera camera = FadedPrintCamera(size, exposure, 0.8, quality);
+    camera.family = "16h5";
+    camera.tilt_step_deg = 10;
+    camera.gain = gain;
+    camera.seed = 5;
+    camera.only_id = id;
+    const std::string what = "ID " + std::to_string(id) + " at " + std::to_string(size) + " px";
+    EXPECT_GE(RightDetections(*detector, Iccv17Scene(camera), what), at_least) << what;
+    ExpectSwappedPrintsRefused(camera, rivals, what);
   }
 }
 
