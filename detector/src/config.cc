@@ -188,7 +188,9 @@ bool ParseDetectorConfig(const std::string& text, DetectorOptions* options, std:
         throw ConfigError{"unknown member \"" + key +
                           "\" (allowed: schema, schema_version, options, calibration)"};
     }
-    if (!root.contains("schema_version") || root["schema_version"] != 1)
+    if (!root.contains("schema_version"))
+      throw ConfigError{"missing \"schema_version\" (this chromatag reads version 1)"};
+    if (root["schema_version"] != 1)
       throw ConfigError{"unsupported schema_version (this chromatag reads version 1)"};
     if (!root.contains("options")) throw ConfigError{"missing \"options\""};
     Apply(root["options"], &result);

@@ -132,6 +132,7 @@ TEST(DetectorConfigTest, RefusesBadFilesAndLeavesOptionsAlone) {
       {R"({"schema": "chromatag-detector-config", "schema_version": 2, "options": {}})",
        "schema_version"},
       {R"({"schema": "chromatag-detector-config", "schema_version": 1})", "missing \"options\""},
+      {R"({"schema": "chromatag-detector-config", "options": {}})", "missing \"schema_version\""},
       {R"({"schema": "chromatag-detector-config", "schema_version": 1, "options": {"adif_thresh": 3}})",
        "unknown option \"adif_thresh\""},
       // 4294967300 wrapped to a step of 4; max_hamming 50 passed here
