@@ -55,11 +55,29 @@ std::string MakeClip(const std::string& dir, const std::string& name, int frames
   return path;
 }
 
+// The folders FreshDir made in this process (ctest runs each test in its
+// own); removed when every test passed, kept to look into when one failed.
+std::vector<std::string>& MadeDirs() {
+  static std::vector<std::string> dirs;
+  return dirs;
+}
+
+class RemoveMadeDirs : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    if (!::testing::UnitTest::GetInstance()->Passed()) return;
+    for (const std::string& dir : MadeDirs()) fs::remove_all(dir);
+  }
+};
+::testing::Environment* const kRemoveMadeDirs =
+    ::testing::AddGlobalTestEnvironment(new RemoveMadeDirs);
+
 std::string FreshDir(const std::string& name) {
   const std::string dir =
       ::testing::TempDir() + "/cli_live_" + std::to_string(getpid()) + "_" + name;
   fs::remove_all(dir);
   fs::create_directories(dir);
+  MadeDirs().push_back(dir);
   return dir;
 }
 
