@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "bounded_yaml.h"
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/families/input_file.h"
 
@@ -149,9 +150,9 @@ std::optional<Board> ParseBundleYaml(const std::string& text, const std::string&
   };
   YAML::Node root;
   try {
-    root = YAML::Load(text);
+    root = internal::LoadBoundedYaml(text);
   } catch (const YAML::Exception& e) {
-    return fail("is not valid YAML (line " + std::to_string(e.mark.line + 1) + ")");
+    return fail("is not valid YAML (" + internal::YamlErrorAt(e) + ")");
   }
   try {
     const YAML::Node bundles = FindBundles(root);

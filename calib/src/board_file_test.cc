@@ -147,5 +147,19 @@ TEST(BoardFileTest, ASheetIsABoardOfOnePage) {
       << error;
 }
 
+// A bundle whose layout is built from anchors' aliases (3,000 aliases of a
+// list of 3,000 tags) is refused at the first alias, before its tags are
+// walked; ROS bundle files never use them.
+TEST(BoardFileTest, RefusesAliases) {
+  std::string bomb = "t: &t {id: 0, family: 16h5, size: 0.05, x: 0, y: 0, z: 0}\nl: &l [";
+  for (int i = 0; i < 3000; ++i) bomb += i ? ",*t" : "*t";
+  bomb += "]\ntag_bundles:\n  - name: b\n    layout: [";
+  for (int i = 0; i < 3000; ++i) bomb += i ? ",*l" : "*l";
+  bomb += "]\n";
+  std::string error;
+  EXPECT_FALSE(ParseBundleYaml(bomb, "", &error));
+  EXPECT_NE(error.find("is not valid YAML (line 2: an alias (*name)"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace chromatag

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <vector>
 
+#include "bounded_yaml.h"
 #include "chromatag/families/input_file.h"
 
 namespace chromatag {
@@ -81,9 +82,9 @@ bool FromYaml(const std::string& text, CameraIntrinsics* camera, std::string* er
   if (body.rfind("%YAML", 0) == 0) body = body.substr(std::min(body.find('\n'), body.size()));
   YAML::Node root;
   try {
-    root = YAML::Load(body);
+    root = internal::LoadBoundedYaml(body);
   } catch (const YAML::Exception& e) {
-    *error = "is not valid YAML (line " + std::to_string(e.mark.line + 1) + ")";
+    *error = "is not valid YAML (" + internal::YamlErrorAt(e) + ")";
     return false;
   }
   try {
@@ -251,7 +252,7 @@ cv::Size RecordedImageSize(const std::string& text, const std::string& ext) {
     }
     std::string body = text;
     if (body.rfind("%YAML", 0) == 0) body = body.substr(std::min(body.find('\n'), body.size()));
-    const YAML::Node root = YAML::Load(body);
+    const YAML::Node root = internal::LoadBoundedYaml(body);
     if (root["image_width"] && root["image_height"])
       return valid(root["image_width"].as<long long>(), root["image_height"].as<long long>());
     const YAML::Node cam = root["cam0"] ? root["cam0"] : root;

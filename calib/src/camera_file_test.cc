@@ -145,5 +145,30 @@ TEST(CameraFileTest, RefusesAnUnknownLensModel) {
   EXPECT_NE(error.find("fisheye model needs 4"), std::string::npos) << error;
 }
 
+// Anchors' aliases let a few kilobytes stand for billions of values (a
+// camera_matrix whose data is 3,000 aliases of a list of 3,000 aliases):
+// refused at the first alias, naming its line, before any tree is walked;
+// so is a file of more values than any camera file holds.
+TEST(CameraFileTest, RefusesAliasesAndHugeFiles) {
+  CameraIntrinsics camera;
+  std::string error;
+  std::string bomb = "r: &r [600, 0, 320]\nm: &m [";
+  for (int i = 0; i < 3000; ++i) bomb += i ? ",*r" : "*r";
+  bomb += "]\ncamera_matrix: {rows: 3, cols: 3, data: [";
+  for (int i = 0; i < 3000; ++i) bomb += i ? ",*m" : "*m";
+  bomb += "]}\n";
+  EXPECT_FALSE(ParseCameraFile(bomb, ".yaml", &camera, &error));
+  EXPECT_NE(error.find("line 2: an alias (*name)"), std::string::npos) << error;
+  // One harmless alias is refused as well: no camera format uses them.
+  EXPECT_FALSE(ParseCameraFile("k: &k [600, 0, 320, 0, 600, 240, 0, 0, 1]\ncamera_matrix: *k\n",
+                               ".yaml", &camera, &error));
+  EXPECT_NE(error.find("line 2: an alias"), std::string::npos) << error;
+  std::string many = "camera_matrix: [1, 0, 1, 0, 1, 1, 0, 0, 1]\nextra: [";
+  for (int i = 0; i < 250000; ++i) many += i ? ",0" : "0";
+  many += "]\n";
+  EXPECT_FALSE(ParseCameraFile(many, ".yaml", &camera, &error));
+  EXPECT_NE(error.find("more than 200000 values"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace chromatag
