@@ -398,6 +398,14 @@ TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
   EXPECT_EQ(two.exit_code, 1);
   EXPECT_NE(two.err.find("fewer than three views"), std::string::npos) << two.err;
   EXPECT_FALSE(fs::exists(Path("camera.yaml")));
+  // One file named three times is one view.
+  const auto thrice =
+      testing::RunChromatag({"calibrate-camera", Path("one.png"), Path("one.png"), Path("one.png"),
+                             "--board", Path("board.json"), "-o", Path("camera.yaml")});
+  EXPECT_EQ(thrice.exit_code, 1);
+  EXPECT_NE(thrice.err.find("(3 given, 2 the same as another view"), std::string::npos)
+      << thrice.err;
+  EXPECT_FALSE(fs::exists(Path("camera.yaml")));
   const auto k3 =
       testing::RunChromatag({"calibrate-camera", Path("one.png"), "--board", Path("board.json"),
                              "-o", Path("camera.yaml"), "--k3", "--format", "kalibr"});
@@ -439,8 +447,10 @@ TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
   // says they do not fit it.
   const PrintedBoard other = PrintBoard("14mm");
   Write("other.json", other.sidecar);
+  ASSERT_TRUE(cv::imwrite(Path("three.png"), frames[2]));
+  ASSERT_TRUE(cv::imwrite(Path("four.png"), frames[3]));
   const auto wrong = testing::RunChromatag({"calibrate-camera", Path("one.png"), Path("two.png"),
-                                            Path("one.png"), Path("two.png"), "--board",
+                                            Path("three.png"), Path("four.png"), "--board",
                                             Path("other.json"), "-o", Path("camera.yaml")});
   EXPECT_EQ(wrong.exit_code, 1);
   EXPECT_NE(wrong.err.find("is the board file the board in the views?"), std::string::npos)

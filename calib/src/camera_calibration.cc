@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include <opencv2/calib3d.hpp>
 
@@ -33,6 +34,32 @@ std::vector<cv::Point2d> RingCorners(const Detection& d) {
   points.insert(points.end(), d.green_corners.begin(), d.green_corners.end());
   points.insert(points.end(), d.red_corners.begin(), d.red_corners.end());
   return points;
+}
+
+// Two views whose board tags' corners all lie within this distance of each
+// other (pixels, the largest over the tags both show) are one view taken
+// twice: copies of one image, or frames of a camera that did not move. A
+// copy adds no information to the fit but shrinks its standard deviations
+// as if it did.
+constexpr double kSameViewPx = 1.0;
+
+// The largest distance between the corners of the tags `a` and `b` both
+// show, when each shows every tag the other does; infinite otherwise.
+double LargestCornerShift(const ViewPoints& a, const std::vector<Detection>& a_detections,
+                          const ViewPoints& b, const std::vector<Detection>& b_detections) {
+  if (a.detection.size() != b.detection.size()) return std::numeric_limits<double>::infinity();
+  double largest = 0;
+  for (size_t i = 0; i < a.detection.size(); ++i) {
+    const Detection& da = a_detections[a.detection[i]];
+    size_t j = 0;
+    while (j < b.detection.size() && !(b_detections[b.detection[j]].id == da.id &&
+                                       b_detections[b.detection[j]].family == da.family))
+      ++j;
+    if (j == b.detection.size()) return std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < a.image[i].size(); ++k)
+      largest = std::max(largest, cv::norm(a.image[i][k] - b.image[j][k]));
+  }
+  return largest;
 }
 
 template <typename T>
@@ -360,20 +387,39 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
     return false;
   };
   std::vector<size_t> used;
-  for (size_t v = 0; v < views.size(); ++v)
-    if (usable(v)) used.push_back(v);
+  for (size_t v = 0; v < views.size(); ++v) {
+    if (!usable(v)) continue;
+    // A view taken twice is used once, the first time.
+    bool repeat = false;
+    for (size_t u : used) {
+      const double shift =
+          LargestCornerShift(points[v], views[v].detections, points[u], views[u].detections);
+      if (shift <= kSameViewPx) {
+        result.views[v].why_not = "the same view as '" + views[u].name +
+                                  Format("' (every corner within %.2f px): used once", shift);
+        repeat = true;
+        break;
+      }
+    }
+    if (!repeat) used.push_back(v);
+  }
   // Fewer than three views left: say what became of the others.
   const auto too_few = [&] {
-    int few_tags = 0, badly = 0;
+    int few_tags = 0, badly = 0, repeats = 0;
     for (const CalibrationViewResult& v : result.views) {
       few_tags += v.why_not.find("board tag") != std::string::npos ? 1 : 0;
       badly += v.why_not.find("reprojects") != std::string::npos ? 1 : 0;
+      repeats += v.why_not.rfind("the same view as", 0) == 0 ? 1 : 0;
     }
     std::string message = "fewer than three views show enough of the board (" +
                           std::to_string(views.size()) + " given";
     if (few_tags)
       message += ", " + std::to_string(few_tags) + " with fewer than " +
                  std::to_string(options.min_tags_per_view) + " of its tags";
+    if (repeats)
+      message += ", " + std::to_string(repeats) +
+                 " the same as another view (copies of one "
+                 "image, or a camera that did not move)";
     if (badly)
       message += Format(
           ", %.0f reprojecting worse than %.2f px rms: is the board file the board "

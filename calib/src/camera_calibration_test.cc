@@ -230,10 +230,54 @@ TEST(CameraCalibrationTest, WarnsWhenViewsConstrainLittle) {
   ASSERT_TRUE(calibration) << error;
   std::string all;
   for (const std::string& w : calibration->warnings) all += w + "\n";
-  EXPECT_NE(all.find("6 views used"), std::string::npos) << all;
+  // Two of the six lie within a pixel of each other and count once.
+  int used = 0;
+  for (const CalibrationViewResult& v : calibration->views) used += v.used ? 1 : 0;
+  EXPECT_EQ(used, 5);
+  EXPECT_NE(all.find("5 views used"), std::string::npos) << all;
   EXPECT_NE(all.find("focal length and principal point are weakly constrained"), std::string::npos)
       << all;
   EXPECT_NE(all.find("distortion is weakly constrained"), std::string::npos) << all;
+}
+
+// A view given twice (an image copied, a camera that did not move; here
+// with fresh noise of 0.1 px on its corners) is used once and named: copies
+// would shrink the standard deviations as if they were new views. Ten
+// copies of one view are one view, too few to calibrate with.
+TEST(CameraCalibrationTest, UsesAViewGivenTwiceOnce) {
+  const Board board = Grid();
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> angle(0, 2 * kPi), tilt(10, 45), depth(0.3, 0.6),
+      shift(-0.05, 0.05);
+  std::vector<CalibrationView> views;
+  for (int v = 0; v < 12; ++v) {
+    views.push_back(
+        View(board, Tilted(angle(rng), tilt(rng)), {shift(rng), shift(rng), depth(rng)}, &rng));
+    views.back().name = "view " + std::to_string(v);
+  }
+  std::string error;
+  const auto distinct = CalibrateCamera(board, views, {752, 480}, {}, &error);
+  ASSERT_TRUE(distinct) << error;
+  std::vector<CalibrationView> with_copies = views;
+  for (int copy = 0; copy < 3; ++copy) {
+    with_copies.push_back(views[5]);
+    with_copies.back().name = "copy " + std::to_string(copy);
+  }
+  const auto calibration = CalibrateCamera(board, with_copies, {752, 480}, {}, &error);
+  ASSERT_TRUE(calibration) << error;
+  for (int copy = 0; copy < 3; ++copy) {
+    const CalibrationViewResult& v = calibration->views[12 + copy];
+    EXPECT_FALSE(v.used);
+    EXPECT_EQ(v.why_not.rfind("the same view as 'view 5'", 0), 0u) << v.why_not;
+  }
+  EXPECT_DOUBLE_EQ(calibration->camera.fx, distinct->camera.fx);
+  EXPECT_DOUBLE_EQ(calibration->std_dev[0], distinct->std_dev[0]);
+
+  std::vector<CalibrationView> one_view(10, views[3]);
+  const auto refused = CalibrateCamera(board, one_view, {752, 480}, {}, &error);
+  EXPECT_FALSE(refused);
+  EXPECT_NE(error.find("fewer than three views"), std::string::npos) << error;
+  EXPECT_NE(error.find("9 the same as another view"), std::string::npos) << error;
 }
 
 TEST(CameraCalibrationTest, RefusesWhatCannotCalibrate) {

@@ -3,8 +3,10 @@
 // board file): the twelve ring corners of every board tag in every view,
 // fitted by OpenCV's calibrateCamera (pinhole with k1, k2, p1, p2 and
 // optionally k3) or cv::fisheye::calibrate (the equidistant model). Tags and
-// views whose corners disagree with the fit are left out and named, and the
-// result says which parameters the views leave weakly constrained.
+// views whose corners disagree with the fit are left out and named, a view
+// given twice (every corner within a pixel of an earlier view's) is used
+// once, and the result says which parameters the views leave weakly
+// constrained.
 #ifndef CHROMATAG_CALIB_CAMERA_CALIBRATION_H_
 #define CHROMATAG_CALIB_CAMERA_CALIBRATION_H_
 
@@ -87,7 +89,8 @@ bool CheckCalibrationBoard(const Board& board, const CameraCalibrationOptions& o
 
 // nullopt (and *error) for a board that is not planar (every tag's z 0 and
 // its axes the board's), an empty image size, invalid options, or fewer
-// than three usable views, and when the fit itself fails.
+// than three usable views (a repeated view counts once), and when the fit
+// itself fails.
 std::optional<CameraCalibration> CalibrateCamera(const Board& board,
                                                  const std::vector<CalibrationView>& views,
                                                  cv::Size image_size,
