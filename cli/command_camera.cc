@@ -40,6 +40,7 @@ struct CameraCalibOptions {
   std::vector<std::string> reports;
   std::string config;
   std::string camera_name = "camera";
+  bool write_uncertain = false;
 };
 
 // Ctrl-C ends the reading of a live camera and calibrates with the views
@@ -223,6 +224,7 @@ void PrintResult(const CameraCalibration& c) {
     }
   }
   std::fflush(stdout);
+  for (const std::string& w : c.doubts) std::cerr << "calibrate-camera: uncertain: " << w << "\n";
   for (const std::string& w : c.warnings) std::cerr << "calibrate-camera: warning: " << w << "\n";
 }
 
@@ -304,6 +306,13 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
                 error + "; give at least 3 views, better 15-30, at varied tilts", kExitFailure);
   }
   PrintResult(*calibration);
+  if (!calibration->doubts.empty() && !o.write_uncertain) {
+    return Fail("calibrate-camera",
+                "nothing written: the views leave " + std::to_string(calibration->doubts.size()) +
+                    " parameter(s) uncertain (above); add views as the warnings say, or give "
+                    "--write-uncertain to write the file anyway",
+                kExitFailure);
+  }
 
   CameraFileInfo info;
   info.image_size = calibration->image_size;
@@ -348,6 +357,9 @@ void RegisterCalibrateCamera(CLI::App& app, Action* action) {
       ->capture_default_str()
       ->check(CLI::IsMember({"pinhole", "fisheye"}));
   c->add_flag("--k3", o->k3, "Pinhole: fit k3 as well (wide lenses)");
+  c->add_flag("--write-uncertain", o->write_uncertain,
+              "Write the camera file even when the fit leaves fx, fy, cx or cy uncertain (a "
+              "standard deviation over 0.5 % of fx or fy, or 1 % of the image for cx or cy)");
   c->add_option("--max-views", o->max_views,
                 "Most views kept from videos and cameras, chosen for coverage and pose [3, 1000]")
       ->capture_default_str();

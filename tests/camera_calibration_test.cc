@@ -458,6 +458,39 @@ TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
   EXPECT_FALSE(fs::exists(Path("camera.yaml")));
 }
 
+// Views that all face the camera leave fx and the principal point to the
+// lens's distortion alone: the fit says so with its standard deviations, and
+// nothing is written unless --write-uncertain asks for it.
+TEST_F(CalibrateCameraCli, WritesNoUncertainFitUnlessAsked) {
+  const PrintedBoard printed = PrintBoard();
+  Write("board.json", printed.sidecar);
+  std::mt19937 rng(3);
+  std::vector<std::string> command = {"calibrate-camera"};
+  for (int v = 0; v < 4; ++v) {
+    const Pose pose = RandomPose(printed.board, &rng, 1.0, 0.26 + 0.02 * v, 0.03);
+    const std::string name = Path("views/front" + std::to_string(v) + ".png");
+    ASSERT_TRUE(cv::imwrite(name, testing::PhotographPage(printed.page, TrueCamera(), kSize,
+                                                          pose.rvec, pose.tvec, Effects(v, &rng))));
+    command.push_back(name);
+  }
+  const std::vector<std::string> rest = {"--board",  Path("board.json"), "-o", Path("camera.yaml"),
+                                         "--report", Path("report.pdf")};
+  command.insert(command.end(), rest.begin(), rest.end());
+  const auto refused = testing::RunChromatag(command);
+  EXPECT_EQ(refused.exit_code, 1) << refused.err;
+  EXPECT_NE(refused.err.find("calibrate-camera: uncertain: fx, fy, cx and cy are not pinned down"), std::string::npos)
+      << refused.err;
+  EXPECT_NE(refused.err.find("nothing written"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(Path("camera.yaml")));
+  EXPECT_FALSE(fs::exists(Path("report.pdf")));
+  command.push_back("--write-uncertain");
+  const auto written = testing::RunChromatag(command);
+  EXPECT_EQ(written.exit_code, 0) << written.err;
+  EXPECT_NE(written.err.find("uncertain: fx"), std::string::npos) << written.err;
+  EXPECT_TRUE(fs::exists(Path("camera.yaml")));
+  EXPECT_TRUE(fs::exists(Path("report.pdf")));
+}
+
 // Views of another size than most are named and skipped; the others
 // calibrate, and the exit code says an input was skipped.
 TEST_F(CalibrateCameraCli, OneImageSizePerCalibration) {

@@ -225,9 +225,12 @@ void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& titl
     y += 11;
   }
   y += 8;
-  Text(cr, kMargin, y, 9.5, c.warnings.empty() ? "No warnings" : "Warnings", true);
+  // The parameters in doubt first, then what the views leave weak.
+  std::vector<std::string> warnings = c.doubts;
+  warnings.insert(warnings.end(), c.warnings.begin(), c.warnings.end());
+  Text(cr, kMargin, y, 9.5, warnings.empty() ? "No warnings" : "Warnings", true);
   y += 12;
-  for (const std::string& w : c.warnings) {
+  for (const std::string& w : warnings) {
     for (const std::string& line : Wrap(w, 62)) {
       Text(cr, kMargin, y, 7.5, line, false, 0.15);
       y += 9.5;

@@ -72,9 +72,16 @@ struct CameraCalibration {
   std::vector<double> std_dev;
   std::vector<CalibrationViewResult> views;
   // What the used views constrain weakly (no tilted views, corners only in
-  // the middle of the image, few views, a large standard deviation), each a
-  // sentence saying what to add.
+  // the middle of the image, few views), each a sentence saying what to add.
   std::vector<std::string> warnings;
+  // What the fit does not pin down: fx, fy, cx and cy when fewer than two
+  // views are tilted 20 degrees or more (views of a board facing the camera
+  // leave the focal length to the distortion, whatever the deviations say),
+  // fx or fy with a standard deviation over 0.5 % of its value, cx or cy
+  // over 1 % of the image's side; each a sentence. A camera file written from such a fit
+  // would claim what the views do not show; `calibrate-camera` writes none
+  // unless asked.
+  std::vector<std::string> doubts;
 };
 
 // The names of CameraCalibration::std_dev's entries: "fx", "fy", "cx", "cy",
