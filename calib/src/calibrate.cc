@@ -288,6 +288,7 @@ std::optional<CameraCalibration> CalibrateCameraFromPhotos(const CalibSheetLayou
                 " photo(s) show the sheet tilted 20 degrees or more; the focal length needs 3 or "
                 "more, tilted 20-45 degrees about different axes");
   }
+  if (!camera->doubts.empty()) return fail(camera->doubts.front());
   return camera;
 }
 
