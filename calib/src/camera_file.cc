@@ -35,10 +35,9 @@ bool FromMatrix(const std::vector<double>& k, const std::vector<double>& d,
     *error = "camera_matrix must have 9 numbers (3x3), not " + std::to_string(k.size());
     return false;
   }
-  camera->fx = k[0];
-  camera->fy = k[4];
-  camera->cx = k[2];
-  camera->cy = k[5];
+  double matrix[9];
+  std::copy(k.begin(), k.end(), matrix);
+  if (!IntrinsicsFromMatrix(matrix, camera, error)) return false;
   camera->distortion = d;  // CameraIntrinsics::IsValid checks the count.
   return true;
 }

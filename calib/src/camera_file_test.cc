@@ -170,5 +170,30 @@ TEST(CameraFileTest, RefusesAliasesAndHugeFiles) {
   EXPECT_NE(error.find("more than 200000 values"), std::string::npos) << error;
 }
 
+// A camera matrix must be [fx 0 cx; 0 fy cy; 0 0 1]: a transposed one (as
+// MATLAB writes it) was read as cx = cy = 0, a skew and a corner of 0
+// were ignored. Each is refused, naming the entry.
+TEST(CameraFileTest, RefusesAMatrixOfAnotherShape) {
+  CameraIntrinsics camera;
+  std::string error;
+  for (const auto& [data, says] : std::vector<std::pair<std::string, std::string>>{
+           {"600, 0, 0, 0, 600, 0, 320, 240, 1",
+            "entry [2][0] is 320, not 0: is the matrix transposed"},
+           {"600, 0.5, 320, 0, 600, 240, 0, 0, 1", "entry [0][1] is 0.5, a skew"},
+           {"600, 0, 320, 0, 600, 240, 0, 0, 0", "entry [2][2] is 0, not 1"},
+           {"600, 0, 320, 3, 600, 240, 0, 0, 1", "entry [1][0] is 3, not 0"}}) {
+    EXPECT_FALSE(ParseCameraFile("camera_matrix: {rows: 3, cols: 3, data: [" + data + "]}\n",
+                                 ".yaml", &camera, &error))
+        << data;
+    EXPECT_NE(error.find(says), std::string::npos) << error;
+  }
+  ASSERT_TRUE(ParseCameraFile(
+      "camera_matrix: {rows: 3, cols: 3, data: [600, 0, 320, 0, 601, 240, 0, 0, 1]}\n", ".yaml",
+      &camera, &error))
+      << error;
+  EXPECT_EQ(camera.fy, 601);
+  EXPECT_EQ(camera.cy, 240);
+}
+
 }  // namespace
 }  // namespace chromatag

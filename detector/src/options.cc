@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "chromatag/families/family.h"
 
@@ -10,6 +11,34 @@ namespace chromatag {
 
 const char* LensModelName(LensModel model) {
   return model == LensModel::kFisheye ? "fisheye" : "pinhole";
+}
+
+bool IntrinsicsFromMatrix(const double (&k)[9], CameraIntrinsics* camera, std::string* error) {
+  auto fail = [&](int i, const std::string& why) {
+    if (error) {
+      char value[32];
+      std::snprintf(value, sizeof(value), "%g", k[i]);
+      *error = "camera matrix entry [" + std::to_string(i / 3) + "][" + std::to_string(i % 3) +
+               "] is " + value + ", " + why +
+               " (the matrix must be [fx 0 cx; 0 fy cy; 0 0 1], row by row)";
+    }
+    return false;
+  };
+  for (int i = 0; i < 9; ++i) {
+    if (!std::isfinite(k[i])) return fail(i, "not a finite number");
+  }
+  const double tolerance = 1e-9 * std::max(1.0, std::abs(k[0]));
+  if (std::abs(k[6]) > tolerance || std::abs(k[7]) > tolerance)
+    return fail(std::abs(k[6]) > tolerance ? 6 : 7,
+                "not 0: is the matrix transposed, as MATLAB writes it?");
+  if (std::abs(k[3]) > tolerance) return fail(3, "not 0");
+  if (std::abs(k[1]) > tolerance) return fail(1, "a skew, which is not supported: it must be 0");
+  if (std::abs(k[8] - 1.0) > 1e-9) return fail(8, "not 1");
+  camera->fx = k[0];
+  camera->fy = k[4];
+  camera->cx = k[2];
+  camera->cy = k[5];
+  return true;
 }
 
 bool CameraIntrinsics::IsValid(std::string* error) const {

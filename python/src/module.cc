@@ -243,10 +243,9 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
     const auto k = SmallNumbers(camera_matrix, 9, k_expected);
     if (k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3) throw Error(k_expected);
     CameraIntrinsics camera;
-    camera.fx = k.at(0, 0);
-    camera.fy = k.at(1, 1);
-    camera.cx = k.at(0, 2);
-    camera.cy = k.at(1, 2);
+    double matrix[9];
+    for (int i = 0; i < 9; ++i) matrix[i] = k.at(i / 3, i % 3);
+    if (!IntrinsicsFromMatrix(matrix, &camera, &error)) throw Error("camera_matrix: " + error);
     if (!dist_coeffs.is_none()) {
       const auto d = SmallNumbers(dist_coeffs, 64,
                                   "dist_coeffs must be numbers (k1, k2, p1, p2[, k3[, k4, k5, "

@@ -137,6 +137,20 @@ def test_small_inputs_refuse_huge_views_before_copying():
     chromatag.Detector(camera_matrix=reversed_k, dist_coeffs=np.array([0.0, 0, 0, 0.1])[::-1])
 
 
+def test_a_camera_matrix_of_another_shape_is_refused_naming_the_entry():
+    k = np.array([[500.0, 0, 240], [0, 500.0, 200], [0, 0, 1]])
+    with pytest.raises(ValueError, match=r"entry \[2\]\[0\] is 240, not 0: is the matrix transposed"):
+        chromatag.Detector(camera_matrix=k.T)
+    skewed = k.copy()
+    skewed[0, 1] = 0.5
+    with pytest.raises(ValueError, match=r"entry \[0\]\[1\] is 0.5, a skew"):
+        chromatag.Detector(camera_matrix=skewed)
+    corner = k.copy()
+    corner[2, 2] = 0
+    with pytest.raises(ValueError, match=r"entry \[2\]\[2\] is 0, not 1"):
+        chromatag.Detector(camera_matrix=corner)
+
+
 def test_pose_from_camera_and_tag_size():
     frame, _ = scene(cell_px=12)
     f = 500.0

@@ -32,6 +32,14 @@ struct CameraIntrinsics {
 // "pinhole" or "fisheye".
 const char* LensModelName(LensModel model);
 
+// Sets camera's fx, fy, cx and cy from a 3 x 3 camera matrix given row by
+// row, which must be [fx 0 cx; 0 fy cy; 0 0 1]. False (and *error naming
+// the entry, `k[row][column]`) for any other: a transposed matrix (as
+// MATLAB writes it: cx and cy in the bottom row), a skew (not modelled),
+// a bottom row other than 0 0 1. Entries within 1e-9 of fx of 0, and of 1
+// for the corner, pass. fx and fy themselves are checked by IsValid.
+bool IntrinsicsFromMatrix(const double (&k)[9], CameraIntrinsics* camera, std::string* error);
+
 // The smallest a* the detector accepts as a tag's red, in CIELAB a* units,
 // seen in the tag's own light (each channel over its quiet zone's white,
 // the white put at paper white): the palettes' reds have 40 or more, a
