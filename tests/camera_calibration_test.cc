@@ -478,7 +478,8 @@ TEST_F(CalibrateCameraCli, WritesNoUncertainFitUnlessAsked) {
   command.insert(command.end(), rest.begin(), rest.end());
   const auto refused = testing::RunChromatag(command);
   EXPECT_EQ(refused.exit_code, 1) << refused.err;
-  EXPECT_NE(refused.err.find("calibrate-camera: uncertain: fx, fy, cx and cy are not pinned down"), std::string::npos)
+  EXPECT_NE(refused.err.find("calibrate-camera: uncertain: fx, fy, cx and cy are not pinned down"),
+            std::string::npos)
       << refused.err;
   EXPECT_NE(refused.err.find("nothing written"), std::string::npos) << refused.err;
   EXPECT_FALSE(fs::exists(Path("camera.yaml")));
