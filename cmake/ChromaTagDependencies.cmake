@@ -18,6 +18,8 @@ pkg_check_modules(PNG REQUIRED IMPORTED_TARGET libpng)
 pkg_check_modules(ZLIB REQUIRED IMPORTED_TARGET zlib)
 # Camera files for `detect --camera` (ROS camera_info, Kalibr and OpenCV YAML).
 pkg_check_modules(YAML_CPP REQUIRED IMPORTED_TARGET yaml-cpp)
+# OpenCV's XML camera files: a real parser (comments, CDATA, entities).
+pkg_check_modules(TINYXML2 REQUIRED IMPORTED_TARGET tinyxml2)
 pkg_check_modules(POPPLER_CPP REQUIRED IMPORTED_TARGET poppler-cpp)
 if(CHROMATAG_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -81,7 +81,7 @@ chromatag_pkg_config(
 chromatag_pkg_config(chromatag-detector "ChromaTag detector" "chromatag-families nlohmann_json"
                      "-lchromatag_detector ${chromatag_opencv_libs}" "${chromatag_opencv_cflags}")
 chromatag_pkg_config(chromatag-calib "ChromaTag colour and camera calibration"
-                     "chromatag-generator chromatag-detector yaml-cpp OpenColorIO cairo"
+                     "chromatag-generator chromatag-detector yaml-cpp tinyxml2 OpenColorIO cairo"
                      "-lchromatag_calib -lceres" "")
 chromatag_pkg_config(chromatag-verify "ChromaTag round-trip and print checks"
                      "chromatag-calib poppler-cpp librsvg-2.0 cairo libexif" "-lchromatag_verify" "")

@@ -15,6 +15,8 @@ packages=(
   libopencolorio-dev libcli11-dev nlohmann-json3-dev libpoppler-cpp-dev librsvg2-dev libglib2.0-dev libpng-dev zlib1g-dev
   # Camera files (ROS camera_info, Kalibr, OpenCV YAML) for detect --camera.
   libyaml-cpp-dev
+  # OpenCV's XML camera files.
+  libtinyxml2-dev
   # The resolution in a JPEG scan's EXIF (verify --print --scan).
   libexif-dev
   # Fonts for the labels and notes on generated sheets.

@@ -1,5 +1,6 @@
 #include "chromatag/calib/camera_file.h"
 
+#include <tinyxml2.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -165,21 +166,6 @@ bool FromJson(const std::string& text, CameraIntrinsics* camera, std::string* er
   return false;
 }
 
-// The text between <tag ...> and </tag> inside `text`; nullopt if either is missing.
-std::optional<std::string> Element(const std::string& text, const std::string& tag) {
-  size_t open = text.find("<" + tag);
-  while (open != std::string::npos) {
-    const char next = open + tag.size() + 1 < text.size() ? text[open + tag.size() + 1] : '\0';
-    if (next == '>' || next == ' ' || next == '\t' || next == '\n' || next == '\r') break;
-    open = text.find("<" + tag, open + 1);
-  }
-  if (open == std::string::npos) return std::nullopt;
-  const size_t body = text.find('>', open);
-  const size_t close = text.find("</" + tag + ">", body);
-  if (body == std::string::npos || close == std::string::npos) return std::nullopt;
-  return text.substr(body + 1, close - body - 1);
-}
-
 // Numbers separated by white space; nullopt on anything else.
 std::optional<std::vector<double>> Numbers(const std::string& text) {
   std::vector<double> out;
@@ -193,32 +179,79 @@ std::optional<std::vector<double>> Numbers(const std::string& text) {
   return out;
 }
 
-// OpenCV's XML layout, read here for the two matrices it needs:
-// cv::FileStorage crashed on a truncated file.
-bool FromXml(const std::string& text, CameraIntrinsics* camera, std::string* error) {
-  const auto storage = Element(text, "opencv_storage");
-  if (!storage) {
-    *error = "is not OpenCV XML (no complete <opencv_storage> element)";
+// An OpenCV XML file parsed: the document and its <opencv_storage> root.
+struct OpenCvXml {
+  tinyxml2::XMLDocument doc;
+  const tinyxml2::XMLElement* storage = nullptr;
+};
+
+// Parses `text` as OpenCV's XML layout (cv::FileStorage crashed on a
+// truncated file; tinyxml2 reads comments, CDATA and entities as XML does,
+// and no DTD). False (and *error) if it is not.
+bool ParseOpenCvXml(const std::string& text, OpenCvXml* xml, std::string* error) {
+  if (xml->doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
+    *error =
+        "is not OpenCV XML (invalid XML at line " + std::to_string(xml->doc.ErrorLineNum()) + ")";
     return false;
   }
-  const auto matrix = Element(*storage, "camera_matrix");
-  const auto k = matrix ? Element(*matrix, "data") : std::nullopt;
-  const auto k_numbers = k ? Numbers(*k) : std::nullopt;
+  xml->storage = xml->doc.RootElement();
+  if (!xml->storage || std::string(xml->storage->Name()) != "opencv_storage") {
+    *error = "is not OpenCV XML (its root element is not <opencv_storage>)";
+    return false;
+  }
+  return true;
+}
+
+// The text of `parent`'s one child element `name` ("" if it has none);
+// nullopt if there is none, and also (with *error) if there are two.
+std::optional<std::string> ChildText(const tinyxml2::XMLElement* parent, const char* name,
+                                     std::string* error) {
+  const tinyxml2::XMLElement* child = parent->FirstChildElement(name);
+  if (!child) return std::nullopt;
+  if (child->NextSiblingElement(name)) {
+    *error = std::string("has two <") + name + "> elements";
+    return std::nullopt;
+  }
+  const char* text = child->GetText();
+  return std::string(text ? text : "");
+}
+
+// OpenCV's XML layout, read for the two matrices it needs.
+bool FromXml(const std::string& text, CameraIntrinsics* camera, std::string* error) {
+  OpenCvXml xml;
+  if (!ParseOpenCvXml(text, &xml, error)) return false;
+  std::string twice;  // Set when an element comes twice.
+  const auto matrix_numbers = [&](const char* name) -> std::optional<std::vector<double>> {
+    const tinyxml2::XMLElement* matrix = xml.storage->FirstChildElement(name);
+    if (!matrix) return std::nullopt;
+    if (matrix->NextSiblingElement(name)) {
+      twice = std::string("has two <") + name + "> elements";
+      return std::nullopt;
+    }
+    const auto data = ChildText(matrix, "data", &twice);
+    return data ? Numbers(*data) : std::nullopt;
+  };
+  const auto k_numbers = matrix_numbers("camera_matrix");
   if (!k_numbers) {
-    *error = "needs a camera_matrix with 9 numbers in its <data>";
+    *error = twice.empty() ? "needs a camera_matrix with 9 numbers in its <data>" : twice;
     return false;
   }
   std::vector<double> d;
-  if (const auto distortion = Element(*storage, "distortion_coefficients")) {
-    const auto data = Element(*distortion, "data");
-    const auto numbers = data ? Numbers(*data) : std::nullopt;
+  if (xml.storage->FirstChildElement("distortion_coefficients")) {
+    const auto numbers = matrix_numbers("distortion_coefficients");
     if (!numbers) {
-      *error = "has distortion_coefficients without numbers in their <data>";
+      *error =
+          twice.empty() ? "has distortion_coefficients without numbers in their <data>" : twice;
       return false;
     }
     d = *numbers;
   }
-  if (const auto model = Element(*storage, "distortion_model")) {
+  const auto model = ChildText(xml.storage, "distortion_model", &twice);
+  if (!twice.empty()) {
+    *error = twice;
+    return false;
+  }
+  if (model) {
     std::string name = *model;
     name.erase(0, name.find_first_not_of(" \t\r\n\""));
     name.erase(name.find_last_not_of(" \t\r\n\"") + 1);
@@ -243,7 +276,11 @@ cv::Size RecordedImageSize(const std::string& text, const std::string& ext) {
                    root.at("image_height").get<long long>());
     }
     if (ext == ".xml") {
-      const auto w = Element(text, "image_width"), h = Element(text, "image_height");
+      OpenCvXml xml;
+      std::string ignored;
+      if (!ParseOpenCvXml(text, &xml, &ignored)) return {};
+      const auto w = ChildText(xml.storage, "image_width", &ignored),
+                 h = ChildText(xml.storage, "image_height", &ignored);
       const auto wn = w ? Numbers(*w) : std::nullopt, hn = h ? Numbers(*h) : std::nullopt;
       if (!wn || !hn || wn->size() != 1 || hn->size() != 1) return {};
       if ((*wn)[0] != std::floor((*wn)[0]) || (*hn)[0] != std::floor((*hn)[0])) return {};

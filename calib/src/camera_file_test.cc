@@ -195,5 +195,32 @@ TEST(CameraFileTest, RefusesAMatrixOfAnotherShape) {
   EXPECT_EQ(camera.cy, 240);
 }
 
+// OpenCV's XML is read by an XML parser: a camera_matrix inside a comment
+// is a comment (it was read, and used), a second one is refused, and a
+// truncated file is not XML.
+TEST(CameraFileTest, XmlIsReadAsXml) {
+  const std::string matrix =
+      "<camera_matrix type_id=\"opencv-matrix\"><rows>3</rows><cols>3</cols><dt>d</dt>"
+      "<data>300 0 320 0 300 240 0 0 1</data></camera_matrix>\n";
+  const std::string commented =
+      "<?xml version=\"1.0\"?>\n<opencv_storage>\n<!-- " + matrix + " -->\n</opencv_storage>\n";
+  CameraIntrinsics camera;
+  std::string error;
+  EXPECT_FALSE(ParseCameraFile(commented, ".xml", &camera, &error));
+  EXPECT_NE(error.find("needs a camera_matrix"), std::string::npos) << error;
+  const std::string twice =
+      "<?xml version=\"1.0\"?>\n<opencv_storage>\n" + matrix + matrix + "</opencv_storage>\n";
+  EXPECT_FALSE(ParseCameraFile(twice, ".xml", &camera, &error));
+  EXPECT_NE(error.find("has two <camera_matrix> elements"), std::string::npos) << error;
+  const std::string cdata =
+      "<?xml version=\"1.0\"?>\n<opencv_storage>\n<camera_matrix><data><![CDATA["
+      "301 0 320 0 300 240 0 0 1]]></data></camera_matrix></opencv_storage>\n";
+  ASSERT_TRUE(ParseCameraFile(cdata, ".xml", &camera, &error)) << error;
+  EXPECT_EQ(camera.fx, 301);
+  EXPECT_FALSE(ParseCameraFile("<?xml version=\"1.0\"?>\n<opencv_storage>\n<camera_matrix type",
+                               ".xml", &camera, &error));
+  EXPECT_NE(error.find("is not OpenCV XML (invalid XML at line 3)"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace chromatag
