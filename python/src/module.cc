@@ -697,6 +697,86 @@ Detection DetectionFromState(const py::tuple& state) {
   return d;
 }
 
+// A BoardTag's fields, for pickling.
+py::tuple BoardTagState(const BoardTag& t) {
+  return py::make_tuple(t.family, t.id, t.size,
+                        std::vector<double>(t.translation.val, t.translation.val + 3),
+                        std::vector<double>(t.rotation.val, t.rotation.val + 9));
+}
+
+BoardTag BoardTagFromState(const py::tuple& state) {
+  const char* bad = "not a pickled chromatag.BoardTag";
+  if (state.size() != 5) throw Error(bad);
+  BoardTag t;
+  std::vector<double> position, rotation;
+  try {
+    t.family = state[0].cast<std::string>();
+    t.id = state[1].cast<int>();
+    t.size = state[2].cast<double>();
+    position = state[3].cast<std::vector<double>>();
+    rotation = state[4].cast<std::vector<double>>();
+  } catch (const py::cast_error&) {
+    throw Error(bad);
+  }
+  if (position.size() != 3 || rotation.size() != 9) throw Error(bad);
+  std::copy(position.begin(), position.end(), t.translation.val);
+  std::copy(rotation.begin(), rotation.end(), t.rotation.val);
+  return t;
+}
+
+// A Board's fields, for pickling; restored through the same checks as
+// Board(name, tags).
+py::tuple BoardState(const Board& b) {
+  py::list tags;
+  for (const BoardTag& t : b.tags) tags.append(BoardTagState(t));
+  return py::make_tuple(b.name, b.palette, tags);
+}
+
+Board BoardFromState(const py::tuple& state) {
+  const char* bad = "not a pickled chromatag.Board";
+  if (state.size() != 3) throw Error(bad);
+  Board b;
+  try {
+    b.name = state[0].cast<std::string>();
+    b.palette = state[1].cast<std::string>();
+    for (const py::handle& tag : state[2].cast<py::list>())
+      b.tags.push_back(BoardTagFromState(tag.cast<py::tuple>()));
+  } catch (const py::cast_error&) {
+    throw Error(bad);
+  }
+  std::string error;
+  if (!b.IsValid(&error)) throw Error(std::string(bad) + " (" + error + ")");
+  return b;
+}
+
+// pickle's protocols 0 and 1 build an object through object.__new__ and
+// copyreg, which a pybind11 class cannot take (the interpreter aborted: an
+// instance without a registered base). A class with a state (py::pickle)
+// is rebuilt at every protocol as protocol 2 does (copyreg.__newobj__, then
+// __setstate__); any other refuses with TypeError, as protocol 2 did.
+void PickleAtEveryProtocol(py::object cls) {
+  auto reduce = [](const py::object& self) {
+    return py::make_tuple(py::module_::import("copyreg").attr("__newobj__"),
+                          py::make_tuple(py::type::of(self)), self.attr("__getstate__")());
+  };
+  py::setattr(cls, "__reduce_ex__",
+              py::cpp_function([reduce](const py::object& self, int) { return reduce(self); },
+                               py::is_method(cls)));
+  py::setattr(cls, "__reduce__", py::cpp_function(reduce, py::is_method(cls)));
+}
+
+void RefusePickling(py::object cls, const std::string& why) {
+  auto refuse = [why](const py::object& self) -> py::object {
+    throw py::type_error("cannot pickle '" +
+                         py::type::of(self).attr("__qualname__").cast<std::string>() +
+                         "' object: " + why);
+  };
+  py::setattr(cls, "__reduce_ex__",
+              py::cpp_function([refuse](const py::object& self, int) { return refuse(self); },
+                               py::is_method(cls)));
+  py::setattr(cls, "__reduce__", py::cpp_function(refuse, py::is_method(cls)));
+}
+
 }  // namespace
 }  // namespace chromatag::python
 
@@ -830,6 +910,8 @@ PYBIND11_MODULE(_chromatag, m) {
           "the tag's centre in the board frame, metres")
       .def_property_readonly(
           "rotation", [](const BoardTag& t) { return Matrix33(t.rotation); }, "body_from_tag")
+      .def(py::pickle([](const BoardTag& t) { return BoardTagState(t); },
+                      [](const py::tuple& state) { return BoardTagFromState(state); }))
       .def("__repr__", [](const BoardTag& t) {
         return "BoardTag(family='" + t.family + "', id=" + std::to_string(t.id) +
                ", size=" + std::to_string(t.size) + ")";
@@ -856,6 +938,8 @@ PYBIND11_MODULE(_chromatag, m) {
                     "the palette its sheet was printed with, when its file records one")
       .def_readonly("tags", &Board::tags, "its tags, a list of BoardTag")
       .def("__len__", [](const Board& b) { return b.tags.size(); })
+      .def(py::pickle([](const Board& b) { return BoardState(b); },
+                      [](const py::tuple& state) { return BoardFromState(state); }))
       .def("__repr__", [](const Board& b) {
         return "Board(name='" + b.name + "', tags=" + std::to_string(b.tags.size()) + ")";
       });
@@ -1007,4 +1091,11 @@ PYBIND11_MODULE(_chromatag, m) {
         "Detector(camera_file=path) takes the same file.");
   m.def("palettes", &BuiltinPaletteNames, "The built-in palettes");
   m.def("palette", &PaletteInfo, py::arg("name"), "A palette's six shades in CIELAB and sRGB");
+
+  // What pickling does, said by every class at every protocol.
+  for (const char* name : {"Detection", "BoardTag", "Board"}) PickleAtEveryProtocol(m.attr(name));
+  RefusePickling(m.attr("Detector"),
+                 "build a Detector in each process, from the same options or config file");
+  for (const char* name : {"Pose", "BoardPose", "TagVerdict", "SheetVerdict"})
+    RefusePickling(m.attr(name), "it is a result; keep the numbers it holds");
 }

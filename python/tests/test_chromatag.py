@@ -1,4 +1,5 @@
 """The Python module against the library's own tags and sheets."""
+import copy as copy_module
 import json
 import os
 import pickle
@@ -187,6 +188,29 @@ def test_detection_compares_pickles_and_reads_as_the_cli_json():
     assert json.loads(json.dumps(d)) == d
     with pytest.raises(chromatag.Error, match="not a pickled"):
         chromatag.Detection.__new__(chromatag.Detection).__setstate__(("16h5", 99, 0, False, []))
+
+
+def test_pickling_works_or_raises_type_error_at_every_protocol():
+    # Protocols 0 and 1 build objects through copyreg, which aborted the
+    # interpreter on every class of the module.
+    frame, _ = scene(cell_px=12)
+    tag = chromatag.Detector().detect(frame)[0]
+    board = chromatag.Board("b", [chromatag.BoardTag("16h5", 0, 0.03, [0, 0, 0]),
+                                  chromatag.BoardTag("16h5", 1, 0.03, [0.05, 0, 0],
+                                                     np.eye(3)[[1, 0, 2]] * [1, -1, 1])])
+    for protocol in range(pickle.HIGHEST_PROTOCOL + 1):
+        assert pickle.loads(pickle.dumps(tag, protocol=protocol)) == tag
+        copy = pickle.loads(pickle.dumps(board, protocol=protocol))
+        assert copy.name == "b" and len(copy) == 2
+        np.testing.assert_array_equal(copy.tags[1].rotation, board.tags[1].rotation)
+        np.testing.assert_array_equal(copy.tags[1].position, [0.05, 0, 0])
+        with pytest.raises(TypeError, match="cannot pickle 'Detector' object: build a Detector"):
+            pickle.dumps(chromatag.Detector(), protocol=protocol)
+    assert copy_module.deepcopy(board).tags[0].id == 0
+    with pytest.raises(TypeError, match="cannot pickle 'Detector'"):
+        chromatag.Detector().__reduce__()
+    with pytest.raises(chromatag.Error, match="not a pickled chromatag.Board"):
+        chromatag.Board.__new__(chromatag.Board).__setstate__(("b", "", [("16h5", 0, 0.03, [0, 0], [])]))
 
 
 def test_pupil_apriltags_call_shape():
