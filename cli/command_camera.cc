@@ -261,7 +261,11 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   // Everything that can be checked before a long run is.
   std::vector<std::string> outputs = {o.output};
   outputs.insert(outputs.end(), o.reports.begin(), o.reports.end());
-  if (!CheckOutputTargets(outputs, &error)) return fail(error);
+  if (!CheckOutputTargets(outputs, &error, /*try_create=*/true)) return fail(error);
+  std::vector<std::pair<std::string, std::string>> inputs = {{"--board", o.board_file}};
+  if (!o.config.empty()) inputs.push_back({"--config", o.config});
+  for (const std::string& input : o.inputs) inputs.push_back({"an input", input});
+  if (!CheckOutputsAreNotInputs(outputs, inputs, &error)) return fail(error);
   const std::optional<Board> board = ReadBoardFile(o.board_file, &error);
   if (!board) return fail(error);
   if (!CheckCalibrationBoard(*board, calibration_options, &error))

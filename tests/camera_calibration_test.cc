@@ -424,6 +424,9 @@ TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
   Write(
       "one_tag.yaml",
       "tag_bundles:\n  - name: one\n    family: 16h5\n    layout:\n      - {id: 0, size: 0.05}\n");
+  Write("two_tags.yaml",
+        "tag_bundles:\n  - name: two\n    family: 16h5\n    layout:\n      - {id: "
+        "0, size: 0.05}\n      - {id: 1, size: 0.05, x: 0.1}\n");
   Write("cube.yaml",
         "tag_bundles:\n  - name: cube\n    family: 16h5\n    layout:\n      - {id: 0, size: 0.05}\n"
         "      - {id: 1, size: 0.05, x: 0.1, z: 0.05}\n");
@@ -435,7 +438,18 @@ TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
            {{"--board", Path("one_tag.yaml"), "-o", Path("camera.yaml")}, "has 1 tag(s)"},
            {{"--board", Path("cube.yaml"), "-o", Path("camera.yaml")}, "planar board"},
            {{"--board", Path("board.json"), "-o", Path("camera.yaml"), "--camera-index", "-1"},
-            "--camera-index -1"}}) {
+            "--camera-index -1"},
+           // A folder that passes the permission checks but takes no file.
+           {{"--board", Path("board.json"), "-o", "/proc/camera.yaml"},
+            "no file can be created in '/proc'"},
+           {{"--board", Path("board.json"), "-o", Path("camera.yaml"), "--report", "/proc/r.pdf"},
+            "no file can be created in '/proc'"},
+           // An output may not overwrite an input.
+           {{"--board", Path("two_tags.yaml"), "-o", Path("two_tags.yaml")},
+            "is also an input (--board)"},
+           {{"--board", Path("board.json"), "-o", Path("one.png.yaml"), "--config",
+             Path("one.png.yaml")},
+            "is also an input (--config)"}}) {
     std::vector<std::string> command = {"calibrate-camera", Path("one.png")};
     command.insert(command.end(), args.begin(), args.end());
     const auto refused = testing::RunChromatag(command);
@@ -443,6 +457,7 @@ TEST_F(CalibrateCameraCli, SaysWhatIsWrong) {
     EXPECT_EQ(testing::CountLines(refused.err), 1) << refused.err;
     EXPECT_NE(refused.err.find(message), std::string::npos) << refused.err;
   }
+  EXPECT_EQ(testing::ReadFile(Path("two_tags.yaml")).substr(0, 12), "tag_bundles:");
   // The views of another board (the same tags further apart): the message
   // says they do not fit it.
   const PrintedBoard other = PrintBoard("14mm");

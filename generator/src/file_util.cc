@@ -264,7 +264,8 @@ void FinishInterruptedWritesIn(const std::string& folder) {
 
 }  // namespace
 
-bool CheckOutputTargets(const std::vector<std::string>& paths, std::string* error) {
+bool CheckOutputTargets(const std::vector<std::string>& paths, std::string* error,
+                        bool try_create) {
   auto fail = [&](const std::string& path, const std::string& why) {
     if (error) *error = "cannot write '" + path + "': " + why;
     return false;
@@ -291,6 +292,35 @@ bool CheckOutputTargets(const std::vector<std::string>& paths, std::string* erro
       return fail(path, "it is not a regular file");
     for (size_t j = 0; j < i; ++j) {
       if (paths[j] == path) return fail(path, "named twice in one write");
+    }
+    if (try_create) {
+      std::string probe = Folder(path) + "/.chromatag-probe-XXXXXX";
+      const int fd = mkstemp(probe.data());
+      if (fd < 0)
+        return fail(path, "no file can be created in '" + Folder(path) + "' (" +
+                              std::strerror(errno) + ")");
+      close(fd);
+      unlink(probe.c_str());
+    }
+  }
+  return true;
+}
+
+bool CheckOutputsAreNotInputs(const std::vector<std::string>& outputs,
+                              const std::vector<std::pair<std::string, std::string>>& inputs,
+                              std::string* error) {
+  for (const std::string& output : outputs) {
+    for (const auto& [what, input] : inputs) {
+      std::error_code ec;
+      const bool same = fs::exists(output, ec) && fs::exists(input, ec)
+                            ? fs::equivalent(output, input, ec)
+                            : fs::weakly_canonical(output, ec) == fs::weakly_canonical(input, ec);
+      if (same && !ec) {
+        if (error)
+          *error = "'" + output + "' is also an input (" + what +
+                   "): an output may not overwrite an input; choose another name";
+        return false;
+      }
     }
   }
   return true;

@@ -34,8 +34,18 @@ bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* err
 
 // The checks WriteFilesAtomically makes of its targets before writing, for
 // a command to make before long work: false with *error naming the first
-// target that cannot be written and why.
-bool CheckOutputTargets(const std::vector<std::string>& paths, std::string* error = nullptr);
+// target that cannot be written and why. With `try_create`, a file is also
+// created and removed in each target's folder (a folder such as /proc
+// passes the permission checks and takes no file).
+bool CheckOutputTargets(const std::vector<std::string>& paths, std::string* error = nullptr,
+                        bool try_create = false);
+
+// False (and *error) if an output names the same file as one of the
+// inputs (`inputs`: what each is, e.g. "--board", then its path), or the
+// same path; an output that does not exist yet is compared by path.
+bool CheckOutputsAreNotInputs(const std::vector<std::string>& outputs,
+                              const std::vector<std::pair<std::string, std::string>>& inputs,
+                              std::string* error = nullptr);
 
 // SHA-256 of `data`, as 64 lower-case hex digits (FIPS 180-4).
 std::string Sha256Hex(const std::string& data);
