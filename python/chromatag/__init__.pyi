@@ -10,6 +10,7 @@ import numpy.typing as npt
 _Image = npt.NDArray[np.uint8]
 _Float = npt.NDArray[np.float64]
 _Families = Union[str, Sequence[str]]
+_Path = Union[str, PathLike[str]]
 
 __version__: str
 __all__: List[str]
@@ -58,11 +59,11 @@ class Detector:
         self,
         families: _Families = ...,
         *,
-        config: Optional[str] = ...,
+        config: Optional[_Path] = ...,
         camera_matrix: Optional[npt.ArrayLike] = ...,
         dist_coeffs: Optional[npt.ArrayLike] = ...,
         camera_model: str = ...,
-        camera_file: Optional[str] = ...,
+        camera_file: Optional[_Path] = ...,
         tag_size: float = ...,
         **options: Any,
     ) -> None: ...
@@ -115,7 +116,7 @@ class BoardTag:
 class Board:
     def __init__(self, name: str, tags: Iterable[BoardTag]) -> None: ...
     @staticmethod
-    def from_file(path: str) -> Board: ...
+    def from_file(path: _Path) -> Board: ...
     @property
     def name(self) -> str: ...
     @property
@@ -188,7 +189,7 @@ def render_tag(
     order: str = ...,
 ) -> _Image: ...
 def generate(
-    output: Union[str, PathLike[str]],
+    output: _Path,
     *,
     family: str = ...,
     ids: Union[None, str, Iterable[int]] = ...,
@@ -198,8 +199,8 @@ def generate(
     gap: str = ...,
     quiet_zone: int = ...,
     palette: str = ...,
-    palette_file: str = ...,
-    color_lut: str = ...,
+    palette_file: _Path = ...,
+    color_lut: _Path = ...,
     format: str = ...,
     dpi: float = ...,
     label: bool = ...,
@@ -209,18 +210,18 @@ def generate(
     board: str = ...,
     spacing: str = ...,
 ) -> List[str]: ...
-def verify(sheet: str, *, dpi: float = ..., tolerance: str = ...) -> SheetVerdict: ...
+def verify(sheet: _Path, *, dpi: float = ..., tolerance: str = ...) -> SheetVerdict: ...
 def verify_print(
-    sheet: str,
-    images: List[str],
+    sheet: _Path,
+    images: Sequence[_Path],
     *,
     scans: bool = ...,
     scan_dpi: float = ...,
     scale_tolerance: float = ...,
-    config: Optional[str] = ...,
+    config: Optional[_Path] = ...,
 ) -> Dict[str, Any]: ...
 def families() -> List[str]: ...
 def family(name: str) -> Dict[str, Any]: ...
-def read_camera(path: str) -> Dict[str, Any]: ...
+def read_camera(path: _Path) -> Dict[str, Any]: ...
 def palettes() -> List[str]: ...
 def palette(name: str) -> Dict[str, Any]: ...

@@ -4,9 +4,11 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <atomic>
 #include <climits>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -176,6 +178,18 @@ nlohmann::json JsonOf(const std::string& name, const py::handle& value) {
               std::string(py::str(value.get_type().attr("__name__"))));
 }
 
+// A path argument as the type stubs give it: None for none (""), a str or
+// an os.PathLike (pathlib.Path) for a file.
+std::string PathOrNone(const py::handle& value, const char* name) {
+  if (value.is_none()) return "";
+  try {
+    return value.cast<std::filesystem::path>().string();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(name) + " must be a path (str or os.PathLike) or None, not " +
+                         py::type::of(value).attr("__name__").cast<std::string>());
+  }
+}
+
 // How many tag-free frames of a Detector are also tried in the other
 // channel order, to warn about an RGB frame passed as BGR (or the reverse):
 // the check costs a second detection, so only a Detector's first 16 frames
@@ -219,13 +233,13 @@ PyDetector MakeDetector(const py::object& families, const py::kwargs& kwargs) {
       camera_model = py::str(item.second);
       model_given = true;
     } else if (name == "camera_file") {
-      camera_file = py::str(item.second);
+      camera_file = PathOrNone(item.second, "camera_file");
     } else if (name == "tag_size") {
       tag_size = Arg<double>(item.second, "tag_size", "a number (metres)");
     } else if (name == "report_rejected") {
       options.report_rejected = Arg<bool>(item.second, "report_rejected", "True or False");
     } else if (name == "config") {
-      config = py::str(item.second);
+      config = PathOrNone(item.second, "config");
     } else {
       fields[name] = JsonOf(name, item.second);
     }
@@ -469,15 +483,15 @@ py::array RenderTag(const std::string& family_name, int id, double cell_px,
   return out;
 }
 
-std::vector<std::string> Generate(const std::string& output, const std::string& family,
-                                  const py::object& ids, const std::string& size,
-                                  const std::string& page, const std::string& margin,
-                                  const std::string& gap, int quiet_zone,
-                                  const std::string& palette, const std::string& palette_file,
-                                  const std::string& color_lut, const std::string& format,
-                                  double dpi, bool label, bool crop_marks, bool cut_ring,
-                                  bool one_per_page, const std::string& board,
-                                  const std::string& spacing) {
+std::vector<std::string> Generate(
+    const std::filesystem::path& output_path, const std::string& family, const py::object& ids,
+    const std::string& size, const std::string& page, const std::string& margin,
+    const std::string& gap, int quiet_zone, const std::string& palette,
+    const std::filesystem::path& palette_file_path, const std::filesystem::path& color_lut_path,
+    const std::string& format, double dpi, bool label, bool crop_marks, bool cut_ring,
+    bool one_per_page, const std::string& board, const std::string& spacing) {
+  const std::string output = output_path.string(), palette_file = palette_file_path.string(),
+                    color_lut = color_lut_path.string();
   SheetRequest request;
   request.family = family;
   request.board = board;
@@ -521,7 +535,9 @@ std::vector<std::string> Generate(const std::string& output, const std::string& 
   return written;
 }
 
-SheetVerdict Verify(const std::string& sheet, double dpi, const std::string& tolerance) {
+SheetVerdict Verify(const std::filesystem::path& sheet_path, double dpi,
+                    const std::string& tolerance) {
+  const std::string sheet = sheet_path.string();
   VerifyOptions options;
   options.dpi = dpi;
   std::string error;
@@ -538,9 +554,15 @@ SheetVerdict Verify(const std::string& sheet, double dpi, const std::string& tol
 }
 
 // verify --print: the verdict as the CLI's JSON, parsed into Python objects.
-py::object VerifyPrint(const std::string& sheet, const std::vector<std::string>& images, bool scans,
+py::object VerifyPrint(const std::filesystem::path& sheet_path,
+                       const std::vector<std::filesystem::path>& image_paths, bool scans,
                        double scan_dpi, double scale_tolerance,
-                       const std::optional<std::string>& config) {
+                       const std::optional<std::filesystem::path>& config_path) {
+  const std::string sheet = sheet_path.string();
+  std::vector<std::string> images;
+  for (const auto& image : image_paths) images.push_back(image.string());
+  const std::optional<std::string> config =
+      config_path ? std::optional<std::string>(config_path->string()) : std::nullopt;
   std::string error;
   const auto record = ReadPrintedSheet(sheet, &error);
   if (!record) throw Error(error);
@@ -573,7 +595,8 @@ py::dict FamilyInfo(const std::string& name) {
 }
 
 // A camera file's intrinsics as OpenCV's Python functions take them.
-py::dict ReadCamera(const std::string& path) {
+py::dict ReadCamera(const std::filesystem::path& file) {
+  const std::string path = file.string();
   CameraIntrinsics camera;
   CameraFileInfo info;
   std::string error;
@@ -923,9 +946,9 @@ PYBIND11_MODULE(_chromatag, m) {
       .def(py::init(&MakeBoard), py::arg("name"), py::arg("tags"))
       .def_static(
           "from_file",
-          [](const std::string& path) {
+          [](const std::filesystem::path& path) {
             std::string error;
-            auto board = ReadBoardFile(path, &error);
+            auto board = ReadBoardFile(path.string(), &error);
             if (!board) throw Error(error);
             return *board;
           },

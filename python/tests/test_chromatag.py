@@ -559,3 +559,17 @@ def test_hostile_arrays_and_arguments_are_named_errors():
     for call, says in cases:
         with pytest.raises(chromatag.Error, match=says):
             call()
+
+
+def test_paths_are_str_or_pathlike_and_none_is_none(tmp_path):
+    # None was read as a file named "None"; a pathlib.Path was a TypeError.
+    chromatag.Detector(config=None, camera_file=None)
+    sheet = tmp_path / "tags.pdf"
+    assert chromatag.generate(sheet, ids=[0, 1]) == [str(sheet), str(sheet) + ".json"]
+    assert chromatag.verify(sheet).passed
+    with pytest.raises(chromatag.Error, match="no such file"):
+        chromatag.read_camera(tmp_path / "camera.yaml")
+    with pytest.raises(chromatag.Error, match="camera.yaml"):
+        chromatag.Detector(camera_file=tmp_path / "camera.yaml")
+    with pytest.raises(TypeError, match="config must be a path \\(str or os.PathLike\\) or None"):
+        chromatag.Detector(config=3)
