@@ -84,6 +84,15 @@ bool GatherSources(const std::vector<std::string>& inputs, const std::vector<int
           files.push_back(entry.path());
         } else if (!fs::exists(status) && wanted) {
           bad.push_back("'" + entry.path().string() + "': a link to nothing, skipped");
+        } else if (fs::exists(status) && !fs::is_regular_file(status) &&
+                   !fs::is_directory(status)) {
+          // Reading a FIFO blocks, a device never ends: named, never read.
+          const char* kind = fs::is_fifo(status)     ? "a FIFO"
+                             : fs::is_socket(status) ? "a socket"
+                             : fs::is_character_file(status) || fs::is_block_file(status)
+                                 ? "a device"
+                                 : "not a regular file";
+          bad.push_back("'" + entry.path().string() + "': " + kind + ", skipped");
         }
       }
       if (notes) std::sort(notes->begin(), notes->end());

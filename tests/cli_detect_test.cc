@@ -1,7 +1,11 @@
 // `chromatag detect` as a user runs it, on sheets made by `chromatag generate`.
 #include <gtest/gtest.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -99,13 +103,27 @@ TEST(CliDetectTest, AFoldersUnreadableEntriesAreSkipped) {
   ASSERT_EQ(symlink("loop-d", (dir + "/loop-c").c_str()), 0);
   ASSERT_EQ(symlink("loop-c", (dir + "/loop-d").c_str()), 0);
   ASSERT_EQ(symlink("nothing.png", (dir + "/gone.png").c_str()), 0);
+  // Entries that are not files: reading them would block or never end.
+  ASSERT_EQ(mkfifo((dir + "/fifo.png").c_str(), 0644), 0);
+  ASSERT_EQ(symlink("/dev/zero", (dir + "/zero.png").c_str()), 0);
+  const int sock = socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(sock, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  const std::string sock_path = dir + "/sock.png";
+  ASSERT_LT(sock_path.size(), sizeof(address.sun_path));
+  std::copy(sock_path.begin(), sock_path.end(), address.sun_path);
+  ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&address), sizeof(address)), 0);
   const auto result = Chromatag({"detect", "--json", dir});
+  close(sock);
   EXPECT_EQ(result.exit_code, 1) << result.err;
   EXPECT_EQ(CountLines(result.out), 1) << result.out;  // sheet.png
   for (const std::string& says :
        {"'" + dir + "/loop-a.png': Too many levels of symbolic links, skipped",
         "'" + dir + "/loop-b.png': Too many levels of symbolic links, skipped",
-        "'" + dir + "/gone.png': a link to nothing, skipped"})
+        "'" + dir + "/gone.png': a link to nothing, skipped",
+        "'" + dir + "/fifo.png': a FIFO, skipped", "'" + dir + "/zero.png': a device, skipped",
+        "'" + dir + "/sock.png': a socket, skipped"})
     EXPECT_NE(result.err.find(says), std::string::npos) << result.err;
   EXPECT_EQ(result.err.find("loop-c"), std::string::npos) << result.err;
 }
