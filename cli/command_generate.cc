@@ -59,7 +59,10 @@ void RegisterGenerate(CLI::App& app, Action* action) {
   c->add_option("--size", o->request.size,
                 "Tag size: side of the black square (mm, cm, m, in); default 40mm, or with "
                 "--board the largest that fits the page");
-  c->add_option("--page", o->request.page, "a4, a3, letter, legal, or WxH with a unit (210x297mm)")
+  c->add_option(
+       "--page", o->request.page,
+       "a4, a3, letter, legal (each also as a4-landscape, a4-portrait: not turned to fit a "
+       "board), or WxH with a unit (210x297mm)")
       ->capture_default_str();
   c->add_option("--margin", o->request.margin, "Blank border on every side of the page")
       ->capture_default_str();

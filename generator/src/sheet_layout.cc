@@ -119,12 +119,18 @@ std::optional<SheetLayout> LayoutBoard(const SheetOptions& options, double usabl
   const double need_h = grid_h + 2.0 * quiet + kBoardAxesMm;
   if (need_w > usable_w + 1e-9 || need_h > usable_h + 1e-9) {
     if (error) {
-      *error = "a " + std::to_string(board.columns) + "x" + std::to_string(board.rows) +
-               " board of " + Mm(s) + " mm tags " + Mm(g) + " mm apart needs " + Mm(need_w) +
-               " x " + Mm(need_h) + " mm with its quiet zone and axes; page " + options.page.name +
-               " with " + Mm(options.margin_mm) + " mm margins and the scale bar leaves " +
-               Mm(usable_w) + " x " + Mm(usable_h) +
-               " mm (leave --size out for the largest that fits)";
+      *error =
+          "a " + std::to_string(board.columns) + "x" + std::to_string(board.rows) + " board of " +
+          Mm(s) + " mm tags " + Mm(g) + " mm apart needs " + Mm(need_w) + " x " + Mm(need_h) +
+          " mm with its quiet zone and axes; page " + options.page.name + " with " +
+          Mm(options.margin_mm) + " mm margins and the scale bar leaves " + Mm(usable_w) + " x " +
+          Mm(usable_h) + " mm" +
+          (options.page.may_turn
+               ? ", turned " + Mm(options.page.height_mm - 2.0 * options.margin_mm) + " x " +
+                     Mm(options.page.width_mm - 2.0 * options.margin_mm - internal::kScaleStripMm) +
+                     " mm"
+               : std::string()) +
+          " (leave --size out for the largest that fits)";
     }
     return std::nullopt;
   }

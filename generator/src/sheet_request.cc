@@ -8,6 +8,7 @@
 #include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/id_list.h"
+#include "sheet_internal.h"
 
 namespace chromatag {
 namespace {
@@ -117,12 +118,24 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
         fit = largest >= 10.0 ? std::floor(largest) : std::floor(largest * 10) / 10;
       return fit;
     };
+    if (spacing_mm && *spacing_mm / quiet_share < 1.0) {
+      char text[256];
+      std::snprintf(text, sizeof(text),
+                    "--spacing %s mm holds the quiet zone of tags of at most %.2f mm (%d cells of "
+                    "%d across the black square); tags are 1 mm or more: give a larger --spacing "
+                    "or a smaller --quiet-zone",
+                    internal::Mm(*spacing_mm).c_str(), *spacing_mm / quiet_share, in.quiet_zone,
+                    out->family->black_square_cells());
+      *error = text;
+      return false;
+    }
     auto fit = fit_on(*out, error);
     if (!fit) return false;
-    // The page turned, when that fits larger tags (a 6x4 board on A4).
+    // The page turned, when that fits larger tags (a 6x4 board on A4),
+    // unless its orientation was given.
     SheetOptions turned = *out;
     std::swap(turned.page.width_mm, turned.page.height_mm);
-    const auto turned_fit = fit_on(turned, nullptr);
+    const auto turned_fit = !out->page.may_turn ? std::nullopt : fit_on(turned, nullptr);
     if (turned_fit && *turned_fit > *fit) {
       fit = turned_fit;
       out->page = turned.page;
@@ -177,7 +190,7 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
   }
   if (!out->IsValid(error)) return false;
   // A board of a given size that fits only on the page turned gets it turned.
-  if (board && !in.size.empty() && !LayoutSheet(*out)) {
+  if (board && !in.size.empty() && out->page.may_turn && !LayoutSheet(*out)) {
     SheetOptions turned = *out;
     std::swap(turned.page.width_mm, turned.page.height_mm);
     if (LayoutSheet(turned)) {

@@ -476,6 +476,14 @@ TEST(BoardSheetTest, FillsItsPageAndRecordsItsFrame) {
   ASSERT_TRUE(options.board);
   EXPECT_EQ(options.page.name, "a4 landscape");
   EXPECT_EQ(options.page.width_mm, 297.0);
+  // Unless the orientation was asked for.
+  SheetRequest portrait = BoardRequest("6x4");
+  portrait.page = "a4-portrait";
+  SheetOptions upright;
+  ASSERT_TRUE(ToSheetOptions(portrait, "b.pdf", &upright, &error)) << error;
+  EXPECT_EQ(upright.page.name, "a4 portrait");
+  EXPECT_EQ(upright.page.width_mm, 210.0);
+  EXPECT_LT(upright.tag_size_mm, options.tag_size_mm);
   EXPECT_EQ(options.tag_size_mm, std::floor(options.tag_size_mm));
   // 16h5's quiet zone (2 of 6 cells) is wider than a quarter.
   EXPECT_NEAR(options.board->spacing_mm, std::ceil(options.tag_size_mm / 3 * 10) / 10, 1e-9);
@@ -548,6 +556,19 @@ TEST(BoardSheetTest, RefusesWhatIsNoBoardAndSaysWhy) {
   SheetRequest ids = BoardRequest("2x2");
   ids.ids = "0-2";
   refused(ids, "holds 4 tags, but 3 IDs");
+  // A spacing too small for any tag's quiet zone names the spacing, not
+  // a tag size that was never given.
+  SheetRequest narrow = BoardRequest("6x4");
+  narrow.quiet_zone = 20;
+  narrow.spacing = "1mm";
+  refused(narrow, "--spacing 1.0 mm holds the quiet zone of tags of at most 0.30 mm");
+  // A size that fits the page neither way says what both leave.
+  SheetRequest large = BoardRequest("5x4");
+  large.size = "30mm";
+  ASSERT_TRUE(ToSheetOptions(large, "b.pdf", &options, &error)) << error;
+  EXPECT_FALSE(LayoutSheet(options, &error));
+  EXPECT_NE(error.find("leaves 190.0 x 263.0 mm, turned 277.0 x 176.0 mm"), std::string::npos)
+      << error;
   SheetRequest tight = BoardRequest("2x2");
   tight.size = "30mm";
   tight.spacing = "5mm";

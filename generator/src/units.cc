@@ -78,11 +78,22 @@ std::optional<PageSize> ParsePageSize(const std::string& input, std::string* err
   const std::string text = Lower(Trim(input));
   for (const auto& page : kPages) {
     if (text == page.name) return PageSize{page.name, page.width_mm, page.height_mm};
+    for (const char* orientation : {"landscape", "portrait"}) {
+      for (const char separator : {'-', ' '}) {
+        if (text != std::string(page.name) + separator + orientation) continue;
+        const bool landscape = orientation[0] == 'l';
+        const double shorter = std::min(page.width_mm, page.height_mm),
+                     longer = std::max(page.width_mm, page.height_mm);
+        return PageSize{std::string(page.name) + " " + orientation, landscape ? longer : shorter,
+                        landscape ? shorter : longer, /*may_turn=*/false};
+      }
+    }
   }
   auto fail = [&](const std::string& what) -> std::optional<PageSize> {
     if (error) {
       *error = "invalid page '" + input + "': " + what +
-               " (valid: a4, a3, letter, legal, or WxH with a unit such as 210x297mm)";
+               " (valid: a4, a3, letter, legal, each also as a4-landscape or a4-portrait, or WxH "
+               "with a unit such as 210x297mm)";
     }
     return std::nullopt;
   };

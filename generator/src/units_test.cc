@@ -40,6 +40,20 @@ TEST(UnitsTest, ParsesNamedAndCustomPages) {
   EXPECT_DOUBLE_EQ(custom->width_mm, 215.9);
   EXPECT_DOUBLE_EQ(custom->height_mm, 279.4);
   EXPECT_DOUBLE_EQ(ParsePageSize("10cmx150mm")->width_mm, 100.0);
+  EXPECT_TRUE(a4->may_turn);
+  // An orientation asked for: the page as named, never turned.
+  for (const char* name : {"a4-landscape", "A4 Landscape"}) {
+    const auto landscape = ParsePageSize(name);
+    ASSERT_TRUE(landscape) << name;
+    EXPECT_EQ(landscape->name, "a4 landscape");
+    EXPECT_DOUBLE_EQ(landscape->width_mm, 297.0);
+    EXPECT_DOUBLE_EQ(landscape->height_mm, 210.0);
+    EXPECT_FALSE(landscape->may_turn);
+  }
+  const auto portrait = ParsePageSize("letter-portrait");
+  ASSERT_TRUE(portrait);
+  EXPECT_DOUBLE_EQ(portrait->width_mm, 215.9);
+  EXPECT_FALSE(portrait->may_turn);
   std::string error;
   EXPECT_FALSE(ParsePageSize("a5", &error));
   EXPECT_NE(error.find("valid: a4, a3, letter, legal"), std::string::npos) << error;

@@ -23,13 +23,17 @@ std::optional<Length> ParseLength(const std::string& text, std::string* error = 
 inline constexpr double kMaxPageSideMm = 10000.0;
 
 struct PageSize {
-  std::string name;  // "a4", or "custom" for WxH.
+  std::string name;  // "a4", "a4 landscape", or "custom" for WxH.
   double width_mm = 0.0;
   double height_mm = 0.0;
+  // False when the orientation was asked for ("a4-landscape"): a layout
+  // that would fit the page turned may not turn it.
+  bool may_turn = true;
 };
 
-// "a4", "a3", "letter", "legal" (any case), or "WxH" with a unit after the
-// height, e.g. "210x297mm", "8.5x11in".
+// "a4", "a3", "letter", "legal" (any case), each also with "-landscape" or
+// "-portrait" (or a space before it) to fix the orientation, or "WxH" with a
+// unit after the height, e.g. "210x297mm", "8.5x11in".
 std::optional<PageSize> ParsePageSize(const std::string& text, std::string* error = nullptr);
 
 }  // namespace chromatag
