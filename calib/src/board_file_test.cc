@@ -85,7 +85,12 @@ TEST(BoardFileTest, RefusesBrokenBundlesSayingWhat) {
   };
   refused("      - {id: 1, x: 0, y: 0, z: 0}\n", "tag 1 has no size");
   refused("      - {id: 1, x: 0, y: 0, z: 0}\n      - {id: 2, size: 0.04}\n", "tag 1 has no size");
-  refused("      - {id: 1, size: -1, x: 0, y: 0, z: 0}\n", "positive length");
+  refused("      - {id: 1, size: -1, x: 0, y: 0, z: 0}\n",
+          "the size -1 m is out of range (0.001 to 10 m)");
+  // Values no fit can use are refused before any work, naming the range.
+  refused("      - {id: 1, size: 1e300, x: 0, y: 0, z: 0}\n", "the size 1e+300 m is out of range");
+  refused("      - {id: 1, size: 0.04, x: 1e12, y: 0, z: 0}\n",
+          "the position's x, 1e+12 m, is out of range (at most 1000 m from the board's origin)");
   refused("      - {id: 1, size: 0.04, x: 0, y: 0, z: 0, qw: 2}\n", "unit quaternion");
   refused("      - {id: 1, size: 0.04, x: 0, y: 0, z: abc}\n", "z is not a number");
   refused("      - {id: 1.5, size: 0.04, x: 0, y: 0, z: 0}\n", "whole number");

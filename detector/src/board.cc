@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <utility>
 
@@ -125,9 +126,22 @@ bool Board::IsValid(std::string* error) const {
     std::string why;
     if (!TagFamily::Load(tag.family)->IsValidId(tag.id, &why)) return fail(i, why);
     if (!seen.insert({tag.family, tag.id}).second) return fail(i, "is on the board twice");
-    if (!(tag.size > 0.0) || !std::isfinite(tag.size))
-      return fail(i, "the size must be a positive length");
-    if (!internal::Finite(tag.translation)) return fail(i, "the position is not finite");
+    if (!(tag.size >= kMinBoardTagSize && tag.size <= kMaxBoardTagSize)) {
+      char why[128];
+      std::snprintf(why, sizeof(why), "the size %g m is out of range (%g to %g m)", tag.size,
+                    kMinBoardTagSize, kMaxBoardTagSize);
+      return fail(i, why);
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(std::fabs(tag.translation[axis]) <= kMaxBoardReach)) {
+        char why[128];
+        std::snprintf(why, sizeof(why),
+                      "the position's %c, %g m, is out of range (at most %g m from the board's "
+                      "origin)",
+                      "xyz"[axis], tag.translation[axis], kMaxBoardReach);
+        return fail(i, why);
+      }
+    }
     const cv::Matx33d rtr = tag.rotation.t() * tag.rotation;
     double off = 0.0;
     for (int r = 0; r < 3; ++r)

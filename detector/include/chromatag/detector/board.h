@@ -19,6 +19,13 @@ namespace chromatag {
 // One tag of a board: where it sits on the body. The tag frame is the
 // spec's (origin at the black square's centre, x right, y up, z out of the
 // tag towards the viewer); body_from_tag maps it into the board frame.
+// The tag sizes and positions a board may hold, metres: from a millimetre
+// to 10 m, within a kilometre of the board's origin on each axis (a file
+// that says 1e300 says nothing a fit can use).
+inline constexpr double kMinBoardTagSize = 0.001;
+inline constexpr double kMaxBoardTagSize = 10.0;
+inline constexpr double kMaxBoardReach = 1000.0;
+
 struct BoardTag {
   std::string family;  // "16h5" or "36h11".
   int id = 0;
@@ -35,8 +42,9 @@ struct Board {
   std::string palette;
 
   // False with *error for no tags, a family name that is not 16h5 or 36h11,
-  // a tag twice (the same family and ID), a size that is not a positive
-  // length, a rotation that is not one, a translation that is not finite.
+  // a tag twice (the same family and ID), a size outside kMinBoardTagSize
+  // to kMaxBoardTagSize, a rotation that is not one, a position further
+  // than kMaxBoardReach from the board's origin on any axis.
   bool IsValid(std::string* error = nullptr) const;
   // The index of the tag with this family and ID, or -1.
   int Find(const std::string& family, int id) const;
