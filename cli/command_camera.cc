@@ -21,6 +21,7 @@
 #include "chromatag/detector/read_image.h"
 #include "chromatag/generator/file_util.h"
 #include "commands.h"
+#include "progress.h"
 #include "sources.h"
 
 namespace chromatag::cli {
@@ -60,14 +61,20 @@ class ViewCollector {
 
   // Messages for skipped inputs go to stderr.
   void Read(const std::vector<Source>& sources) {
+    const size_t images = static_cast<size_t>(std::count_if(
+        sources.begin(), sources.end(), [](const Source& s) { return s.kind == SourceKind::kImage; }));
+    Progress progress("calibrate-camera", "images", images);
+    size_t read = 0;
     for (const Source& source : sources) {
       if (g_stop) break;
       if (source.kind == SourceKind::kImage) {
         ReadFile(source.name);
+        progress.Update(++read);
       } else {
         ReadVideo(source);
       }
     }
+    progress.Finish();
   }
 
   // The views of the image size most of them have; the others are named
@@ -304,6 +311,7 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   const std::vector<CalibrationView> views = collector.Views(&size);
   if (views.empty()) return Fail("calibrate-camera", "no views to calibrate with", kExitFailure);
 
+  std::cerr << "calibrate-camera: fitting the camera to " << views.size() << " view(s)\n";
   const auto calibration = CalibrateCamera(*board, views, size, calibration_options, &error);
   if (!calibration) {
     return Fail("calibrate-camera",

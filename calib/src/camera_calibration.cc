@@ -179,7 +179,7 @@ bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& us
         image_f.push_back(Convert<cv::Point2d, cv::Point2f>(image[i]));
       }
       fit->rms_px = cv::calibrateCamera(object_f, image_f, image_size, k, d, rvecs, tvecs,
-                                        options.fit_k3 ? 0 : cv::CALIB_FIX_K3);
+                                        (options.fit_k3 ? 0 : cv::CALIB_FIX_K3) | cv::CALIB_USE_LU);
     }
   } catch (const cv::Exception& e) {
     *error = "the fit failed (" + e.err + ")";
