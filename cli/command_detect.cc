@@ -72,11 +72,13 @@ struct DetectOptions {
   std::vector<std::string> inputs;
 };
 
-// Ctrl-C (SIGINT) or SIGTERM: the first ends the reading, the frames under
+// Ctrl-C (SIGINT), SIGTERM, SIGHUP (the terminal closed) or SIGQUIT
+// (Ctrl-backslash): the first ends the reading, the frames under
 // way finish and are printed, then the summary; a second one stops waiting
 // for them (a stalled stream, a slow frame) and prints the summary at once.
 // Either way every printed line is whole, and the exit code is 128 + the
 // signal, as a shell expects.
+constexpr int kEndingSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
 std::atomic<bool> g_stop{false};
 std::atomic<bool> g_stop_now{false};
 std::atomic<int> g_signal{0};
@@ -86,8 +88,7 @@ void OnSignal(int signal) {
   if (g_stop.exchange(true)) {
     g_stop_now = true;
     // A third signal ends the process at once, whatever it is stuck in.
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
+    for (int s : kEndingSignals) std::signal(s, SIG_DFL);
   }
 }
 
@@ -652,8 +653,7 @@ int RunDetect(const DetectOptions& options) {
   g_stop = false;
   g_stop_now = false;
   g_signal = 0;
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
+  for (int s : kEndingSignals) std::signal(s, OnSignal);
   const auto fail = [](const std::string& message) { return Fail("detect", message); };
   DetectorOptions detector_options;
   detector_options.families =
@@ -719,8 +719,7 @@ int RunDetect(const DetectOptions& options) {
   int code = run.Execute();
   if (!skipped.empty() && code == kExitOk) code = kExitFailure;  // An input was not read.
   if (g_signal) DieBy(g_signal);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  for (int s : kEndingSignals) std::signal(s, SIG_DFL);
   return code;
 }
 
@@ -783,7 +782,8 @@ void RegisterDetect(CLI::App& app, Action* action) {
   command->add_option(
       "INPUT", options->inputs,
       "Images, folders, videos, /dev/videoN or stream URLs (rtsp://, http://, ...); "
-      "Ctrl-C or SIGTERM ends a run with its summary (a second one without waiting for frames "
+      "Ctrl-C, SIGTERM, SIGHUP or SIGQUIT ends a run with its summary (a second one without "
+      "waiting for frames "
       "under way)");
   command->callback([options, action] { *action = [options] { return RunDetect(*options); }; });
 }

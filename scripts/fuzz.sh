@@ -9,8 +9,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 build=${FUZZ_BUILD_DIR:-build-fuzz}
-names=(detector palette sidecar calib_sidecar config camera cube image_dpi image_size
-  value_parsers print_sidecar sheet_raster locate_sheet video)
+names=(detector palette sidecar calib_sidecar config camera cube image_dpi image_size bundle
+  value_parsers print_sidecar sheet_raster locate_sheet video view_selection)
 
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCHROMATAG_FUZZ=ON -DCHROMATAG_NATIVE=OFF -DCHROMATAG_BUILD_TESTS=OFF \

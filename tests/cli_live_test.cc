@@ -275,7 +275,8 @@ void ExpectEndedCleanly(const SignalledRun& run, const std::vector<int>& signals
 }
 
 // A live run ended by Ctrl-C, by Ctrl-C twice (the second without waiting
-// for frames under way) or by SIGTERM: every line written is whole, the
+// for frames under way), by SIGTERM, SIGHUP or SIGQUIT: every line written
+// is whole, the
 // summary counts them and says it was interrupted, and the process ends by
 // the signal, so that a shell (a loop over files) knows.
 class CliLiveSignalTest : public ::testing::TestWithParam<std::vector<int>> {};
@@ -295,18 +296,21 @@ TEST_P(CliLiveSignalTest, EndsALiveRunCleanly) {
 INSTANTIATE_TEST_SUITE_P(Signals, CliLiveSignalTest,
                          ::testing::Values(std::vector<int>{SIGINT},
                                            std::vector<int>{SIGINT, SIGINT},
-                                           std::vector<int>{SIGTERM}));
+                                           std::vector<int>{SIGTERM}, std::vector<int>{SIGHUP},
+                                           std::vector<int>{SIGQUIT}));
 
-// Two SIGTERMs while overlays are being written (the second ends the run
-// without waiting for the workers): a write under way ends first, none
-// starts after, and no temporary file is left, run after run.
+// Two SIGTERMs (or SIGHUPs, or SIGQUITs) while overlays are being written
+// (the second ends the run without waiting for the workers): a write under
+// way ends first, none starts after, and no temporary file is left, run
+// after run.
 TEST(CliLiveTest, NoOverlayTemporaryIsLeftBySignals) {
   const std::string dir = FreshDir("overlay_signals");
   const std::string clip = MakeClip(dir, "clip.avi", 3000);
   for (int run_index = 0; run_index < 6; ++run_index) {
     const std::string overlays = dir + "/o" + std::to_string(run_index);
+    const int signal = run_index % 3 == 0 ? SIGTERM : run_index % 3 == 1 ? SIGHUP : SIGQUIT;
     const SignalledRun run = RunAndSignal(
-        dir, {"--jobs", "2", "--overlay", overlays, clip}, {SIGTERM, SIGTERM},
+        dir, {"--jobs", "2", "--overlay", overlays, clip}, {signal, signal},
         [](const std::string& out) { return std::count(out.begin(), out.end(), '\n') >= 3; });
     ASSERT_TRUE(run.ended && run.signalled) << run.err;
     JsonLines(run.out);  // Whole lines.

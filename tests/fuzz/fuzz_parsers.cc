@@ -1,8 +1,9 @@
 // The toolkit's file parsers on arbitrary text. One source, built once per
 // parser (CHROMATAG_FUZZ_TARGET chooses which): palette, sheet sidecar,
 // calibration sidecar, detector config, camera file, .cube LUT, the
-// resolution recorded in an image file's header (verify --print --scan), and
-// the size an image file's header claims (the image budget's gate).
+// resolution recorded in an image file's header (verify --print --scan), the
+// size an image file's header claims (the image budget's gate), and a board
+// bundle YAML (apriltag_ros's tag_bundles).
 #include <unistd.h>
 
 #include <cstddef>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <string>
 
+#include "chromatag/calib/board_file.h"
 #include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/config.h"
@@ -50,6 +52,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 #elif CHROMATAG_FUZZ_TARGET == 8
   chromatag::ImageSize image_size;
   if (chromatag::ImageBytesSize(text, &image_size)) chromatag::ImageSizeProblem(image_size);
+#elif CHROMATAG_FUZZ_TARGET == 9
+  chromatag::ParseBundleYaml(text, "", &error);
 #endif
   return 0;
 }
