@@ -486,8 +486,26 @@ class Run {
     const DetectorOptions& d = detector.options();
     std::optional<BoardPose> board_pose;
     if (board_) {
+      // A board tag seen twice in one frame: a frame spliced from two (a
+      // video cut mid-frame) or two boards in view. Its pose is not
+      // reported, and the frame is named.
+      std::map<std::pair<std::string, int>, int> seen;
+      std::string twice;
+      for (const Detection& det : result->detections) {
+        if (board_->Find(det.family->name(), det.id) >= 0 &&
+            ++seen[{det.family->name(), det.id}] == 2)
+          twice += (twice.empty() ? "" : ", ") + std::to_string(det.id);
+      }
       BoardPose pose;
-      if (EstimateBoardPose(result->detections, *board_, *d.camera, &pose)) board_pose = pose;
+      if (!twice.empty()) {
+        outcome.err += "chromatag detect: '" + source.name + "' frame " +
+                       std::to_string(task.frame_index) + ": board tag(s) " + twice +
+                       " seen twice (a damaged or spliced frame, or two boards in view): no board "
+                       "pose, skipped\n";
+        outcome.failed = true;
+      } else if (EstimateBoardPose(result->detections, *board_, *d.camera, &pose)) {
+        board_pose = pose;
+      }
     }
     std::string overlay;
     if (!options_.overlay_dir.empty() || options_.show) {

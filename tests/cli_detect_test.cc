@@ -277,6 +277,21 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
   EXPECT_NE(table.out.find("6 of 6 tags"), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("board board.png: not seen"), std::string::npos) << table.out;
 
+  // The board's tags twice in one frame (a frame spliced from two, or two
+  // boards): the frame is named, its board pose not reported, exit 1.
+  cv::Mat page = cv::imread(dir + "/board.png"), twice;
+  cv::hconcat(page, page, twice);
+  cv::imwrite(dir + "/twice.png", twice);
+  const auto doubled = Chromatag({"detect", "--json", "--camera", dir + "/camera.yaml", "--board",
+                                  dir + "/board.png.json", dir + "/twice.png"});
+  EXPECT_EQ(doubled.exit_code, 1) << doubled.err;
+  EXPECT_NE(doubled.err.find("'" + dir +
+                             "/twice.png' frame 0: board tag(s) 0, 1, 2, 3, 4, 6 "
+                             "seen twice (a damaged or spliced frame, or two boards in view)"),
+            std::string::npos)
+      << doubled.err;
+  EXPECT_TRUE(nlohmann::json::parse(doubled.out)["board"].is_null()) << doubled.out;
+
   for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
            {{"--board", dir + "/board.png.json"}, "--board needs --camera FILE"},
            {{"--camera", dir + "/camera.yaml", "--board", dir + "/none.json"},
