@@ -82,14 +82,27 @@ constexpr int kEndingSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
 std::atomic<bool> g_stop{false};
 std::atomic<bool> g_stop_now{false};
 std::atomic<int> g_signal{0};
+// Workers inside an overlay's write, and whether the process is to end as
+// soon as the last of them is done.
+std::atomic<int> g_writing{0};
+std::atomic<bool> g_end_after_writes{false};
+static_assert(std::atomic<int>::is_always_lock_free && std::atomic<bool>::is_always_lock_free,
+              "used in a signal handler");
+
+// Ends the process by `signal`, its default action.
+void EndBy(int signal) {
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
 
 void OnSignal(int signal) {
   g_signal = signal;
-  if (g_stop.exchange(true)) {
-    g_stop_now = true;
-    // A third signal ends the process at once, whatever it is stuck in.
-    for (int s : kEndingSignals) std::signal(s, SIG_DFL);
-  }
+  if (!g_stop.exchange(true)) return;
+  if (!g_stop_now.exchange(true)) return;
+  // A third signal ends the process at once, whatever it is stuck in, but
+  // not around an overlay being written (it would leave its temporaries):
+  // then the write ends it. A fourth does not wait even for that.
+  if (g_writing == 0 || g_end_after_writes.exchange(true)) EndBy(signal);
 }
 
 // Ends the process by `signal` itself, its handler reset, after the summary:
@@ -527,10 +540,12 @@ class Run {
         // A second signal waits for a write under way, and none starts after
         // it (Execute): the process never dies around a write.
         ++writing_;
+        ++g_writing;
         const bool written =
-            encoded && !dying_ &&
+            encoded && !dying_ && !g_end_after_writes &&
             WriteFilesAtomically({{overlay, std::string(png.begin(), png.end())}}, &why);
         --writing_;
+        if (--g_writing == 0 && g_end_after_writes) EndBy(g_signal);
         if (!written) {
           outcome.err = "chromatag detect: cannot write overlay '" + overlay + "'" +
                         (why.empty() ? "" : ": " + why.substr(why.find("': ") + 3)) + "\n";
@@ -670,6 +685,7 @@ int RunDetect(const DetectOptions& options) {
   // summary.
   g_stop = false;
   g_stop_now = false;
+  g_end_after_writes = false;
   g_signal = 0;
   for (int s : kEndingSignals) std::signal(s, OnSignal);
   const auto fail = [](const std::string& message) { return Fail("detect", message); };
