@@ -50,6 +50,11 @@ bool ViewSelector::Describe(const std::vector<Detection>& detections, ViewPose* 
   int tags = 0;
   for (const Detection& d : detections) {
     if (d.family == nullptr || board_.Find(d.family->name(), d.id) < 0) continue;
+    // Detections handed in by a program may hold anything.
+    bool finite = true;
+    for (const auto* ring : {&d.corners, &d.green_corners, &d.red_corners})
+      for (const cv::Point2d& p : *ring) finite &= std::isfinite(p.x) && std::isfinite(p.y);
+    if (!finite) continue;
     ++tags;
     for (const auto* ring : {&d.corners, &d.green_corners, &d.red_corners})
       for (const cv::Point2d& p : *ring) corners.emplace_back(p);
@@ -79,8 +84,12 @@ bool ViewSelector::Describe(const std::vector<Detection>& detections, ViewPose* 
   cv::Point2d sum(0, 0);
   for (const cv::Point2f& p : corners) {
     sum += cv::Point2d(p);
-    const int cx = std::clamp(static_cast<int>(p.x * kCellsX / image_size_.width), 0, kCellsX - 1);
-    const int cy = std::clamp(static_cast<int>(p.y * kCellsY / image_size_.height), 0, kCellsY - 1);
+    // Clamped before the conversion: a corner far outside the image (or a
+    // float's infinity) is no int.
+    const int cx = static_cast<int>(
+        std::clamp(static_cast<double>(p.x) * kCellsX / image_size_.width, 0.0, kCellsX - 1.0));
+    const int cy = static_cast<int>(
+        std::clamp(static_cast<double>(p.y) * kCellsY / image_size_.height, 0.0, kCellsY - 1.0));
     pose->cells[cy * kCellsX + cx] = true;
   }
   pose->corners = static_cast<int>(corners.size());
