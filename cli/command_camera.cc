@@ -61,8 +61,10 @@ class ViewCollector {
 
   // Messages for skipped inputs go to stderr.
   void Read(const std::vector<Source>& sources) {
-    const size_t images = static_cast<size_t>(std::count_if(
-        sources.begin(), sources.end(), [](const Source& s) { return s.kind == SourceKind::kImage; }));
+    const size_t images =
+        static_cast<size_t>(std::count_if(sources.begin(), sources.end(), [](const Source& s) {
+          return s.kind == SourceKind::kImage;
+        }));
     Progress progress("calibrate-camera", "images", images);
     size_t read = 0;
     for (const Source& source : sources) {

@@ -355,15 +355,6 @@ TEST(DetectorConditionsTest, DimCardsThroughJpegJudgeTheDropFromTheRedsPeak) {
   }
 }
 
-// 16h5 ID 25's code lies one red cell from a swapped print of another ID
-// (the complement of its code turned), so on a faded print, whose reds lie
-// 6 b* units apart, blur and noise often leave the swapped print's worst
-// cell no worse than the true code's. Such an exact read is a tie no longer
-// when the code fits all the cells clearly better (kMinSwappedRmsRatio in
-// decode.cc): measured without and with that, of 28 ID 25 tags on the faded
-// print under a warm cast, 34 px at 0.9 of the light 21 -> 27, 40 px at 0.5
-// 18 -> 22; the swapped prints of that other ID under the same conditions
-// are all still refused.
 // The 16h5 IDs whose swapped print (the complement of the code, turned)
 // lies within `bits` of the code of `id`.
 std::vector<int> SwappedPrintsNear(int id, int bits) {
@@ -399,6 +390,32 @@ void ExpectSwappedPrintsRefused(const std::function<Scene(int, bool)>& scene,
   }
 }
 
+// At least `at_least` of the 28 tags of `camera.only_id` are read, and the
+// swapped prints of `rivals` under the same conditions are all refused.
+void ExpectReadAndSwappedPrintsRefused(const Detector& detector, const Iccv17Camera& camera,
+                                       const std::vector<int>& rivals, int at_least) {
+  const std::string what =
+      "ID " + std::to_string(camera.only_id) + " at " + std::to_string(camera.size) + " px";
+  EXPECT_GE(RightDetections(detector, Iccv17Scene(camera), what), at_least) << what;
+  ExpectSwappedPrintsRefused(
+      [camera](int swapped_id, bool swap) {
+        Iccv17Camera swapped = camera;
+        swapped.only_id = swapped_id;
+        swapped.swap_shades = swap;
+        return Iccv17Scene(swapped);
+      },
+      rivals, what);
+}
+
+// 16h5 ID 25's code lies one red cell from a swapped print of another ID
+// (the complement of its code turned), so on a faded print, whose reds lie
+// 6 b* units apart, blur and noise often leave the swapped print's worst
+// cell no worse than the true code's. Such an exact read is a tie no longer
+// when the code fits all the cells clearly better (kMinSwappedRmsRatio in
+// decode.cc): measured without and with that, of 28 ID 25 tags on the faded
+// print under a warm cast, 34 px at 0.9 of the light 21 -> 27, 40 px at 0.5
+// 18 -> 22; the swapped prints of that other ID under the same conditions
+// are all still refused.
 TEST(DetectorConditionsTest, Id25OnAFadedPrintIsToldFromTheSwappedPrintOneRedCellAway) {
   const std::vector<int> rivals = SwappedPrintsNear(25, 1);
   ASSERT_EQ(rivals.size(), 1u);
@@ -411,16 +428,7 @@ TEST(DetectorConditionsTest, Id25OnAFadedPrintIsToldFromTheSwappedPrintOneRedCel
     camera.gain = cv::Vec3d(1.2, 1, 0.8);
     camera.seed = 5;
     camera.only_id = 25;
-    const std::string what = "ID 25 at " + std::to_string(size) + " px";
-    EXPECT_GE(RightDetections(*detector, Iccv17Scene(camera), what), at_least) << what;
-    ExpectSwappedPrintsRefused(
-        [camera](int swapped_id, bool swap) {
-          Iccv17Camera swapped = camera;
-          swapped.only_id = swapped_id;
-          swapped.swap_shades = swap;
-          return Iccv17Scene(swapped);
-        },
-        rivals, what);
+    ExpectReadAndSwappedPrintsRefused(*detector, camera, rivals, at_least);
   }
 }
 
@@ -445,16 +453,7 @@ TEST(DetectorConditionsTest, IdsTwoBitsFromASwappedPrintAreReadByTheColourSplitW
     camera.gain = gain;
     camera.seed = 5;
     camera.only_id = id;
-    const std::string what = "ID " + std::to_string(id) + " at " + std::to_string(size) + " px";
-    EXPECT_GE(RightDetections(*detector, Iccv17Scene(camera), what), at_least) << what;
-    ExpectSwappedPrintsRefused(
-        [camera](int swapped_id, bool swap) {
-          Iccv17Camera swapped = camera;
-          swapped.only_id = swapped_id;
-          swapped.swap_shades = swap;
-          return Iccv17Scene(swapped);
-        },
-        rivals, what);
+    ExpectReadAndSwappedPrintsRefused(*detector, camera, rivals, at_least);
   }
 }
 

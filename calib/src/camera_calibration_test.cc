@@ -79,6 +79,27 @@ cv::Vec3d Tilted(double axis, double tilt_deg) {
   return rvec;
 }
 
+// `n` views, named "view 0"...: tilted 10-45 degrees about varied axes,
+// 0.3 to 0.6 m away; `misprints` (view -> board tag index -> the ID
+// printed there) as View's `id_of`. Their poses go to *poses if given.
+std::vector<CalibrationView> VariedViews(const Board& board, int n, std::mt19937* rng,
+                                         std::vector<std::pair<cv::Vec3d, cv::Vec3d>>* poses,
+                                         const std::map<int, std::map<int, int>>& misprints = {}) {
+  std::uniform_real_distribution<double> angle(0, 2 * kPi), tilt(10, 45), depth(0.3, 0.6),
+      shift(-0.05, 0.05);
+  std::vector<CalibrationView> views;
+  for (int v = 0; v < n; ++v) {
+    const cv::Vec3d rvec = Tilted(angle(*rng), tilt(*rng));
+    const cv::Vec3d tvec{shift(*rng), shift(*rng), depth(*rng)};  // In this order.
+    const auto misprint = misprints.find(v);
+    views.push_back(View(board, rvec, tvec, rng,
+                         misprint == misprints.end() ? std::map<int, int>{} : misprint->second));
+    views.back().name = "view " + std::to_string(v);
+    if (poses) poses->push_back({rvec, tvec});
+  }
+  return views;
+}
+
 // Twenty views tilted up to 45 degrees about varied axes, 0.3 to 0.6 m away:
 // fx and fy within 0.1 %, the principal point within 1 px, k1 within 0.005,
 // rms at most 0.2 px. A view with one tag printed with another board tag's
@@ -86,16 +107,8 @@ cv::Vec3d Tilted(double axis, double tilt_deg) {
 TEST(CameraCalibrationTest, RecoversTheCameraFromViewsOfABoard) {
   const Board board = Grid();
   std::mt19937 rng(4);
-  std::uniform_real_distribution<double> angle(0, 2 * kPi), tilt(10, 45), depth(0.3, 0.6),
-      shift(-0.05, 0.05);
-  std::vector<CalibrationView> views;
-  for (int v = 0; v < 20; ++v) {
-    const cv::Vec3d rvec = Tilted(angle(rng), tilt(rng));
-    views.push_back(
-        View(board, rvec, {shift(rng), shift(rng), depth(rng)}, &rng,
-             v == 7 ? std::map<int, int>{{9, board.tags[14].id}} : std::map<int, int>{}));
-    views.back().name = "view " + std::to_string(v);
-  }
+  std::vector<CalibrationView> views =
+      VariedViews(board, 20, &rng, nullptr, {{7, {{9, board.tags[14].id}}}});
   Board other = board;
   for (BoardTag& tag : other.tags) tag.translation *= 1.3;
   CalibrationView wrong = View(other, cv::Vec3d(kPi, 0, 0), {0, 0, 0.5}, &rng);
@@ -245,27 +258,23 @@ TEST(CameraCalibrationTest, WarnsWhenViewsConstrainLittle) {
   EXPECT_NE(doubts.find("fx is uncertain"), std::string::npos) << doubts;
 }
 
-// A view given twice (an image copied, a camera that did not move; here
-// with fresh noise of 0.1 px on its corners) is used once and named: copies
-// would shrink the standard deviations as if they were new views. Ten
-// copies of one view are one view, too few to calibrate with.
+// A view given twice (an image copied, or a camera that did not move: the
+// same pose with fresh noise of 0.1 px on its corners) is used once and
+// named: copies would shrink the standard deviations as if they were new
+// views. Ten copies of one view are one view, too few to calibrate with.
 TEST(CameraCalibrationTest, UsesAViewGivenTwiceOnce) {
   const Board board = Grid();
   std::mt19937 rng(4);
-  std::uniform_real_distribution<double> angle(0, 2 * kPi), tilt(10, 45), depth(0.3, 0.6),
-      shift(-0.05, 0.05);
-  std::vector<CalibrationView> views;
-  for (int v = 0; v < 12; ++v) {
-    views.push_back(
-        View(board, Tilted(angle(rng), tilt(rng)), {shift(rng), shift(rng), depth(rng)}, &rng));
-    views.back().name = "view " + std::to_string(v);
-  }
+  std::vector<std::pair<cv::Vec3d, cv::Vec3d>> poses;
+  std::vector<CalibrationView> views = VariedViews(board, 12, &rng, &poses);
   std::string error;
   const auto distinct = CalibrateCamera(board, views, {752, 480}, {}, &error);
   ASSERT_TRUE(distinct) << error;
   std::vector<CalibrationView> with_copies = views;
   for (int copy = 0; copy < 3; ++copy) {
-    with_copies.push_back(views[5]);
+    // The image itself, then the same pose photographed again.
+    with_copies.push_back(copy == 0 ? views[5]
+                                    : View(board, poses[5].first, poses[5].second, &rng));
     with_copies.back().name = "copy " + std::to_string(copy);
   }
   const auto calibration = CalibrateCamera(board, with_copies, {752, 480}, {}, &error);
