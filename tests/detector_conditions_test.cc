@@ -498,7 +498,8 @@ TEST(DetectorConditionsTest, SmallTagsNearASwappedPrintAreReadByTheBlurModelWhen
         at_least)
         << what;
     ExpectSwappedPrintsRefused(
-        [&](int swapped_id, bool swap) {
+        // Copies: C++17 lambdas may not capture structured bindings.
+        [size = size, blur = blur, noise, quality = quality](int swapped_id, bool swap) {
           return SmallDefaultTags(swapped_id, size, blur, noise, quality, swap);
         },
         rivals, what, /*at_decode=*/14);
