@@ -36,9 +36,14 @@ void CheckLength(const std::string& text) {
   Check(std::isfinite(length->mm) && length->mm > 0, "ParseLength", "finite and positive mm", text);
 }
 
+// A named page, as it was named ("a4") or with the orientation asked for
+// ("a4 landscape": the longer side across, never turned).
 bool IsNamedPage(const chromatag::PageSize& page) {
-  for (const char* name : {"a4", "a3", "letter", "legal"})
-    if (page.name == name) return true;
+  for (const std::string name : {"a4", "a3", "letter", "legal"}) {
+    if (page.name == name) return page.may_turn;
+    if (page.name == name + " landscape") return !page.may_turn && page.width_mm > page.height_mm;
+    if (page.name == name + " portrait") return !page.may_turn && page.width_mm < page.height_mm;
+  }
   return false;
 }
 
@@ -51,8 +56,8 @@ void CheckPageSize(const std::string& text) {
     Check(!error.empty(), "ParsePageSize", "a refusal says why", text);
     return;
   }
-  Check(page->name == "custom" || IsNamedPage(*page), "ParsePageSize", "a known name or custom",
-        text);
+  Check((page->name == "custom" && page->may_turn) || IsNamedPage(*page), "ParsePageSize",
+        "a known name (its orientation as named) or custom", text);
   for (double side : {page->width_mm, page->height_mm}) {
     Check(std::isfinite(side) && side > 0 && side <= chromatag::kMaxPageSideMm, "ParsePageSize",
           "sides in (0, kMaxPageSideMm] mm", text);
