@@ -559,16 +559,16 @@ bool NearASwappedPrint(const FamilyDecoder& entry, Code code) {
 
 // Whether the swapped prints near `code` or near the observed bits fit the
 // cells (FitBlurModel's abs_rms) at least kMinSwappedRmsRatio times worse
-// than `code` does, as an exact read in the blur model's tie must.
+// than `code` does (`code_fit`, its FitBlurModel), as an exact read in the
+// blur model's tie must.
 bool SwappedPrintsFitFarWorse(const FamilyDecoder& entry, Code observed, Code code,
-                              const PayloadGrid& grid) {
+                              const BlurFit& code_fit, const PayloadGrid& grid) {
   std::vector<Code> rivals = SwappedRivals(entry, observed);
   for (Code swapped : entry.swapped_codes) {
     if (HammingDistance(swapped, code) < kSoftMinSwappedBits) rivals.push_back(swapped);
   }
-  const TagFamily& family = *entry.family;
-  return FitSwappedPrints(family, rivals, grid).abs_rms >=
-         kMinSwappedRmsRatio * FitBlurModel(family, code, grid).abs_rms;
+  return FitSwappedPrints(*entry.family, rivals, grid).abs_rms >=
+         kMinSwappedRmsRatio * code_fit.abs_rms;
 }
 
 // Fills *match on success; *swapped_fits_best tells whether a swapped print
@@ -587,10 +587,10 @@ bool BlurModelRead(const FamilyDecoder& entry, Code observed, const PayloadGrid&
       !(search.best <= kMaxSoftMisfit) ||
       search.rival < kMinSoftRivalRatio(close_codes) * search.best)
     return false;
-  if (FitBlurModel(family, search.best_pattern, grid).gap_balance < kMinSoftGapBalance)
-    return false;
+  const BlurFit fit = FitBlurModel(family, search.best_pattern, grid);
+  if (fit.gap_balance < kMinSoftGapBalance) return false;
   if (NearASwappedPrint(entry, search.best_pattern) &&
-      !SwappedPrintsFitFarWorse(entry, observed, search.best_pattern, grid))
+      !SwappedPrintsFitFarWorse(entry, observed, search.best_pattern, fit, grid))
     return false;
   *match = search.best_match;
   return true;
@@ -714,7 +714,8 @@ bool ColourSplitRead(const FamilyDecoder& entry, Code observed, const PayloadGri
   ColourSplitScore(sums, search.best_pattern, &balance);
   if (balance < kMinSoftGapBalance) return false;
   if (NearASwappedPrint(entry, search.best_pattern) &&
-      !SwappedPrintsFitFarWorse(entry, observed, search.best_pattern, grid))
+      !SwappedPrintsFitFarWorse(entry, observed, search.best_pattern,
+                                FitBlurModel(family, search.best_pattern, grid), grid))
     return false;
   *match = search.best_match;
   return true;
