@@ -322,9 +322,8 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   PrintResult(*calibration);
   if (!calibration->doubts.empty() && !o.write_uncertain) {
     return Fail("calibrate-camera",
-                "nothing written: the views leave " + std::to_string(calibration->doubts.size()) +
-                    " parameter(s) uncertain (above); add views as the warnings say, or give "
-                    "--write-uncertain to write the file anyway",
+                "nothing written: the views leave the fit in doubt (above); add views as it "
+                "says, or give --write-uncertain to write the file anyway",
                 kExitFailure);
   }
 
@@ -372,8 +371,9 @@ void RegisterCalibrateCamera(CLI::App& app, Action* action) {
       ->check(CLI::IsMember({"pinhole", "fisheye"}));
   c->add_flag("--k3", o->k3, "Pinhole: fit k3 as well (wide lenses)");
   c->add_flag("--write-uncertain", o->write_uncertain,
-              "Write the camera file even when the fit leaves fx, fy, cx or cy uncertain (a "
-              "standard deviation over 0.5 % of fx or fy, or 1 % of the image for cx or cy)");
+              "Write the camera file even when the fit is in doubt: fewer than 2 views tilted 20 "
+              "degrees or more, or a standard deviation over 0.5 % of fx or fy, or over 1 % of "
+              "the image for cx or cy");
   c->add_option("--max-views", o->max_views,
                 "Most views kept from videos and cameras, chosen for coverage and pose [3, 1000]")
       ->capture_default_str();

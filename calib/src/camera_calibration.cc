@@ -99,8 +99,8 @@ struct Fit {
 // pinhole calibration (4.6) divides by N - P. J^T J is [A B; B^T D] with D
 // block-diagonal (each view's pose touches only its own corners), so the
 // intrinsics' block of its inverse is that of the Schur complement
-// A - sum_v B_v D_v^-1 B_v^T: time linear in the views (the whole matrix,
-// 9 + 6 views wide, took 42 s for 100 views).
+// A - sum_v B_v D_v^-1 B_v^T: time linear in the views, where inverting the
+// whole matrix, 9 + 6 views wide, grows as their cube.
 std::vector<double> StdDev(const std::vector<std::vector<cv::Point3d>>& object,
                            const std::vector<std::vector<cv::Point2d>>& image, const Fit& fit,
                            bool fit_k3) {
@@ -248,10 +248,24 @@ double Rms(const std::vector<std::vector<cv::Point2d>>& residuals) {
 constexpr double kTiltedViewDeg = 20.0;
 constexpr int kMinTiltedViews = 2;
 
+// The used views tilted kTiltedViewDeg or more; *largest_tilt the largest
+// tilt of any used view.
+int TiltedViews(const CameraCalibration& c, double* largest_tilt) {
+  int tilted = 0;
+  *largest_tilt = 0;
+  for (const CalibrationViewResult& v : c.views) {
+    if (!v.used) continue;
+    tilted += v.tilt_deg >= kTiltedViewDeg ? 1 : 0;
+    *largest_tilt = std::max(*largest_tilt, v.tilt_deg);
+  }
+  return tilted;
+}
+
 std::vector<std::string> Warnings(const CameraCalibration& c) {
   std::vector<std::string> out;
-  int used = 0, tilted = 0;
+  int used = 0;
   double largest_tilt = 0;
+  const int tilted = TiltedViews(c, &largest_tilt);
   constexpr int kGrid = 4;
   bool cell[kGrid][kGrid] = {};
   double reach = 0;  // Furthest corner from the image centre, as a share of the half diagonal.
@@ -260,8 +274,6 @@ std::vector<std::string> Warnings(const CameraCalibration& c) {
   for (const CalibrationViewResult& v : c.views) {
     if (!v.used) continue;
     ++used;
-    tilted += v.tilt_deg >= kTiltedViewDeg ? 1 : 0;
-    largest_tilt = std::max(largest_tilt, v.tilt_deg);
     for (const cv::Point2d& p : v.corners) {
       const int gx = std::clamp(static_cast<int>(p.x * kGrid / c.image_size.width), 0, kGrid - 1);
       const int gy = std::clamp(static_cast<int>(p.y * kGrid / c.image_size.height), 0, kGrid - 1);
@@ -294,17 +306,13 @@ std::vector<std::string> Warnings(const CameraCalibration& c) {
   return out;
 }
 
-// The fitted parameters whose standard deviations say the views do not pin
-// them down (CameraCalibration::doubts).
+// What the fit does not pin down (CameraCalibration::doubts): the focal
+// length and principal point without tilted views, and the parameters
+// whose standard deviations are over their limits.
 std::vector<std::string> Doubts(const CameraCalibration& c) {
   std::vector<std::string> out;
-  int tilted = 0;
   double largest_tilt = 0;
-  for (const CalibrationViewResult& v : c.views) {
-    if (!v.used) continue;
-    tilted += v.tilt_deg >= kTiltedViewDeg ? 1 : 0;
-    largest_tilt = std::max(largest_tilt, v.tilt_deg);
-  }
+  const int tilted = TiltedViews(c, &largest_tilt);
   if (tilted < kMinTiltedViews) {
     out.push_back(Format(
         "fx, fy, cx and cy are not pinned down: %.0f view(s) tilted 20 degrees or more (the "
