@@ -25,6 +25,12 @@ double LabelHeightMm(const SheetOptions& options);
 double MarksMm(const SheetOptions& options);
 double OuterMm(const SheetOptions& options);  // Tag with quiet zone and cut ring.
 double QuietZoneMm(const SheetOptions& options);
+// The page's room for tags: inside the margins and above the scale strip;
+// with `turned`, of the page turned a quarter.
+struct UsableMm {
+  double width = 0.0, height = 0.0;
+};
+UsableMm Usable(const SheetOptions& options, bool turned = false);
 
 // The sidecar JSON for a rendered sheet (sidecar.cc).
 std::string SidecarJson(const SheetOptions& options, const SheetLayout& layout,

@@ -32,6 +32,12 @@ double OuterMm(const SheetOptions& options) {
          options.family->black_square_cells();
 }
 
+UsableMm Usable(const SheetOptions& options, bool turned) {
+  const double w = turned ? options.page.height_mm : options.page.width_mm;
+  const double h = turned ? options.page.width_mm : options.page.height_mm;
+  return {w - 2.0 * options.margin_mm, h - 2.0 * options.margin_mm - kScaleStripMm};
+}
+
 double QuietZoneMm(const SheetOptions& options) {
   return options.tag_size_mm * options.tag.quiet_zone_cells / options.family->black_square_cells();
 }
@@ -125,11 +131,9 @@ std::optional<SheetLayout> LayoutBoard(const SheetOptions& options, double usabl
           " mm with its quiet zone and axes; page " + options.page.name + " with " +
           Mm(options.margin_mm) + " mm margins and the scale bar leaves " + Mm(usable_w) + " x " +
           Mm(usable_h) + " mm" +
-          (options.page.may_turn
-               ? ", turned " + Mm(options.page.height_mm - 2.0 * options.margin_mm) + " x " +
-                     Mm(options.page.width_mm - 2.0 * options.margin_mm - internal::kScaleStripMm) +
-                     " mm"
-               : std::string()) +
+          (options.page.may_turn ? ", turned " + Mm(internal::Usable(options, true).width) + " x " +
+                                       Mm(internal::Usable(options, true).height) + " mm"
+                                 : std::string()) +
           " (leave --size out for the largest that fits)";
     }
     return std::nullopt;
@@ -173,8 +177,7 @@ std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string*
   layout.footprint_width_mm = outer + 2.0 * marks;
   layout.footprint_height_mm = outer + 2.0 * marks + LabelHeightMm(options);
 
-  const double usable_w = options.page.width_mm - 2.0 * options.margin_mm;
-  const double usable_h = options.page.height_mm - 2.0 * options.margin_mm - kScaleStripMm;
+  const auto [usable_w, usable_h] = Usable(options);
   for (double bar : {100.0, 50.0, 20.0, 10.0}) {
     if (bar <= usable_w) {
       layout.scale_bar_mm = bar;
@@ -250,9 +253,7 @@ std::optional<double> BoardTagSizeToFit(const SheetOptions& options, double spac
   };
   if (!options.family || !options.board || options.board->columns < 1 || options.board->rows < 1)
     return fail("no board to fit");
-  const double usable_w = options.page.width_mm - 2.0 * options.margin_mm;
-  const double usable_h =
-      options.page.height_mm - 2.0 * options.margin_mm - internal::kScaleStripMm;
+  const auto [usable_w, usable_h] = internal::Usable(options);
   const double quiet = 2.0 * options.tag.quiet_zone_cells / options.family->black_square_cells();
   // Extent = n s + (n - 1) spacing + 2 quiet zones + the axes band.
   const auto fit = [&](int n, double room) {
