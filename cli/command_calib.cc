@@ -4,16 +4,16 @@
 #include <filesystem>
 #include <iostream>
 
+#include "chromatag/base/input_file.h"
+#include "chromatag/base/output_files.h"
+#include "chromatag/base/units.h"
 #include "chromatag/calib/calib_sheet.h"
-#include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/calib/calibrate.h"
-#include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/read_image.h"
-#include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/cairo_util.h"
-#include "chromatag/generator/file_util.h"
-#include "chromatag/generator/units.h"
+#include "chromatag/layout/calib_sheet_layout.h"
+#include "chromatag/rig/camera_file.h"
 #include "commands.h"
 
 namespace chromatag::cli {

@@ -11,15 +11,15 @@
 #include <opencv2/videoio.hpp>
 #include <optional>
 
-#include "chromatag/calib/board_file.h"
+#include "chromatag/base/output_files.h"
 #include "chromatag/calib/camera_calibration.h"
-#include "chromatag/calib/camera_file.h"
 #include "chromatag/calib/camera_report.h"
 #include "chromatag/calib/view_selection.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/read_image.h"
-#include "chromatag/generator/file_util.h"
+#include "chromatag/rig/board_file.h"
+#include "chromatag/rig/camera_file.h"
 #include "commands.h"
 #include "progress.h"
 #include "sources.h"

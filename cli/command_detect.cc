@@ -25,16 +25,16 @@
 #include <optional>
 #include <thread>
 
-#include "chromatag/calib/board_file.h"
-#include "chromatag/calib/camera_file.h"
+#include "chromatag/base/output_files.h"
+#include "chromatag/base/units.h"
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/detector/read_image.h"
 #include "chromatag/families/family.h"
-#include "chromatag/generator/file_util.h"
-#include "chromatag/generator/units.h"
+#include "chromatag/rig/board_file.h"
+#include "chromatag/rig/camera_file.h"
 #include "commands.h"
 #include "library_output.h"
 #include "progress.h"

@@ -7,11 +7,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "chromatag/calib/camera_file.h"
+#include "chromatag/base/output_files.h"
+#include "chromatag/base/units.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/families/palette.h"
-#include "chromatag/generator/sidecar.h"
-#include "chromatag/generator/units.h"
+#include "chromatag/layout/sheet_record.h"
+#include "chromatag/rig/camera_file.h"
 #include "chromatag/verify/family_check.h"
 #include "chromatag/verify/print_check.h"
 #include "chromatag/verify/sheet_check.h"

@@ -9,7 +9,7 @@
 #include <functional>
 #include <string>
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 
 namespace chromatag::cli {
 

@@ -9,7 +9,7 @@
 #include <streambuf>
 #include <string>
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 #include "chromatag/families/version.h"
 #include "commands.h"
 #include "library_output.h"

@@ -12,7 +12,7 @@
 # self-contained extension. The price is that a consumer links our
 # dependencies too: ChromaTagConfig.cmake finds those of the components asked
 # for (find_dependency, and pkg-config for Cairo, OpenColorIO, GLib, libpng,
-# yaml-cpp, poppler, librsvg and libexif, which ship no CMake package) and the exported
+# yaml-cpp, tinyxml2, poppler, librsvg and libexif, which ship no CMake package) and the exported
 # targets name them.
 include(CMakePackageConfigHelpers)
 
@@ -72,18 +72,24 @@ function(chromatag_pkg_config name description requires libs cflags)
   install(FILES ${PROJECT_BINARY_DIR}/${name}.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 endfunction()
 
+chromatag_pkg_config(chromatag-base "ChromaTag foundation: input and output files, hashing, units"
+                     "glib-2.0" "-lchromatag_base" "")
 chromatag_pkg_config(chromatag-families "ChromaTag tag families, palettes and colour maths"
-                     "apriltag nlohmann_json" "-lchromatag_families" "")
+                     "chromatag-base apriltag" "-lchromatag_families" "")
+chromatag_pkg_config(chromatag-layout "ChromaTag sheet records and their sidecar files"
+                     "chromatag-families" "-lchromatag_layout" "")
 chromatag_pkg_config(
   chromatag-generator "ChromaTag tag and sheet generator"
-  "chromatag-families cairo cairo-pdf cairo-svg cairo-png OpenColorIO glib-2.0 libpng nlohmann_json"
+  "chromatag-layout cairo cairo-pdf cairo-svg cairo-png OpenColorIO libpng"
   "-lchromatag_generator" "")
 chromatag_pkg_config(chromatag-detector "ChromaTag detector" "chromatag-families nlohmann_json"
                      "-lchromatag_detector ${chromatag_opencv_libs}" "${chromatag_opencv_cflags}")
+chromatag_pkg_config(chromatag-rig "ChromaTag camera and board files"
+                     "chromatag-layout chromatag-detector yaml-cpp tinyxml2" "-lchromatag_rig" "")
 chromatag_pkg_config(chromatag-calib "ChromaTag colour and camera calibration"
-                     "chromatag-generator chromatag-detector yaml-cpp tinyxml2 OpenColorIO cairo"
+                     "chromatag-generator chromatag-rig OpenColorIO cairo"
                      "-lchromatag_calib -lceres" "")
 chromatag_pkg_config(chromatag-verify "ChromaTag round-trip and print checks"
-                     "chromatag-calib poppler-cpp librsvg-2.0 cairo libexif" "-lchromatag_verify" "")
+                     "chromatag-generator chromatag-detector poppler-cpp librsvg-2.0 cairo libexif" "-lchromatag_verify" "")
 chromatag_pkg_config(chromatag "ChromaTag coloured fiducial markers: every library"
-                     "chromatag-verify" "" "")
+                     "chromatag-calib chromatag-verify" "" "")

@@ -12,12 +12,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "chromatag/calib/board_file.h"
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/generator/sheet.h"
 #include "chromatag/generator/sheet_request.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
+#include "chromatag/rig/board_file.h"
 #include "synthetic_scene.h"
 
 namespace chromatag {

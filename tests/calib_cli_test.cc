@@ -12,7 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "calib_sim.h"
-#include "chromatag/calib/calib_sidecar.h"
+#include "chromatag/layout/calib_sheet_layout.h"
 #include "test_util.h"
 
 namespace chromatag {

@@ -20,13 +20,13 @@
 #include <opencv2/videoio.hpp>
 
 #include "calib_sim.h"
-#include "chromatag/calib/board_file.h"
 #include "chromatag/calib/camera_calibration.h"
-#include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/generator/sheet.h"
 #include "chromatag/generator/sheet_request.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
+#include "chromatag/rig/board_file.h"
+#include "chromatag/rig/camera_file.h"
 #include "page_view.h"
 #include "test_util.h"
 

@@ -20,10 +20,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "calib_sim.h"
-#include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/families/palette.h"
-#include "chromatag/generator/sidecar.h"
 #include "chromatag/generator/tag_renderer.h"
+#include "chromatag/layout/calib_sheet_layout.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/raster.h"
 #include "test_util.h"
 

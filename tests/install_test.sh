@@ -155,6 +155,18 @@ cmake --build "$work/board_example" >/dev/null
 cat "$work/board.txt"
 grep -q "^board board.png: 6 of 6 tags" "$work/board.txt"
 test -s "$work/board_drawn.png"
+# With a camera file (OpenCV's YAML layout) instead of --focal.
+printf '%%YAML:1.0\n---\nimage_width: 1240\nimage_height: 1754\ncamera_matrix: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n  data: [1500, 0, 619.5, 0, 1500, 876.5, 0, 0, 1]\ndistortion_coefficients: !!opencv-matrix\n  rows: 1\n  cols: 5\n  dt: d\n  data: [0, 0, 0, 0, 0]\n' \
+  >"$work/camera.yaml"
+"$work/board_example/board_pose" "$work/board.png" "$work/board.png.json" \
+  --camera "$work/camera.yaml" | grep -q "^board board.png: 6 of 6 tags"
+# Detection, pose, camera files and boards: none of the calibration's,
+# generator's or checks' libraries.
+if readelf -d "$work/board_example/board_pose" | grep NEEDED |
+  grep -Ei "ceres|cairo|poppler|rsvg|OpenColorIO|glog|exif"; then
+  echo "install_test: a program using detection, pose, camera and board files links the above" >&2
+  exit 1
+fi
 
 if [[ -n "$python" ]]; then
   PYTHONPATH="$prefix/$python_dir" "$python" -c "

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "calib_sim.h"
-#include "chromatag/calib/calib_sidecar.h"
+#include "chromatag/layout/calib_sheet_layout.h"
 
 int main(int argc, char** argv) {
   using namespace chromatag;

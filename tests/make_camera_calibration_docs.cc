@@ -14,8 +14,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "chromatag/calib/board_file.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
+#include "chromatag/rig/board_file.h"
 #include "page_view.h"
 
 int main(int argc, char** argv) {

@@ -16,8 +16,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "calib_sim.h"
-#include "chromatag/calib/calib_sidecar.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/calib_sheet_layout.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/raster.h"
 #include "icc_press.h"
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "calib_sim.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/raster.h"
 #include "icc_press.h"
 

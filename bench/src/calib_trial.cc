@@ -15,12 +15,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "chromatag/calib/board_file.h"
 #include "chromatag/calib/camera_calibration.h"
 #include "chromatag/detector/camera.h"
 #include "chromatag/generator/sheet.h"
 #include "chromatag/generator/sheet_request.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
+#include "chromatag/rig/board_file.h"
 
 namespace chromatag::bench {
 namespace {

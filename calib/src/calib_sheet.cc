@@ -10,7 +10,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "chromatag/calib/calib_sidecar.h"
+#include "chromatag/base/sha256.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/version.h"
 #include "chromatag/generator/cairo_util.h"
@@ -270,20 +270,6 @@ std::vector<Patch> InReadingOrder(std::vector<Patch> patches) {
 }
 
 }  // namespace
-
-const char* PatchKindName(PatchKind kind) {
-  switch (kind) {
-    case PatchKind::kPaper:
-      return "paper";
-    case PatchKind::kPalette:
-      return "palette";
-    case PatchKind::kGrey:
-      return "grey";
-    case PatchKind::kCandidate:
-      return "candidate";
-  }
-  return "?";
-}
 
 bool CalibSheetOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& message) {

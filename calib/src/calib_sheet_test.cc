@@ -7,8 +7,8 @@
 #include <map>
 #include <set>
 
-#include "chromatag/calib/calib_sidecar.h"
 #include "chromatag/detector/detector.h"
+#include "chromatag/layout/calib_sheet_layout.h"
 
 namespace chromatag {
 namespace {

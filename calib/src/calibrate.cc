@@ -5,12 +5,12 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "chromatag/calib/board_file.h"
 #include "chromatag/calib/cube_lut.h"
 #include "chromatag/calib/report.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/families/version.h"
+#include "chromatag/rig/board_file.h"
 
 namespace chromatag {
 namespace {

@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <vector>
 
+#include "chromatag/base/units.h"
 #include "chromatag/families/color.h"
 #include "chromatag/families/version.h"
 #include "chromatag/generator/cairo_util.h"
-#include "chromatag/generator/units.h"
 
 namespace chromatag {
 namespace {

@@ -1,7 +1,7 @@
 // Detector config files (config.h).
 #include "chromatag/detector/config.h"
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 
 #include <algorithm>
 #include <array>

@@ -6,7 +6,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 
 namespace chromatag {
 namespace {

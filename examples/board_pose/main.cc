@@ -2,32 +2,39 @@
 // `chromatag generate --board 6x4 -o board.pdf`, read board.pdf.json) or a
 // bundle YAML in apriltag_ros's tag_bundles shape.
 //
-//   board_pose photo.jpg board.pdf.json [--focal PX] [--out drawn.png]
+//   board_pose photo.jpg board.pdf.json [--camera FILE | --focal PX] [--out drawn.png]
 //
 // Exits 0 when the board was seen, 1 when it was not or a file could not be
 // read, 2 on bad arguments.
 //
-// The intrinsics here are a guess (a focal length of --focal pixels, the
-// image width by default, and the principal point at the centre); use your
-// camera's own calibration.
+// --camera reads the camera's calibration (OpenCV, ROS camera_info or Kalibr
+// files, as `chromatag calibrate-camera` writes them). Without it the
+// intrinsics are a guess: a focal length of --focal pixels, the image width
+// by default, and the principal point at the centre.
+//
+// Everything it uses (detector, board and camera files) links neither
+// Ceres, Cairo nor OpenColorIO: ChromaTag::rig and ChromaTag::detector.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "chromatag/calib/board_file.h"
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/detector/read_image.h"
+#include "chromatag/rig/board_file.h"
+#include "chromatag/rig/camera_file.h"
 
 int main(int argc, char** argv) {
-  std::string image_path, board_path, out;
+  std::string image_path, board_path, camera_path, out;
   double focal = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--focal" && i + 1 < argc) {
+    if (arg == "--camera" && i + 1 < argc) {
+      camera_path = argv[++i];
+    } else if (arg == "--focal" && i + 1 < argc) {
       focal = std::atof(argv[++i]);
     } else if (arg == "--out" && i + 1 < argc) {
       out = argv[++i];
@@ -41,7 +48,8 @@ int main(int argc, char** argv) {
     }
   }
   if (board_path.empty()) {
-    std::fprintf(stderr, "usage: %s IMAGE BOARD_FILE [--focal PX] [--out PNG]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s IMAGE BOARD_FILE [--camera FILE | --focal PX] [--out PNG]\n",
+                 argv[0]);
     return 2;
   }
 
@@ -61,6 +69,10 @@ int main(int argc, char** argv) {
   camera.fx = camera.fy = focal > 0 ? focal : frame.cols;
   camera.cx = (frame.cols - 1) / 2.0;
   camera.cy = (frame.rows - 1) / 2.0;
+  if (!camera_path.empty() && !chromatag::LoadCameraFile(camera_path, &camera, &error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
   chromatag::DetectorOptions options;
   options.families.clear();
   for (const chromatag::BoardTag& tag : board->tags) {

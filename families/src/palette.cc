@@ -1,6 +1,6 @@
 #include "chromatag/families/palette.h"
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 
 namespace chromatag {
 

@@ -1,6 +1,6 @@
 #include "chromatag/generator/color_lut.h"
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 
 #include <OpenColorIO/OpenColorIO.h>
 

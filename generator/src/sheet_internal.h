@@ -32,9 +32,9 @@ struct UsableMm {
 };
 UsableMm Usable(const SheetOptions& options, bool turned = false);
 
-// The sidecar JSON for a rendered sheet (sidecar.cc).
-std::string SidecarJson(const SheetOptions& options, const SheetLayout& layout,
-                        const std::vector<OutputFile>& page_files);
+// The record the sidecar of a rendered sheet holds (sidecar.cc).
+SheetRecord SheetRecordOf(const SheetOptions& options, const SheetLayout& layout,
+                          const std::vector<OutputFile>& page_files);
 
 }  // namespace chromatag::internal
 

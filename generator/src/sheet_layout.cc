@@ -44,18 +44,6 @@ double QuietZoneMm(const SheetOptions& options) {
 
 }  // namespace internal
 
-const char* SheetFormatName(SheetFormat format) {
-  switch (format) {
-    case SheetFormat::kPdf:
-      return "pdf";
-    case SheetFormat::kSvg:
-      return "svg";
-    case SheetFormat::kPng:
-      return "png";
-  }
-  return "?";
-}
-
 bool SheetOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& message) {
     if (error) *error = message;

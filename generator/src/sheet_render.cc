@@ -240,8 +240,6 @@ TagColors SheetColors(const SheetOptions& options) {
   return colors;
 }
 
-std::string SidecarPath(const std::string& output_path) { return output_path + ".json"; }
-
 std::optional<SheetFormat> FormatFromPath(const std::string& path, std::string* error) {
   std::string extension = Extension(path);
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -278,7 +276,8 @@ std::optional<std::vector<OutputFile>> RenderSheet(const SheetOptions& options,
       }
     }
   }
-  files.push_back({SidecarPath(output_path), internal::SidecarJson(options, *layout, files)});
+  files.push_back(
+      {SidecarPath(output_path), SidecarJson(internal::SheetRecordOf(options, *layout, files))});
   return files;
 }
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/id_list.h"
 #include "sheet_internal.h"

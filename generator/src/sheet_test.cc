@@ -2,8 +2,9 @@
 // back, and the sidecar compared with what is on the page.
 #include "chromatag/generator/sheet.h"
 
+#include "chromatag/base/sha256.h"
 #include "chromatag/generator/sheet_request.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 
 #include <gtest/gtest.h>
 #include <poppler/cpp/poppler-document.h>

@@ -19,21 +19,21 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "chromatag/calib/board_file.h"
-#include "chromatag/calib/camera_file.h"
+#include "chromatag/base/input_file.h"
+#include "chromatag/base/units.h"
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/detector/pose.h"
 #include "chromatag/families/family.h"
-#include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/families/version.h"
 #include "chromatag/generator/sheet.h"
 #include "chromatag/generator/sheet_request.h"
 #include "chromatag/generator/tag_renderer.h"
-#include "chromatag/generator/units.h"
+#include "chromatag/rig/board_file.h"
+#include "chromatag/rig/camera_file.h"
 #include "chromatag/verify/print_check.h"
 #include "chromatag/verify/sheet_check.h"
 

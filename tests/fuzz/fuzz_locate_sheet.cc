@@ -14,11 +14,11 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/base/input_file.h"
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/calib/locate_sheet.h"
 #include "chromatag/calib/measure.h"
 #include "chromatag/detector/read_image.h"
-#include "chromatag/families/input_file.h"
 #include "fuzz_sheets.h"
 
 namespace {

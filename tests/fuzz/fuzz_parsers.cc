@@ -12,14 +12,14 @@
 #include <fstream>
 #include <string>
 
-#include "chromatag/calib/board_file.h"
-#include "chromatag/calib/calib_sidecar.h"
-#include "chromatag/calib/camera_file.h"
+#include "chromatag/base/input_file.h"
 #include "chromatag/detector/config.h"
-#include "chromatag/families/input_file.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/color_lut.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/calib_sheet_layout.h"
+#include "chromatag/layout/sheet_record.h"
+#include "chromatag/rig/board_file.h"
+#include "chromatag/rig/camera_file.h"
 #include "chromatag/verify/print_check.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

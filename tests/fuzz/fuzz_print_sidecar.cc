@@ -21,7 +21,7 @@
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/read_image.h"
 #include "chromatag/generator/sheet.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/print_check.h"
 #include "fuzz_sheets.h"
 

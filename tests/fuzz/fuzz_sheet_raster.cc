@@ -15,7 +15,7 @@
 #include <opencv2/core.hpp>
 
 #include "chromatag/families/family.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/raster.h"
 
 namespace {

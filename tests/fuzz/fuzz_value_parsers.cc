@@ -11,9 +11,9 @@
 #include <set>
 #include <string>
 
+#include "chromatag/base/units.h"
 #include "chromatag/families/family.h"
 #include "chromatag/generator/id_list.h"
-#include "chromatag/generator/units.h"
 
 namespace {
 

@@ -13,7 +13,7 @@
 
 #include "chromatag/detector/detection.h"
 #include "chromatag/families/family.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/print_check.h"
 
 namespace chromatag::internal {

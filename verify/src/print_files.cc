@@ -10,9 +10,10 @@
 #include <libexif/exif-data.h>
 #include <poppler/cpp/poppler-document.h>
 
+#include "chromatag/base/input_file.h"
+#include "chromatag/base/output_files.h"
+#include "chromatag/base/sha256.h"
 #include "chromatag/detector/read_image.h"
-#include "chromatag/families/input_file.h"
-#include "chromatag/generator/file_util.h"
 #include "chromatag/verify/print_check.h"
 #include "poppler_messages.h"
 #include "print_internal.h"

@@ -15,7 +15,7 @@
 
 #include "chromatag/detector/detection.h"
 #include "chromatag/detector/options.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/print_check.h"
 
 namespace chromatag::internal {

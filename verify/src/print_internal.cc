@@ -4,7 +4,7 @@
 #include <cstdarg>
 #include <cstdio>
 
-#include "chromatag/families/input_file.h"
+#include "chromatag/base/input_file.h"
 
 namespace chromatag::internal {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "chromatag/detector/detection.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/print_check.h"
 
 namespace chromatag::internal {

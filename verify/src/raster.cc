@@ -10,8 +10,8 @@
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/base/input_file.h"
 #include "chromatag/detector/read_image.h"
-#include "chromatag/families/input_file.h"
 #include "chromatag/generator/cairo_util.h"
 #include "poppler_messages.h"
 

@@ -6,7 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "chromatag/generator/file_util.h"
+#include "chromatag/base/output_files.h"
+#include "chromatag/base/sha256.h"
 
 namespace chromatag {
 namespace {

@@ -17,10 +17,11 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/base/output_files.h"
+#include "chromatag/base/units.h"
 #include "chromatag/families/color.h"
 #include "chromatag/families/palette.h"
-#include "chromatag/generator/file_util.h"
-#include "chromatag/generator/units.h"
+#include "chromatag/layout/calib_sheet_layout.h"
 
 namespace chromatag {
 
@@ -55,56 +56,6 @@ struct CalibSheetOptions {
   int candidate_b_steps = 9;
 
   bool IsValid(std::string* error) const;
-};
-
-enum class PatchKind {
-  kPaper,      // Bare paper: the white reference.
-  kPalette,    // One of the palette's shades (not white: white is the paper).
-  kGrey,       // A level of the grey ramp.
-  kCandidate,  // A candidate red or green.
-};
-const char* PatchKindName(PatchKind kind);  // "paper", "palette", "grey", "candidate".
-
-struct Patch {
-  int index = 0;  // Position in CalibSheetLayout::patches.
-  PatchKind kind = PatchKind::kPaper;
-  // kPalette: the shade. kCandidate: kRed1 for a red candidate, kGreen1 for
-  // a green one (which shade it may become is decided by calibration).
-  Shade shade = Shade::kWhite;
-  Lab lab;   // Intended colour (the palette's or the candidate's CIELAB).
-  Rgb8 rgb;  // What is sent to the printer: `lab` as 8-bit sRGB.
-  // Square's top-left corner and side, mm.
-  std::array<double, 2> origin_mm{0.0, 0.0};
-  double size_mm = 0.0;
-  int row = 0;  // Grid slot.
-  int col = 0;
-
-  std::array<double, 2> CenterMm() const {
-    return {origin_mm[0] + size_mm / 2.0, origin_mm[1] + size_mm / 2.0};
-  }
-};
-
-struct CornerTag {
-  int id = 0;
-  // Black square's corners: top-left of the upright tag first, clockwise
-  // (spec section 7). Tags are printed upright.
-  std::array<std::array<double, 2>, 4> corners_mm;
-};
-
-// Which page corner a corner tag sits in, in CalibSheetLayout::tags order.
-inline constexpr std::array<const char*, 4> kCornerNames = {"top-left", "top-right", "bottom-right",
-                                                            "bottom-left"};
-
-struct CalibSheetLayout {
-  int sheet_id = 0;
-  Palette palette;
-  PageSize page;
-  std::string family = "16h5";  // Of the corner tags.
-  double tag_size_mm = 0.0;
-  int rows = 0;  // Patch grid.
-  int columns = 0;
-  std::array<CornerTag, 4> tags;  // Top-left, top-right, bottom-right, bottom-left.
-  std::vector<Patch> patches;
 };
 
 // Lays the sheet out. Refuses (nullopt, *error) invalid options and a page

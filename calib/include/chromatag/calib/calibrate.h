@@ -12,6 +12,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/base/output_files.h"
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/calib/camera_calibration.h"
 #include "chromatag/calib/locate_sheet.h"
@@ -20,7 +21,6 @@
 #include "chromatag/calib/printer_model.h"
 #include "chromatag/calib/thresholds.h"
 #include "chromatag/calib/white_balance.h"
-#include "chromatag/generator/file_util.h"
 
 namespace chromatag {
 

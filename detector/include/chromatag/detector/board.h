@@ -2,7 +2,7 @@
 // grid, tags mounted on a robot), and the body's pose from every corner of
 // every tag of it the detector found (docs/pose.md, "Boards and bundles").
 // Reading board files (a sheet's sidecar, an apriltag_ros-style bundle
-// YAML) is calib's: chromatag/calib/board_file.h.
+// YAML) is rig's: chromatag/rig/board_file.h.
 #ifndef CHROMATAG_DETECTOR_BOARD_H_
 #define CHROMATAG_DETECTOR_BOARD_H_
 

@@ -10,27 +10,15 @@
 #include <string>
 #include <vector>
 
+#include "chromatag/base/output_files.h"
+#include "chromatag/base/units.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/color_lut.h"
-#include "chromatag/generator/file_util.h"
 #include "chromatag/generator/tag_renderer.h"
-#include "chromatag/generator/units.h"
+#include "chromatag/layout/sheet_record.h"
 
 namespace chromatag {
-
-enum class SheetFormat { kPdf, kSvg, kPng };
-
-// A board, as Kalibr's AprilGrid and ArUco's GridBoard: `columns` x `rows`
-// tags on one page in reading order (the first ID top-left), neighbouring
-// black squares `spacing_mm` apart, the board's origin and axes marked on
-// the print, and the board frame recorded in the sidecar (docs/pose.md).
-struct BoardGrid {
-  int columns = 0;
-  int rows = 0;
-  double spacing_mm = 10.0;  // Between neighbouring black squares; >= the quiet zone.
-};
-const char* SheetFormatName(SheetFormat format);  // "pdf", "svg", "png".
 
 struct SheetOptions {
   std::shared_ptr<const TagFamily> family;
@@ -61,16 +49,8 @@ struct SheetOptions {
   bool IsValid(std::string* error) const;
 };
 
-// Page coordinates are millimetres from the page's top-left corner, y down.
-struct PlacedTag {
-  int id = 0;
-  int page = 0;  // From 0.
-  // Black square's corners in the order of spec section 7: top-left,
-  // top-right, bottom-right, bottom-left of the upright tag.
-  std::array<std::array<double, 2>, 4> corners_mm;
-  std::array<double, 2> center_mm;
-};
-
+// Page coordinates are millimetres from the page's top-left corner, y down
+// (PlacedTag: chromatag/layout/sheet_record.h).
 struct SheetLayout {
   int num_pages = 0;
   int columns = 0;  // Grid per page (1 x 1 with one_per_page).
@@ -112,11 +92,6 @@ std::optional<std::vector<OutputFile>> RenderSheet(const SheetOptions& options,
 // The RGB written for each shade: the palette as 8-bit sRGB, through the
 // colour LUT if one is set (rounded to 8 bits again).
 TagColors SheetColors(const SheetOptions& options);
-
-// The sidecar path for an output path: "tags.pdf" -> "tags.pdf.json". One
-// sidecar per output, so that tags.pdf and tags.svg written one after the
-// other each keep their own (a shared tags.json let verify trust the wrong one).
-std::string SidecarPath(const std::string& output_path);
 
 // Guesses the format from the extension (.pdf, .svg, .png, any case).
 std::optional<SheetFormat> FormatFromPath(const std::string& path, std::string* error = nullptr);

@@ -23,9 +23,10 @@
 
 #include <opencv2/core.hpp>
 
-#include "chromatag/calib/thresholds.h"
 #include "chromatag/detector/detector.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/families/margins.h"
+#include "chromatag/families/palette.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/sheet_check.h"
 
 namespace chromatag {
@@ -54,11 +55,11 @@ struct PrintCheckOptions {
   // focal length is estimated from the page's perspective.
   std::optional<CameraIntrinsics> camera;
   // Margins below these warn: the tag decodes here but has little to spare
-  // for dimmer light, blur or a cast. The calibration's own: a b* gap under
-  // its "thin" one, or a gap under its safety factor times what the
-  // detector needs.
-  double thin_b_gap = ThresholdOptions().thin_b_gap;
-  double thin_factor = ThresholdOptions().safety_factor;
+  // for dimmer light, blur or a cast, by the same measures the colour
+  // calibration keeps (families/margins.h): a b* gap under the thin one, or
+  // a gap under the safety factor times what the detector needs.
+  double thin_b_gap = kThinShadeGap;
+  double thin_factor = kMarginSafetyFactor;
 
   bool IsValid(std::string* error) const;
 };

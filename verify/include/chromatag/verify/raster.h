@@ -10,7 +10,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 
 namespace chromatag {
 

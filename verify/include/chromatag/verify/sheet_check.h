@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "chromatag/detector/detector.h"
-#include "chromatag/generator/sidecar.h"
+#include "chromatag/layout/sheet_record.h"
 #include "chromatag/verify/raster.h"
 
 namespace chromatag {
