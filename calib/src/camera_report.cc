@@ -1,7 +1,5 @@
 #include "chromatag/calib/camera_report.h"
 
-#include <cairo-pdf.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -275,35 +273,18 @@ void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& titl
 }  // namespace
 
 std::string RenderCameraReportPdf(const CameraCalibration& calibration, const std::string& title) {
-  std::string bytes;
-  cairo_surface_t* surface =
-      cairo_pdf_surface_create_for_stream(AppendToString, &bytes, kWidth, kHeight);
-  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE,
-                                 "ChromaTag camera calibration report");
-  // No creation date: identical inputs give byte-identical files.
-  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, "");
-  cairo_t* cr = cairo_create(surface);
-  DrawReport(cr, calibration, title);
-  cairo_show_page(cr);
-  cairo_destroy(cr);
-  cairo_surface_finish(surface);
-  cairo_surface_destroy(surface);
-  return bytes;
+  return RenderPdf(kWidth, kHeight, "ChromaTag camera calibration report", 1,
+                   [&](cairo_t* cr, int) { DrawReport(cr, calibration, title); });
 }
 
 std::string RenderCameraReportPng(const CameraCalibration& calibration, const std::string& title,
                                   double scale) {
   const int width = static_cast<int>(std::lround(kWidth * scale));
   const int height = static_cast<int>(std::lround(kHeight * scale));
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
-  cairo_t* cr = cairo_create(surface);
-  cairo_scale(cr, scale, scale);
-  DrawReport(cr, calibration, title);
-  cairo_destroy(cr);
-  std::string bytes;
-  cairo_surface_write_to_png_stream(surface, AppendToString, &bytes);
-  cairo_surface_destroy(surface);
-  return bytes;
+  return RenderPng(width, height, 0, [&](cairo_t* cr) {
+    cairo_scale(cr, scale, scale);
+    DrawReport(cr, calibration, title);
+  });
 }
 
 }  // namespace chromatag

@@ -1,8 +1,6 @@
 // The calibration report (report.h).
 #include "chromatag/calib/report.h"
 
-#include <cairo-pdf.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -415,23 +413,13 @@ std::string RenderReportPdf(const CalibrationResult& result) {
   const double margin = 10.0 * kPointsPerMm;
   const double scale =
       std::min((width - 2 * margin) / kReportWidth, (height - 2 * margin) / ReportHeight(result));
-  std::string bytes;
-  cairo_surface_t* surface =
-      cairo_pdf_surface_create_for_stream(AppendToString, &bytes, width, height);
-  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, "ChromaTag calibration report");
-  // No creation date: identical inputs give byte-identical files.
-  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, "");
-  cairo_t* cr = cairo_create(surface);
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
-  cairo_translate(cr, (width - kReportWidth * scale) / 2, margin);
-  cairo_scale(cr, scale, scale);
-  DrawReport(cr, result);
-  cairo_show_page(cr);
-  cairo_destroy(cr);
-  cairo_surface_finish(surface);
-  cairo_surface_destroy(surface);
-  return bytes;
+  return RenderPdf(width, height, "ChromaTag calibration report", 1, [&](cairo_t* cr, int) {
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_translate(cr, (width - kReportWidth * scale) / 2, margin);
+    cairo_scale(cr, scale, scale);
+    DrawReport(cr, result);
+  });
 }
 
 std::vector<std::string> ReportOverlaps(const CalibrationResult& result) {
@@ -462,15 +450,10 @@ std::vector<std::string> ReportOverlaps(const CalibrationResult& result) {
 std::string RenderReportPng(const CalibrationResult& result, double scale) {
   const int width = static_cast<int>(std::lround(kReportWidth * scale));
   const int height = static_cast<int>(std::lround(ReportHeight(result) * scale));
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
-  cairo_t* cr = cairo_create(surface);
-  cairo_scale(cr, scale, scale);
-  DrawReport(cr, result);
-  cairo_destroy(cr);
-  std::string bytes;
-  cairo_surface_write_to_png_stream(surface, AppendToString, &bytes);
-  cairo_surface_destroy(surface);
-  return bytes;
+  return RenderPng(width, height, 0, [&](cairo_t* cr) {
+    cairo_scale(cr, scale, scale);
+    DrawReport(cr, result);
+  });
 }
 
 }  // namespace chromatag

@@ -1,5 +1,7 @@
 #include "chromatag/generator/cairo_util.h"
 
+#include <cairo-pdf.h>
+
 #include <png.h>
 
 #include <algorithm>
@@ -106,6 +108,44 @@ std::string RasterPageProblem(double width_mm, double height_mm, double dpi) {
          (w_px * h_px > budget ? std::to_string(kMaxImagePixels >> 20) + " Mpx"
                                : whole(kMaxRasterSidePx) + " pixels a side") +
          "; " + (fit >= 1.0 ? "at most " + whole(fit) + " dpi fits" : "no dpi fits");
+}
+
+std::string RenderPdf(double width, double height, const std::string& title, int pages,
+                      const std::function<void(cairo_t*, int)>& draw) {
+  std::string bytes;
+  cairo_surface_t* surface =
+      cairo_pdf_surface_create_for_stream(AppendToString, &bytes, width, height);
+  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, title.c_str());
+  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, "");
+  cairo_t* cr = cairo_create(surface);
+  for (int page = 0; page < pages; ++page) {
+    draw(cr, page);
+    cairo_show_page(cr);
+  }
+  cairo_destroy(cr);
+  cairo_surface_finish(surface);
+  cairo_surface_destroy(surface);
+  return bytes;
+}
+
+std::string RenderPng(int width, int height, double dpi,
+                      const std::function<void(cairo_t*)>& draw) {
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
+  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
+    cairo_surface_destroy(surface);
+    return "";
+  }
+  cairo_t* cr = cairo_create(surface);
+  draw(cr);
+  cairo_destroy(cr);
+  std::string bytes;
+  if (dpi > 0) {
+    bytes = EncodePng(surface, dpi);
+  } else {
+    cairo_surface_write_to_png_stream(surface, AppendToString, &bytes);
+  }
+  cairo_surface_destroy(surface);
+  return bytes;
 }
 
 }  // namespace chromatag

@@ -1,7 +1,6 @@
 // The drawn report of `verify --print` (print_check.h): per image, the page
 // as the scan or photo shows it, each tag marked pass, warn or fail, and the
 // page's numbers and problems.
-#include <cairo-pdf.h>
 
 #include <algorithm>
 #include <cmath>
@@ -212,20 +211,9 @@ void DrawReportPage(cairo_t* cr, const SheetRecord& record, const PrintPageResul
 }  // namespace
 
 std::string RenderPrintReportPdf(const SheetRecord& record, const PrintVerdict& verdict) {
-  std::string bytes;
-  cairo_surface_t* surface =
-      cairo_pdf_surface_create_for_stream(AppendToString, &bytes, kWidth, kHeight);
-  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, "ChromaTag print check");
-  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATE_DATE, "");
-  cairo_t* cr = cairo_create(surface);
-  for (const PrintPageResult& r : verdict.images) {
-    DrawReportPage(cr, record, r);
-    cairo_show_page(cr);
-  }
-  cairo_destroy(cr);
-  cairo_surface_finish(surface);
-  cairo_surface_destroy(surface);
-  return bytes;
+  return RenderPdf(
+      kWidth, kHeight, "ChromaTag print check", static_cast<int>(verdict.images.size()),
+      [&](cairo_t* cr, int page) { DrawReportPage(cr, record, verdict.images[page]); });
 }
 
 std::string RenderPrintReportPng(const SheetRecord& record, const PrintVerdict& verdict) {
@@ -235,29 +223,20 @@ std::string RenderPrintReportPng(const SheetRecord& record, const PrintVerdict& 
   const int page_w = static_cast<int>(kWidth * kScale), page_h = static_cast<int>(kHeight * kScale);
   const int n = std::max<int>(1, static_cast<int>(verdict.images.size()));
   const int columns = std::min(n, kPerRow), rows = (n + kPerRow - 1) / kPerRow;
-  cairo_surface_t* surface =
-      cairo_image_surface_create(CAIRO_FORMAT_RGB24, page_w * columns, page_h * rows);
-  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
-    cairo_surface_destroy(surface);
-    return "";
-  }
-  cairo_t* cr = cairo_create(surface);
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
-  for (size_t i = 0; i < verdict.images.size(); ++i) {
-    cairo_save(cr);
-    cairo_translate(cr, static_cast<double>(i % kPerRow) * page_w,
-                    static_cast<double>(i / kPerRow) * page_h);
-    cairo_scale(cr, kScale, kScale);
-    cairo_rectangle(cr, 0, 0, kWidth, kHeight);
-    cairo_clip(cr);
-    DrawReportPage(cr, record, verdict.images[i]);
-    cairo_restore(cr);
-  }
-  cairo_destroy(cr);
-  const std::string bytes = EncodePng(surface, 72.0 * kScale);
-  cairo_surface_destroy(surface);
-  return bytes;
+  return RenderPng(page_w * columns, page_h * rows, 72.0 * kScale, [&](cairo_t* cr) {
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    for (size_t i = 0; i < verdict.images.size(); ++i) {
+      cairo_save(cr);
+      cairo_translate(cr, static_cast<double>(i % kPerRow) * page_w,
+                      static_cast<double>(i / kPerRow) * page_h);
+      cairo_scale(cr, kScale, kScale);
+      cairo_rectangle(cr, 0, 0, kWidth, kHeight);
+      cairo_clip(cr);
+      DrawReportPage(cr, record, verdict.images[i]);
+      cairo_restore(cr);
+    }
+  });
 }
 
 }  // namespace chromatag

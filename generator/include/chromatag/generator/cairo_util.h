@@ -5,6 +5,7 @@
 
 #include <cairo.h>
 
+#include <functional>
 #include <string>
 
 namespace chromatag {
@@ -34,6 +35,18 @@ cairo_status_t AppendToString(void* closure, const unsigned char* data, unsigned
 // Encodes an image surface as PNG with its resolution recorded (a pHYs chunk,
 // which Cairo does not write), so that it prints at the intended size.
 std::string EncodePng(cairo_surface_t* surface, double dpi);
+
+// A document of `pages` pages of width x height points drawn into a PDF in
+// memory: `draw(cr, page)` draws each page (from 0) and the page is shown
+// after it. The title goes into the metadata; no creation date, so that
+// identical drawings give byte-identical files.
+std::string RenderPdf(double width, double height, const std::string& title, int pages,
+                      const std::function<void(cairo_t*, int)>& draw);
+
+// An image of width x height pixels (RGB, black until drawn) drawn by
+// `draw` and encoded as PNG, with its resolution recorded when dpi > 0.
+// "" when Cairo cannot make a surface of that size.
+std::string RenderPng(int width, int height, double dpi, const std::function<void(cairo_t*)>& draw);
 
 }  // namespace chromatag
 
