@@ -21,6 +21,7 @@
 #include "chromatag/generator/sheet_request.h"
 #include "chromatag/layout/sheet_record.h"
 #include "chromatag/rig/board_file.h"
+#include "page_view.h"
 
 namespace chromatag::bench {
 namespace {
@@ -447,15 +448,7 @@ CalibrationOutcome CalibrateWithCharuco(const CalibrationSetup& setup,
 
 }  // namespace
 
-CameraIntrinsics TrueCamera() {
-  CameraIntrinsics camera;
-  camera.fx = 600;
-  camera.fy = 603;
-  camera.cx = 370;
-  camera.cy = 245;
-  camera.distortion = {-0.25, 0.08, 0.001, -0.0005, 0};
-  return camera;
-}
+CameraIntrinsics TrueCamera() { return testing::BarrelCamera(); }
 
 const char* CalibrationToolName(int tool) {
   return tool == kChromaTagBoard ? "ChromaTag" : "ChArUco";

@@ -24,8 +24,9 @@ namespace chromatag::bench {
 
 inline constexpr int kImageWidth = 752, kImageHeight = 480;
 
-// The camera every trial recovers: 752 x 480, fx 600, the principal point
-// off the image centre, strong barrel distortion (k1 -0.25).
+// The camera every trial recovers: the calibration tests' camera
+// (testing::BarrelCamera: 752 x 480, fx 600, the principal point off the
+// image centre, strong barrel distortion, k1 -0.25).
 CameraIntrinsics TrueCamera();
 
 enum CalibrationTool { kChromaTagBoard = 0, kCharucoBoard = 1 };
