@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""Lists the project's longest functions, from the compiler's own view of them.
+
+Usage: scripts/function_lengths.py [BUILD_DIR] [--over N] [--tests]
+
+Reads BUILD_DIR/compile_commands.json (default: build), parses each of the
+project's C++ sources with libclang (Debian: python3-clang-14) and prints every
+function, method, constructor and lambda-free body of more than N lines
+(default 60), longest first, as "lines  path:line  name". Test sources
+(*_test.cc, tests/) are left out unless --tests is given. A lambda counts as
+part of the function that holds it. Exits 0; this is a report, not a gate.
+"""
+import argparse
+import json
+import os
+import sys
+
+import clang.cindex as ci
+
+LIBCLANG = "/usr/lib/llvm-14/lib/libclang-14.so.1"
+KINDS = {
+    ci.CursorKind.FUNCTION_DECL,
+    ci.CursorKind.CXX_METHOD,
+    ci.CursorKind.CONSTRUCTOR,
+    ci.CursorKind.DESTRUCTOR,
+    ci.CursorKind.FUNCTION_TEMPLATE,
+    ci.CursorKind.CONVERSION_FUNCTION,
+}
+
+
+def is_test(path):
+    return path.endswith("_test.cc") or "/tests/" in path or "/fuzz/" in path
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("build_dir", nargs="?", default="build")
+    parser.add_argument("--over", type=int, default=60)
+    parser.add_argument("--tests", action="store_true")
+    args = parser.parse_args()
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with open(os.path.join(args.build_dir, "compile_commands.json")) as f:
+        commands = json.load(f)
+    if os.path.exists(LIBCLANG):
+        ci.Config.set_library_file(LIBCLANG)
+    index = ci.Index.create()
+    seen = {}
+    for command in commands:
+        source = os.path.realpath(command["file"])
+        if not source.startswith(root + os.sep) or "/build" in source[len(root):]:
+            continue
+        if is_test(source) and not args.tests:
+            continue
+        argv = command.get("arguments") or command["command"].split()
+        flags = [a for a in argv[1:] if a.startswith(("-I", "-D", "-std", "-isystem"))]
+        flags += ["-isystem", "/usr/lib/llvm-14/lib/clang/14.0.6/include"]
+        unit = index.parse(source, args=flags)
+        for cursor in unit.cursor.walk_preorder():
+            if cursor.kind not in KINDS or not cursor.is_definition():
+                continue
+            where = cursor.location.file
+            if where is None:
+                continue
+            path = os.path.realpath(where.name)
+            if not path.startswith(root + os.sep) or (is_test(path) and not args.tests):
+                continue
+            lines = cursor.extent.end.line - cursor.extent.start.line + 1
+            key = (path, cursor.extent.start.line)
+            seen[key] = (lines, cursor.spelling)
+    rows = sorted(((n, p, l, name) for (p, l), (n, name) in seen.items() if n > args.over),
+                  reverse=True)
+    for n, path, line, name in rows:
+        print(f"{n:5d}  {os.path.relpath(path, root)}:{line}  {name}")
+    print(f"{len(rows)} functions over {args.over} lines", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
