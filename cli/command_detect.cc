@@ -18,7 +18,6 @@
 #include <iostream>
 #include <map>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
@@ -28,7 +27,9 @@
 #include "chromatag/calib/board_file.h"
 #include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/board.h"
+#include "chromatag/detector/camera.h"
 #include "chromatag/detector/config.h"
+#include "chromatag/detector/detection_json.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/detector/read_image.h"
@@ -44,7 +45,6 @@ namespace chromatag::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::json;
 
 // How often waits look at the signal flags.
 constexpr std::chrono::milliseconds kPoll(50);
@@ -135,29 +135,6 @@ struct Outcome {
   int tags = 0;
   cv::Mat shown;  // --show: the frame with the detections drawn.
 };
-
-Json Points(const std::array<cv::Point2d, 4>& points) {
-  Json out = Json::array();
-  for (const auto& p : points) out.push_back({p.x, p.y});
-  return out;
-}
-
-Json Rejected(const std::vector<RejectedCandidate>& rejected) {
-  Json out = Json::array();
-  for (const RejectedCandidate& r : rejected) {
-    Json outline = Json::array();
-    for (const auto& p : r.outline) outline.push_back({p.x, p.y});
-    Json record = {{"stage", StageName(r.stage)},
-                   {"reason", RejectReasonName(r.reason)},
-                   {"seed", {r.seed.x, r.seed.y}},
-                   {"centre", {r.centre.x, r.centre.y}},
-                   {"outline", outline}};
-    // The second path's own reason, when it tried the candidate too.
-    if (r.grown) record["grow_reason"] = RejectReasonName(r.grow_reason);
-    out.push_back(std::move(record));
-  }
-  return out;
-}
 
 // The run: a reader thread decodes the sources' frames in order (images are
 // decoded by the workers, as their decoding is most of the work), `jobs`
@@ -332,24 +309,18 @@ class Run {
     const auto key = std::make_pair(size.width, size.height);
     auto found = scaled_.find(key);
     if (found != scaled_.end()) return found->second ? *found->second : detector_;
-    const double sx = static_cast<double>(size.width) / camera_size_.width;
-    const double sy = static_cast<double>(size.height) / camera_size_.height;
+    const auto intrinsics = IntrinsicsForFrame(*camera, camera_size_, size);
     char text[320];
     std::unique_ptr<Detector> scaled;
-    if (std::abs(sx / sy - 1.0) < 0.005) {
-      // Pixel centres at integers: a pixel's edge at -0.5 scales to -0.5.
-      CameraIntrinsics intrinsics = *camera;
-      intrinsics.fx *= sx;
-      intrinsics.fy *= sy;
-      intrinsics.cx = (camera->cx + 0.5) * sx - 0.5;
-      intrinsics.cy = (camera->cy + 0.5) * sy - 0.5;
+    if (intrinsics) {
       DetectorOptions options = detector_.options();
-      options.camera = intrinsics;
+      options.camera = *intrinsics;
       scaled = Detector::Create(options);
       std::snprintf(text, sizeof text,
                     "chromatag detect: warning: the camera file is for %d x %d frames; %d x %d "
                     "frames use its intrinsics scaled by %.4g\n",
-                    camera_size_.width, camera_size_.height, size.width, size.height, sx);
+                    camera_size_.width, camera_size_.height, size.width, size.height,
+                    static_cast<double>(size.width) / camera_size_.width);
     } else {
       std::snprintf(text, sizeof text,
                     "chromatag detect: warning: the camera file is for %d x %d frames; %d x %d "
@@ -556,36 +527,18 @@ class Run {
       if (options_.show) outcome.shown = canvas;
     }
     if (options_.json) {
-      Json detections = Json::array();
-      for (const Detection& d : result->detections) {
-        Json item = {{"family", d.family->name()},
-                     {"id", d.id},
-                     {"hamming", d.hamming},
-                     {"margin", d.decision_margin},
-                     {"corners", Points(d.corners)},
-                     {"green_corners", Points(d.green_corners)},
-                     {"red_corners", Points(d.red_corners)}};
-        if (d.has_pose) {
-          item["pose"] = {{"rvec", {d.pose.rvec[0], d.pose.rvec[1], d.pose.rvec[2]}},
-                          {"tvec", {d.pose.tvec[0], d.pose.tvec[1], d.pose.tvec[2]}},
-                          {"rms_error_px", d.pose.rms_error_px},
-                          {"ambiguity", d.pose.ambiguity}};
-        }
-        detections.push_back(item);
-      }
-      Json line = {{"file", source.name},
-                   {"frame", task.frame_index},
-                   {"width", frame.cols},
-                   {"height", frame.rows},
-                   {"time_us", result->summary.total_time_us},
-                   {"detections", detections}};
-      if (board_)
-        line["board"] = board_pose ? BoardJson(*board_pose, result->detections) : Json(nullptr);
-      if (source.kind != SourceKind::kImage) line["timestamp"] = task.timestamp;
-      if (!overlay.empty()) line["overlay"] = overlay;
-      if (options_.rejected) line["rejected"] = Rejected(result->rejected);
-      // A file name that is not UTF-8 is written with U+FFFD, not refused.
-      outcome.out = line.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n";
+      FrameRecord record;
+      record.file = source.name;
+      record.frame = task.frame_index;
+      record.width = frame.cols;
+      record.height = frame.rows;
+      record.time_us = result->summary.total_time_us;
+      if (source.kind != SourceKind::kImage) record.timestamp = task.timestamp;
+      record.overlay = overlay;
+      record.board = board_ ? &*board_ : nullptr;
+      record.board_pose = board_pose ? &*board_pose : nullptr;
+      record.rejected = options_.rejected ? &result->rejected : nullptr;
+      outcome.out = FrameJson(record, result->detections) + "\n";
     } else {
       for (const Detection& d : result->detections) {
         char line[512];
@@ -606,19 +559,6 @@ class Run {
         outcome.out += BoardLine(source.name, task.frame_index, board_pose, result->detections);
     }
     return outcome;
-  }
-
-  Json BoardJson(const BoardPose& pose, const std::vector<Detection>& detections) const {
-    Json used = Json::array(), rejected = Json::array();
-    for (int i : pose.tags_used) used.push_back(board_->tags[i].id);
-    for (int i : pose.detections_rejected) rejected.push_back(detections[i].id);
-    return {{"name", board_->name},
-            {"rvec", {pose.rvec[0], pose.rvec[1], pose.rvec[2]}},
-            {"tvec", {pose.tvec[0], pose.tvec[1], pose.tvec[2]}},
-            {"tags_used", used},
-            {"tags_rejected", rejected},
-            {"rms_error_px", pose.rms_error_px},
-            {"ambiguity", pose.ambiguity}};
   }
 
   // A table line (names may be long: built as a string, not in a buffer).

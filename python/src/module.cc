@@ -23,6 +23,7 @@
 #include "chromatag/calib/camera_file.h"
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/config.h"
+#include "chromatag/detector/detection_json.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/draw.h"
 #include "chromatag/detector/pose.h"
@@ -644,31 +645,10 @@ py::dict PaletteInfo(const std::string& name) {
   return out;
 }
 
-// A Detection as the CLI's JSON names it.
-py::dict DetectionDict(const PyDetection& detection) {
-  const Detection& d = detection.d;
-  const auto points = [](const std::array<cv::Point2d, 4>& corners) {
-    py::list out;
-    for (const cv::Point2d& p : corners) out.append(py::cast(std::vector<double>{p.x, p.y}));
-    return out;
-  };
-  py::dict out;
-  out["family"] = d.family->name();
-  out["id"] = d.id;
-  out["hamming"] = d.hamming;
-  out["margin"] = d.decision_margin;
-  out["corners"] = points(d.corners);
-  out["green_corners"] = points(d.green_corners);
-  out["red_corners"] = points(d.red_corners);
-  if (d.has_pose) {
-    py::dict pose;
-    pose["rvec"] = py::cast(std::vector<double>{d.pose.rvec[0], d.pose.rvec[1], d.pose.rvec[2]});
-    pose["tvec"] = py::cast(std::vector<double>{d.pose.tvec[0], d.pose.tvec[1], d.pose.tvec[2]});
-    pose["rms_error_px"] = d.pose.rms_error_px;
-    pose["ambiguity"] = d.pose.ambiguity;
-    out["pose"] = pose;
-  }
-  return out;
+// A Detection as `chromatag detect --json` writes it: the detector's one
+// JSON writer, parsed into Python objects.
+py::object DetectionDict(const PyDetection& detection) {
+  return py::module_::import("json").attr("loads")(DetectionJson(detection.d));
 }
 
 // Every field of a Detection, for pickling: the family by name.
