@@ -4,7 +4,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <set>
 
 #include "chromatag/calib/camera_file.h"
@@ -21,8 +20,6 @@
 
 namespace chromatag::cli {
 namespace {
-
-using Json = nlohmann::ordered_json;
 
 struct VerifyCommandOptions {
   std::string sheet;
@@ -44,33 +41,6 @@ struct VerifyCommandOptions {
   std::string report;
 };
 
-Json SheetJson(const SheetVerdict& verdict) {
-  Json tags = Json::array();
-  for (const auto& t : verdict.tags) {
-    tags.push_back({{"id", t.expected.id},
-                    {"page", t.expected.page + 1},
-                    {"times_found", t.times_found},
-                    {"found_id", t.found_id},
-                    {"hamming", t.hamming},
-                    {"margin", t.margin},
-                    {"position_error_mm", t.position_error_mm},
-                    {"passed", t.passed},
-                    {"problem", t.problem}});
-  }
-  Json unexpected = Json::array();
-  for (const auto& u : verdict.unexpected) {
-    unexpected.push_back({{"page", u.page + 1},
-                          {"family", u.family},
-                          {"id", u.id},
-                          {"center_mm", {u.center_mm[0], u.center_mm[1]}}});
-  }
-  return {{"passed", verdict.passed},
-          {"tags_passed", verdict.tags_passed},
-          {"tags", tags},
-          {"unexpected", unexpected},
-          {"file_problems", verdict.file_problems}};
-}
-
 void PrintSheet(const SheetVerdict& verdict) {
   Print("  %5s %4s %5s %7s %7s %9s  %s\n", "ID", "page", "found", "hamming", "margin", "error mm",
         "verdict");
@@ -86,30 +56,6 @@ void PrintSheet(const SheetVerdict& verdict) {
   Print("%d of %zu %s%s. %s\n", verdict.tags_passed, verdict.tags.size(),
         verdict.tags.size() == 1 ? "tag passes" : "tags pass",
         verdict.unexpected.empty() ? ", nothing else found" : "", verdict.passed ? "PASS" : "FAIL");
-}
-
-Json AuditJson(const FamilyAudit& audit) {
-  Json pairs = Json::array();
-  for (const auto& p : audit.closest_pairs) {
-    pairs.push_back(
-        {{"id_a", p.id_a}, {"id_b", p.id_b}, {"rotation", p.rotation}, {"distance", p.distance}});
-  }
-  Json flips = Json::array();
-  for (const auto& f : audit.flips) {
-    flips.push_back({{"flips", f.flips},
-                     {"exhaustive", f.exhaustive},
-                     {"trials", f.trials},
-                     {"correct", f.correct},
-                     {"wrong_id", f.wrong_id},
-                     {"rejected", f.rejected}});
-  }
-  return {{"codes", audit.num_codes},
-          {"min_distance", audit.min_distance},
-          {"radius", audit.radius},
-          {"distance_histogram", audit.histogram},
-          {"closest_pairs", pairs},
-          {"bit_flips", flips},
-          {"decoding_safe", audit.DecodingIsSafe()}};
 }
 
 void PrintAudit(const std::string& family, const FamilyAudit& audit) {
@@ -132,19 +78,6 @@ void PrintAudit(const std::string& family, const FamilyAudit& audit) {
   }
   Print("  (* every pattern; otherwise a random sample)  decoding within the radius: %s\n",
         audit.DecodingIsSafe() ? "always right" : "NOT SAFE");
-}
-
-Json StressJson(const std::vector<TagStress>& stresses) {
-  Json all = Json::array();
-  for (const auto& s : stresses) {
-    Json conditions = Json::object();
-    for (const auto& c : s.conditions) conditions[c.condition] = c.decoded;
-    all.push_back({{"id", s.id},
-                   {"smallest_size_px", s.smallest_size_px},
-                   {"largest_tilt_deg", s.largest_tilt_deg},
-                   {"conditions", conditions}});
-  }
-  return all;
 }
 
 void PrintStress(const std::vector<TagStress>& stresses) {
@@ -343,7 +276,7 @@ int RunVerify(const VerifyCommandOptions& o) {
     return Fail("verify",
                 "give a sheet (chromatag verify tags.pdf) or a family (--family 16h5 --all)");
   }
-  Json out;
+  std::string json;  // With --json, the document printed at the end.
   bool passed = false;
   std::vector<TagStress> stresses;
   if (!o.sheet.empty()) {
@@ -359,8 +292,7 @@ int RunVerify(const VerifyCommandOptions& o) {
       stresses = RunStress(*record->family, ids, record->palette);
     }
     if (o.json) {
-      out = SheetJson(*verdict);
-      out["sheet"] = o.sheet;
+      json = SheetVerdictJson(*verdict, o.sheet, o.stress ? &stresses : nullptr);
     } else {
       Print("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
             o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
@@ -381,10 +313,7 @@ int RunVerify(const VerifyCommandOptions& o) {
       stresses = RunStress(*family, family->kept_ids(), *palette);
     }
     if (o.json) {
-      out = SheetJson(verdict->sheet);
-      out["family"] = o.family;
-      out["audit"] = AuditJson(verdict->audit);
-      out["passed"] = verdict->passed;
+      json = FamilyVerdictJson(o.family, *verdict, o.stress ? &stresses : nullptr);
     } else {
       Print("Every kept %s ID, rendered with palette %s and detected again:\n", o.family.c_str(),
             palette->name.c_str());
@@ -394,8 +323,7 @@ int RunVerify(const VerifyCommandOptions& o) {
     }
   }
   if (o.json) {
-    if (o.stress) out["stress"] = StressJson(stresses);
-    std::cout << out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+    std::cout << json << "\n";
   } else {
     PrintStress(stresses);
   }
