@@ -37,6 +37,7 @@
 #include "chromatag/generator/file_util.h"
 #include "chromatag/generator/units.h"
 #include "commands.h"
+#include "flag_terms.h"
 #include "library_output.h"
 #include "progress.h"
 #include "sources.h"
@@ -457,7 +458,7 @@ class Run {
       std::string error;
       task.frame = ReadImage(source.name, &error);
       if (task.frame.empty()) {
-        outcome.err = "chromatag detect: " + error + ", skipped\n";
+        outcome.err = "chromatag detect: " + InFlagTerms(error) + ", skipped\n";
         outcome.failed = true;
         return outcome;
       }

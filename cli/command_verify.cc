@@ -16,6 +16,7 @@
 #include "chromatag/verify/sheet_check.h"
 #include "chromatag/verify/stress.h"
 #include "commands.h"
+#include "flag_terms.h"
 #include "progress.h"
 
 namespace chromatag::cli {
@@ -228,8 +229,14 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
   }
   const auto record = ReadPrintedSheet(o.sheet, &error);
   if (!record) return Fail("verify", error);
-  const auto verdict = CheckPrintFiles(*record, o.prints, options, &error);
+  auto verdict = CheckPrintFiles(*record, o.prints, options, &error);
   if (!verdict) return Fail("verify", error);
+  // The findings in the command line's terms, in the table, JSON and report alike.
+  for (PrintPageResult& image : verdict->images) {
+    for (std::string& problem : image.problems) problem = InFlagTerms(problem);
+    for (PrintTagResult& tag : image.tags)
+      for (std::string& problem : tag.problems) problem = InFlagTerms(problem);
+  }
   if (!o.report.empty()) {
     const std::string bytes = report_format == ".pdf" ? RenderPrintReportPdf(*record, *verdict)
                                                       : RenderPrintReportPng(*record, *verdict);
