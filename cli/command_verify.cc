@@ -121,6 +121,31 @@ std::vector<TagStress> RunStress(const TagFamily& family, const std::vector<int>
   return stresses;
 }
 
+// The last line: how many tags pass, which pages' shape was not checked, the grade.
+void PrintPrintSummary(const PrintVerdict& verdict) {
+  // A page's shape counts as checked when any image of it measured it.
+  std::set<int> shape_checked, shape_unchecked;
+  for (const PrintPageResult& r : verdict.images) {
+    if (r.page >= 0) (r.geometry_checked ? shape_checked : shape_unchecked).insert(r.page);
+  }
+  int unchecked = 0;
+  for (int p : shape_unchecked) unchecked += shape_checked.count(p) ? 0 : 1;
+  const std::string shape_note =
+      unchecked == 0 ? ""
+      : unchecked == 1 && shape_checked.empty()
+          ? "; the page's shape was not checked"
+          : "; the shape of " + std::to_string(unchecked) + " page(s) was not checked";
+  Print("%d of %d tag%s pass%s%s. %s\n", verdict.tags_passed, verdict.tags_checked,
+        verdict.tags_checked == 1 ? "" : "s",
+        verdict.tags_warned
+            ? (" (" + std::to_string(verdict.tags_warned) + " with warnings)").c_str()
+            : "",
+        shape_note.c_str(),
+        verdict.grade == Grade::kFail   ? "FAIL"
+        : verdict.grade == Grade::kWarn ? "PASS with warnings"
+                                        : "PASS");
+}
+
 void PrintPrintCheck(const SheetRecord& record, const PrintVerdict& verdict) {
   for (const PrintPageResult& r : verdict.images) {
     if (r.page < 0) {
@@ -160,27 +185,7 @@ void PrintPrintCheck(const SheetRecord& record, const PrintVerdict& verdict) {
   }
   for (int p : verdict.pages_not_seen)
     Print("page %d: no scan or photo shows it (not checked)\n", p + 1);
-  // A page's shape counts as checked when any image of it measured it.
-  std::set<int> shape_checked, shape_unchecked;
-  for (const PrintPageResult& r : verdict.images) {
-    if (r.page >= 0) (r.geometry_checked ? shape_checked : shape_unchecked).insert(r.page);
-  }
-  int unchecked = 0;
-  for (int p : shape_unchecked) unchecked += shape_checked.count(p) ? 0 : 1;
-  const std::string shape_note =
-      unchecked == 0 ? ""
-      : unchecked == 1 && shape_checked.empty()
-          ? "; the page's shape was not checked"
-          : "; the shape of " + std::to_string(unchecked) + " page(s) was not checked";
-  Print("%d of %d tag%s pass%s%s. %s\n", verdict.tags_passed, verdict.tags_checked,
-        verdict.tags_checked == 1 ? "" : "s",
-        verdict.tags_warned
-            ? (" (" + std::to_string(verdict.tags_warned) + " with warnings)").c_str()
-            : "",
-        shape_note.c_str(),
-        verdict.grade == Grade::kFail   ? "FAIL"
-        : verdict.grade == Grade::kWarn ? "PASS with warnings"
-                                        : "PASS");
+  PrintPrintSummary(verdict);
 }
 
 // "0.5%" or "0.005": a relative tolerance.
@@ -260,6 +265,67 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
   return verdict->passed() ? kExitOk : kExitFailure;
 }
 
+// The stress table, or the JSON document; the exit code.
+int Finish(const VerifyCommandOptions& o, const std::string& json,
+           const std::vector<TagStress>& stresses, bool passed) {
+  if (o.json) {
+    std::cout << json << "\n";
+  } else {
+    PrintStress(stresses);
+  }
+  return passed ? kExitOk : kExitFailure;
+}
+
+// A generated sheet, detected again.
+int VerifySheet(const VerifyCommandOptions& o, const VerifyOptions& options) {
+  std::string error;
+  // The sheet first, so that a missing sheet is named as such (not its sidecar).
+  const auto verdict = VerifySheetFile(o.sheet, options, &error);
+  if (!verdict) return Fail("verify", error);
+  const auto record = ReadSidecar(SidecarPath(o.sheet), &error);
+  if (!record) return Fail("verify", error);
+  std::vector<TagStress> stresses;
+  if (o.stress) {
+    std::vector<int> ids;
+    for (const auto& tag : record->tags) ids.push_back(tag.id);
+    stresses = RunStress(*record->family, ids, record->palette);
+  }
+  if (o.json)
+    return Finish(o, SheetVerdictJson(*verdict, o.sheet, o.stress ? &stresses : nullptr), stresses,
+                  verdict->passed);
+  Print("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
+        o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
+        record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
+        record->num_pages == 1 ? "" : "s", record->palette.name.c_str(),
+        record->format == SheetFormat::kPng ? record->dpi : o.dpi);
+  PrintSheet(*verdict);
+  return Finish(o, "", stresses, verdict->passed);
+}
+
+// Every kept ID of --family rendered and detected again, and the audit.
+int VerifyWholeFamily(const VerifyCommandOptions& o, const VerifyOptions& options) {
+  std::string error;
+  const auto palette = o.palette_file.empty() ? BuiltinPalette(o.palette, &error)
+                                              : LoadPaletteFile(o.palette_file, &error);
+  if (!palette) return Fail("verify", error);
+  const auto verdict = VerifyFamily(o.family, *palette, options, &error);
+  if (!verdict) return Fail("verify", error);
+  std::vector<TagStress> stresses;
+  if (o.stress) {
+    auto family = TagFamily::Load(o.family);
+    stresses = RunStress(*family, family->kept_ids(), *palette);
+  }
+  if (o.json)
+    return Finish(o, FamilyVerdictJson(o.family, *verdict, o.stress ? &stresses : nullptr),
+                  stresses, verdict->passed);
+  Print("Every kept %s ID, rendered with palette %s and detected again:\n", o.family.c_str(),
+        palette->name.c_str());
+  PrintSheet(verdict->sheet);
+  PrintAudit(o.family, verdict->audit);
+  Print("%s\n", verdict->passed ? "PASS" : "FAIL");
+  return Finish(o, "", stresses, verdict->passed);
+}
+
 int RunVerify(const VerifyCommandOptions& o) {
   std::string error;
   if (!o.prints.empty()) {
@@ -283,58 +349,7 @@ int RunVerify(const VerifyCommandOptions& o) {
     return Fail("verify",
                 "give a sheet (chromatag verify tags.pdf) or a family (--family 16h5 --all)");
   }
-  std::string json;  // With --json, the document printed at the end.
-  bool passed = false;
-  std::vector<TagStress> stresses;
-  if (!o.sheet.empty()) {
-    // The sheet first, so that a missing sheet is named as such (not its sidecar).
-    const auto verdict = VerifySheetFile(o.sheet, options, &error);
-    if (!verdict) return Fail("verify", error);
-    const auto record = ReadSidecar(SidecarPath(o.sheet), &error);
-    if (!record) return Fail("verify", error);
-    passed = verdict->passed;
-    if (o.stress) {
-      std::vector<int> ids;
-      for (const auto& tag : record->tags) ids.push_back(tag.id);
-      stresses = RunStress(*record->family, ids, record->palette);
-    }
-    if (o.json) {
-      json = SheetVerdictJson(*verdict, o.sheet, o.stress ? &stresses : nullptr);
-    } else {
-      Print("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
-            o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
-            record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
-            record->num_pages == 1 ? "" : "s", record->palette.name.c_str(),
-            record->format == SheetFormat::kPng ? record->dpi : o.dpi);
-      PrintSheet(*verdict);
-    }
-  } else {
-    const auto palette = o.palette_file.empty() ? BuiltinPalette(o.palette, &error)
-                                                : LoadPaletteFile(o.palette_file, &error);
-    if (!palette) return Fail("verify", error);
-    const auto verdict = VerifyFamily(o.family, *palette, options, &error);
-    if (!verdict) return Fail("verify", error);
-    passed = verdict->passed;
-    if (o.stress) {
-      auto family = TagFamily::Load(o.family);
-      stresses = RunStress(*family, family->kept_ids(), *palette);
-    }
-    if (o.json) {
-      json = FamilyVerdictJson(o.family, *verdict, o.stress ? &stresses : nullptr);
-    } else {
-      Print("Every kept %s ID, rendered with palette %s and detected again:\n", o.family.c_str(),
-            palette->name.c_str());
-      PrintSheet(verdict->sheet);
-      PrintAudit(o.family, verdict->audit);
-      Print("%s\n", verdict->passed ? "PASS" : "FAIL");
-    }
-  }
-  if (o.json) {
-    std::cout << json << "\n";
-  } else {
-    PrintStress(stresses);
-  }
-  return passed ? kExitOk : kExitFailure;
+  return o.sheet.empty() ? VerifyWholeFamily(o, options) : VerifySheet(o, options);
 }
 
 }  // namespace
