@@ -202,6 +202,15 @@ std::optional<double> ParseFraction(const std::string& text, std::string* error)
   return percent ? value / 100.0 : value;
 }
 
+// The findings in the command line's terms, in the table, JSON and report alike.
+void InCommandLineTerms(PrintVerdict* verdict) {
+  for (PrintPageResult& image : verdict->images) {
+    for (std::string& problem : image.problems) problem = InFlagTerms(problem);
+    for (PrintTagResult& tag : image.tags)
+      for (std::string& problem : tag.problems) problem = InFlagTerms(problem);
+  }
+}
+
 int RunPrintCheck(const VerifyCommandOptions& o) {
   std::string error;
   if (o.sheet.empty()) {
@@ -236,12 +245,7 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
   if (!record) return Fail("verify", error);
   auto verdict = CheckPrintFiles(*record, o.prints, options, &error);
   if (!verdict) return Fail("verify", error);
-  // The findings in the command line's terms, in the table, JSON and report alike.
-  for (PrintPageResult& image : verdict->images) {
-    for (std::string& problem : image.problems) problem = InFlagTerms(problem);
-    for (PrintTagResult& tag : image.tags)
-      for (std::string& problem : tag.problems) problem = InFlagTerms(problem);
-  }
+  InCommandLineTerms(&*verdict);
   if (!o.report.empty()) {
     const std::string bytes = report_format == ".pdf" ? RenderPrintReportPdf(*record, *verdict)
                                                       : RenderPrintReportPng(*record, *verdict);
