@@ -6,6 +6,12 @@ dependency are the ones `make build` uses; tests, benchmarks and the CLI are
 left out. CMAKE_ARGS adds options (for example -DCHROMATAG_NATIVE=OFF for a
 module that must run on other machines), CMAKE_BUILD_PARALLEL_LEVEL sets the
 number of compile jobs.
+
+CHROMATAG_BUILD_DIR names a build tree of this source (`make build`) whose
+module is taken instead of compiling it again: setup.py still configures its
+own tree with its own arguments (so the dependencies and options a user's
+install meets are checked), then brings that build's chromatag_python up to
+date and packages it. The pip test (tests/pip_install_test.sh) uses it.
 """
 import os
 import re
@@ -57,19 +63,23 @@ class CMakeBuild(build_ext):
         if build_dir.exists() and (not stamp.exists() or stamp.read_text() != "\n".join(configure)):
             shutil.rmtree(build_dir)
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 1))
+        reuse = os.environ.get("CHROMATAG_BUILD_DIR")
+        if reuse and not (Path(reuse) / "CMakeCache.txt").exists():
+            sys.exit(f"CHROMATAG_BUILD_DIR={reuse} is not a CMake build tree (no CMakeCache.txt)")
+        module_dir = Path(reuse).resolve() if reuse else build_dir
         try:
             subprocess.run(configure, check=True)
             stamp.write_text("\n".join(configure))
-            subprocess.run(["cmake", "--build", str(build_dir), "--target", "chromatag_python",
+            subprocess.run(["cmake", "--build", str(module_dir), "--target", "chromatag_python",
                             "--parallel", jobs], check=True)
         except FileNotFoundError:
             sys.exit("building chromatag needs CMake and a C++ compiler: run scripts/install-deps.sh")
         except subprocess.CalledProcessError as e:
             sys.exit(f"building chromatag failed ({' '.join(e.cmd[:2])} exited {e.returncode}); "
                      "scripts/install-deps.sh installs what the build needs")
-        built = list((build_dir / "python" / "chromatag").glob("_chromatag*.so"))
+        built = list((module_dir / "python" / "chromatag").glob("_chromatag*.so"))
         if len(built) != 1:
-            sys.exit(f"building chromatag: expected one _chromatag module in {build_dir}, found {built}")
+            sys.exit(f"building chromatag: expected one _chromatag module in {module_dir}, found {built}")
         target = Path(self.get_ext_fullpath(ext.name))
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(built[0], target)

@@ -137,6 +137,31 @@ void PrintSummary(const CalibrationResult& result, const std::vector<std::string
   for (const std::string& w : result.warnings) std::cerr << "warning: " << w << "\n";
 }
 
+// The camera calibrated from the photos, or why not (and an earlier run's
+// camera file removed, as it is not from these photos).
+void PrintCamera(const CameraCalibration* camera, const std::string& camera_why,
+                 const std::string& output) {
+  if (!camera) {
+    const std::filesystem::path stale = std::filesystem::path(output) / kCameraFile;
+    std::error_code ec;
+    const bool removed =
+        std::filesystem::is_regular_file(stale, ec) && std::filesystem::remove(stale, ec);
+    Print("Camera intrinsics not written: %s%s\n", camera_why.c_str(),
+          removed ? " (the earlier camera.yaml there is removed)" : "");
+    return;
+  }
+  int used = 0;
+  for (const CalibrationViewResult& v : camera->views) used += v.used ? 1 : 0;
+  Print("Camera from %d of %zu photos: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f, rms %.3f px\n",
+        used, camera->views.size(), camera->camera.fx, camera->camera.fy, camera->camera.cx,
+        camera->camera.cy, camera->camera.distortion[0], camera->rms_px);
+  for (const CalibrationViewResult& v : camera->views) {
+    if (!v.used) Print("  %s left out: %s\n", v.name.c_str(), v.why_not.c_str());
+  }
+  std::fflush(stdout);
+  for (const std::string& w : camera->warnings) std::cerr << "warning: camera: " << w << "\n";
+}
+
 int RunCalibrate(const CalibrateArgs& args) {
   constexpr const char* kName = "calibrate";
   std::string error;
@@ -184,26 +209,7 @@ int RunCalibrate(const CalibrateArgs& args) {
   std::vector<std::string> written;
   for (const auto& file : files) written.push_back(file.path);
   PrintSummary(*result, written);
-  if (camera) {
-    int used = 0;
-    for (const CalibrationViewResult& v : camera->views) used += v.used ? 1 : 0;
-    Print("Camera from %d of %zu photos: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f, rms %.3f px\n",
-          used, camera->views.size(), camera->camera.fx, camera->camera.fy, camera->camera.cx,
-          camera->camera.cy, camera->camera.distortion[0], camera->rms_px);
-    for (const CalibrationViewResult& v : camera->views) {
-      if (!v.used) Print("  %s left out: %s\n", v.name.c_str(), v.why_not.c_str());
-    }
-    std::fflush(stdout);
-    for (const std::string& w : camera->warnings) std::cerr << "warning: camera: " << w << "\n";
-  } else {
-    // A camera.yaml from an earlier run is not from these photos.
-    const std::filesystem::path stale = std::filesystem::path(args.output) / kCameraFile;
-    std::error_code ec;
-    const bool removed =
-        std::filesystem::is_regular_file(stale, ec) && std::filesystem::remove(stale, ec);
-    Print("Camera intrinsics not written: %s%s\n", camera_why.c_str(),
-          removed ? " (the earlier camera.yaml there is removed)" : "");
-  }
+  PrintCamera(camera ? &*camera : nullptr, camera_why, args.output);
   return kExitOk;
 }
 

@@ -131,34 +131,49 @@ class ViewCollector {
     cv::VideoCapture capture;
     if (!OpenSource(source, kDefaultOpenTimeout, &capture))
       return Skip("cannot open '" + source.name + "'");
+    VideoViews video;
+    if (!ReadFrames(source, &capture, &video)) return;
+    if (video.frames == 0) return Skip("no frames in '" + source.name + "'");
+    if (!source.live()) KeepChosen(source, &video);
+  }
+
+  // A video's frames described as candidate views, or a live camera's kept
+  // as they come.
+  struct VideoViews {
+    int frames = 0;
+    cv::Size size;
     std::vector<ViewPose> poses;
     std::vector<CalibrationView> candidates;
     std::map<std::string, int> not_kept;  // Reason -> frames.
-    int frames = 0;
-    cv::Size size;
+  };
+
+  // False when the source is skipped (said why).
+  bool ReadFrames(const Source& source, cv::VideoCapture* capture, VideoViews* video) {
     DetectionResult result;
     while (!g_stop) {
       cv::Mat frame;
-      if (!capture.read(frame) || frame.empty()) break;
-      if (frame.type() != CV_8UC3)
-        return Skip("'" + source.name + "' gives frames that are not 8-bit colour");
+      if (!capture->read(frame) || frame.empty()) break;
+      if (frame.type() != CV_8UC3) {
+        Skip("'" + source.name + "' gives frames that are not 8-bit colour");
+        return false;
+      }
       if (!selector_) {
         selector_.emplace(board_, frame.size(), selection_);
         selector_size_ = frame.size();
       }
       if (frame.size() != selector_size_) {
-        return Skip("'" + source.name + "' gives " + std::to_string(frame.cols) + " x " +
-                    std::to_string(frame.rows) + " frames, the first video " +
-                    std::to_string(selector_size_.width) + " x " +
-                    std::to_string(selector_size_.height));
+        Skip("'" + source.name + "' gives " + std::to_string(frame.cols) + " x " +
+             std::to_string(frame.rows) + " frames, the first video " +
+             std::to_string(selector_size_.width) + " x " + std::to_string(selector_size_.height));
+        return false;
       }
-      size = frame.size();
+      video->size = frame.size();
       detector_.Detect(frame, PixelOrder::kBgr, &result);
-      const std::string name = source.name + " frame " + std::to_string(frames++);
+      const std::string name = source.name + " frame " + std::to_string(video->frames++);
       if (source.live()) {
         const ViewDecision decision = selector_->Offer(result.detections);
         if (decision.keep) {
-          Add(name, result.detections, size);
+          Add(name, result.detections, video->size);
           std::cerr << "calibrate-camera: kept " << name << " (" << selector_->kept() << " of "
                     << selection_.max_views << "): " << decision.why << "\n";
           if (selector_->full()) break;
@@ -168,28 +183,31 @@ class ViewCollector {
       ViewPose pose;
       std::string why;
       if (!selector_->Describe(result.detections, &pose, &why)) {
-        ++not_kept[why.find("board tag") != std::string::npos ? "too few board tags" : why];
+        ++video->not_kept[why.find("board tag") != std::string::npos ? "too few board tags" : why];
         continue;
       }
-      poses.push_back(pose);
-      candidates.push_back({name, result.detections});
+      video->poses.push_back(pose);
+      video->candidates.push_back({name, result.detections});
     }
-    if (frames == 0) return Skip("no frames in '" + source.name + "'");
-    if (source.live()) return;
+    return true;
+  }
+
+  // A video's views chosen from all its frames, and what was not kept.
+  void KeepChosen(const Source& source, VideoViews* video) {
     std::vector<std::string> why;
-    const std::vector<size_t> chosen = selector_->Choose(poses, &why);
+    const std::vector<size_t> chosen = selector_->Choose(video->poses, &why);
     for (size_t i : chosen) {
-      std::cerr << "calibrate-camera: kept " << candidates[i].name << ": " << why[i] << "\n";
-      Add(candidates[i].name, candidates[i].detections, size);
+      std::cerr << "calibrate-camera: kept " << video->candidates[i].name << ": " << why[i] << "\n";
+      Add(video->candidates[i].name, video->candidates[i].detections, video->size);
     }
     for (size_t i = 0; i < why.size(); ++i) {
       if (std::find(chosen.begin(), chosen.end(), i) != chosen.end()) continue;
-      ++not_kept[why[i].rfind("like a kept view", 0) == 0 ? "like a kept view" : why[i]];
+      ++video->not_kept[why[i].rfind("like a kept view", 0) == 0 ? "like a kept view" : why[i]];
     }
     std::string summary;
-    for (const auto& [reason, count] : not_kept)
+    for (const auto& [reason, count] : video->not_kept)
       summary += (summary.empty() ? "" : ", ") + std::to_string(count) + " " + reason;
-    std::cerr << "calibrate-camera: " << source.name << ": " << frames << " frames, kept "
+    std::cerr << "calibrate-camera: " << source.name << ": " << video->frames << " frames, kept "
               << chosen.size() << (summary.empty() ? "" : "; not kept: " + summary) << "\n";
   }
 
@@ -237,17 +255,22 @@ void PrintResult(const CameraCalibration& c) {
   for (const std::string& w : c.warnings) std::cerr << "calibrate-camera: warning: " << w << "\n";
 }
 
-int RunCalibrateCamera(const CameraCalibOptions& o) {
-  const auto fail = [](const std::string& message) { return Fail("calibrate-camera", message); };
-  const CameraFileFormat format = o.format == "ros"      ? CameraFileFormat::kRos
-                                  : o.format == "kalibr" ? CameraFileFormat::kKalibr
-                                                         : CameraFileFormat::kOpenCv;
-  CameraCalibrationOptions calibration_options;
-  calibration_options.model = o.model == "fisheye" ? LensModel::kFisheye : LensModel::kPinhole;
-  calibration_options.fit_k3 = o.k3;
-  std::string error;
-  if (!calibration_options.IsValid(&error)) return fail("--k3: " + error);
-  if (o.k3 && format == CameraFileFormat::kKalibr)
+// What the command line asks for, checked before a long run: the formats,
+// names and limits, and that no output overwrites an input.
+bool CheckArguments(const CameraCalibOptions& o, CameraFileFormat* format,
+                    CameraCalibrationOptions* calibration_options, ViewSelectionOptions* selection,
+                    std::string* error) {
+  const auto fail = [&](const std::string& message) {
+    *error = message;
+    return false;
+  };
+  *format = o.format == "ros"      ? CameraFileFormat::kRos
+            : o.format == "kalibr" ? CameraFileFormat::kKalibr
+                                   : CameraFileFormat::kOpenCv;
+  calibration_options->model = o.model == "fisheye" ? LensModel::kFisheye : LensModel::kPinhole;
+  calibration_options->fit_k3 = o.k3;
+  if (!calibration_options->IsValid(error)) return fail("--k3: " + *error);
+  if (o.k3 && *format == CameraFileFormat::kKalibr)
     return fail("--k3 with --format kalibr: Kalibr's radtan model has no k3");
   const std::string ext = LowerExtension(o.output);
   if (ext != ".yaml" && ext != ".yml")
@@ -264,34 +287,71 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
   for (int index : o.camera_indices) {
     if (index < 0) return fail("--camera-index " + std::to_string(index) + ": 0 or more");
   }
-  ViewSelectionOptions selection;
-  selection.max_views = o.max_views;
-  if (!selection.IsValid(&error)) return fail("--max-views: " + error);
-  // Everything that can be checked before a long run is.
+  selection->max_views = o.max_views;
+  if (!selection->IsValid(error)) return fail("--max-views: " + *error);
   std::vector<std::string> outputs = {o.output};
   outputs.insert(outputs.end(), o.reports.begin(), o.reports.end());
-  if (!CheckOutputTargets(outputs, &error, /*try_create=*/true)) return fail(error);
+  if (!CheckOutputTargets(outputs, error, /*try_create=*/true)) return false;
   std::vector<std::pair<std::string, std::string>> inputs = {{"--board", o.board_file}};
   if (!o.config.empty()) inputs.push_back({"--config", o.config});
   for (const std::string& input : o.inputs) inputs.push_back({"an input", input});
-  if (!CheckOutputsAreNotInputs(outputs, inputs, &error)) return fail(error);
-  const std::optional<Board> board = ReadBoardFile(o.board_file, &error);
-  if (!board) return fail(error);
-  if (!CheckCalibrationBoard(*board, calibration_options, &error))
-    return fail("--board '" + o.board_file + "': " + error);
+  return CheckOutputsAreNotInputs(outputs, inputs, error);
+}
+
+// A detector for the board's families, with --config's thresholds.
+std::unique_ptr<Detector> BoardDetector(const Board& board, const std::string& config,
+                                        std::string* error) {
   DetectorOptions detector_options;
   detector_options.families.clear();
-  for (const BoardTag& tag : board->tags) {
+  for (const BoardTag& tag : board.tags) {
     if (std::find(detector_options.families.begin(), detector_options.families.end(), tag.family) ==
         detector_options.families.end())
       detector_options.families.push_back(tag.family);
   }
-  if (!o.config.empty()) {
+  if (!config.empty()) {
     const std::vector<std::string> families = detector_options.families;
-    if (!LoadDetectorConfig(o.config, &detector_options, &error)) return fail(error);
+    if (!LoadDetectorConfig(config, &detector_options, error)) return nullptr;
     detector_options.families = families;  // The board's, whatever the config says.
   }
-  const auto detector = Detector::Create(detector_options, &error);
+  return Detector::Create(detector_options, error);
+}
+
+// The camera file and the reports, all or nothing.
+int WriteCalibration(const CameraCalibOptions& o, const CameraCalibration& calibration,
+                     CameraFileFormat format) {
+  std::string error;
+  CameraFileInfo info;
+  info.image_size = calibration.image_size;
+  info.camera_name = o.camera_name;
+  info.rms_px = calibration.rms_px;
+  const std::string text = CameraFileText(calibration.camera, info, format, &error);
+  if (text.empty()) return Fail("calibrate-camera", error, kExitFailure);
+  std::vector<OutputFile> files = {{o.output, text}};
+  const std::string title = fs::path(o.board_file).filename().string();
+  for (const std::string& report : o.reports) {
+    files.push_back({report, LowerExtension(report) == ".pdf"
+                                 ? RenderCameraReportPdf(calibration, title)
+                                 : RenderCameraReportPng(calibration, title)});
+  }
+  if (!WriteFilesAtomically(files, &error)) return Fail("calibrate-camera", error, kExitFailure);
+  std::cerr << "calibrate-camera: wrote " << o.output;
+  for (const std::string& report : o.reports) std::cerr << ", " << report;
+  std::cerr << "\n";
+  return kExitOk;
+}
+
+int RunCalibrateCamera(const CameraCalibOptions& o) {
+  const auto fail = [](const std::string& message) { return Fail("calibrate-camera", message); };
+  CameraFileFormat format;
+  CameraCalibrationOptions calibration_options;
+  ViewSelectionOptions selection;
+  std::string error;
+  if (!CheckArguments(o, &format, &calibration_options, &selection, &error)) return fail(error);
+  const std::optional<Board> board = ReadBoardFile(o.board_file, &error);
+  if (!board) return fail(error);
+  if (!CheckCalibrationBoard(*board, calibration_options, &error))
+    return fail("--board '" + o.board_file + "': " + error);
+  const auto detector = BoardDetector(*board, o.config, &error);
   if (!detector) return fail(error);
   std::vector<Source> sources;
   std::vector<std::string> notes;
@@ -326,24 +386,8 @@ int RunCalibrateCamera(const CameraCalibOptions& o) {
                 "says, or give --write-uncertain to write the file anyway",
                 kExitFailure);
   }
-
-  CameraFileInfo info;
-  info.image_size = calibration->image_size;
-  info.camera_name = o.camera_name;
-  info.rms_px = calibration->rms_px;
-  const std::string text = CameraFileText(calibration->camera, info, format, &error);
-  if (text.empty()) return Fail("calibrate-camera", error, kExitFailure);
-  std::vector<OutputFile> files = {{o.output, text}};
-  const std::string title = fs::path(o.board_file).filename().string();
-  for (const std::string& report : o.reports) {
-    files.push_back({report, LowerExtension(report) == ".pdf"
-                                 ? RenderCameraReportPdf(*calibration, title)
-                                 : RenderCameraReportPng(*calibration, title)});
-  }
-  if (!WriteFilesAtomically(files, &error)) return Fail("calibrate-camera", error, kExitFailure);
-  std::cerr << "calibrate-camera: wrote " << o.output;
-  for (const std::string& report : o.reports) std::cerr << ", " << report;
-  std::cerr << "\n";
+  const int code = WriteCalibration(o, *calibration, format);
+  if (code != kExitOk) return code;
   return collector.failed() ? kExitFailure : kExitOk;
 }
 

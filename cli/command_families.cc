@@ -1,8 +1,8 @@
 #include <iostream>
-#include <nlohmann/json.hpp>
 
 #include "chromatag/families/decoder.h"
 #include "chromatag/families/family.h"
+#include "chromatag/families/listing_json.h"
 #include "commands.h"
 
 namespace chromatag::cli {
@@ -12,26 +12,6 @@ struct FamiliesOptions {
   std::string family;  // Empty: every family.
   bool json = false;
 };
-
-nlohmann::json FamilyJson(const TagFamily& family, const CodeDecoder& decoder) {
-  nlohmann::json rejected = nlohmann::json::array();
-  for (const auto& r : family.rejected_ids())
-    rejected.push_back({{"id", r.id}, {"reason", r.reason}});
-  return {{"family", family.name()},
-          {"payload_width", family.payload_width()},
-          {"bits", family.num_bits()},
-          {"red_cells", family.num_red_cells()},
-          {"green_cells", family.num_green_cells()},
-          {"black_square_cells", family.black_square_cells()},
-          {"apriltag_ids", family.num_apriltag_ids()},
-          {"kept_ids", family.kept_ids()},
-          {"rejected_ids", rejected},
-          {"min_hamming", family.min_hamming()},
-          {"apriltag_min_hamming", family.apriltag_min_hamming()},
-          {"decoding_radius", decoder.radius()},
-          {"max_safe_radius", family.max_safe_radius()},
-          {"decoder_table_bytes", decoder.memory_bytes()}};
-}
 
 void PrintFamily(const TagFamily& family, const CodeDecoder& decoder) {
   const int d = family.payload_width();
@@ -61,7 +41,9 @@ void PrintFamily(const TagFamily& family, const CodeDecoder& decoder) {
 int RunFamilies(const FamiliesOptions& options) {
   const std::vector<std::string> names =
       options.family.empty() ? TagFamily::Names() : std::vector<std::string>{options.family};
-  nlohmann::json all = nlohmann::json::array();
+  // Each family with its decoder, for --json.
+  std::vector<std::shared_ptr<const TagFamily>> families;
+  std::vector<std::unique_ptr<CodeDecoder>> decoders;
   for (size_t i = 0; i < names.size(); ++i) {
     std::string error;
     auto family = TagFamily::Load(names[i], &error);
@@ -69,16 +51,19 @@ int RunFamilies(const FamiliesOptions& options) {
     auto decoder = CodeDecoder::Create(family, CodeDecoder::DefaultRadius(*family), &error);
     if (!decoder) return Fail("families", error, kExitFailure);
     if (options.json) {
-      all.push_back(FamilyJson(*family, *decoder));
+      families.push_back(std::move(family));
+      decoders.push_back(std::move(decoder));
     } else {
       if (i) std::cout << "\n";
       PrintFamily(*family, *decoder);
     }
   }
-  if (options.json)
-    std::cout << nlohmann::json{{"families", all}}.dump(2, ' ', false,
-                                                        nlohmann::json::error_handler_t::replace)
-              << "\n";
+  if (options.json) {
+    std::vector<std::pair<const TagFamily*, const CodeDecoder*>> listed;
+    for (size_t i = 0; i < families.size(); ++i)
+      listed.push_back({families[i].get(), decoders[i].get()});
+    std::cout << FamiliesJson(listed) << "\n";
+  }
   return kExitOk;
 }
 

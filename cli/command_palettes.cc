@@ -1,7 +1,7 @@
 #include <cstdio>
 #include <iostream>
-#include <nlohmann/json.hpp>
 
+#include "chromatag/families/listing_json.h"
 #include "chromatag/families/palette.h"
 #include "commands.h"
 
@@ -16,28 +16,6 @@ struct PalettesOptions {
 
 const char* LevelName(PaletteCheck::Level level) {
   return level == PaletteCheck::Level::kRequired ? "required" : "recommended";
-}
-
-nlohmann::json PaletteJson(const Palette& palette) {
-  nlohmann::json shades = nlohmann::json::object();
-  for (Shade shade : kAllShades) {
-    const Lab& lab = palette[shade];
-    const Rgb8 rgb = palette.Srgb8(shade);
-    shades[ShadeName(shade)] = {
-        {"lab", {lab.L, lab.a, lab.b}}, {"srgb", {rgb.r, rgb.g, rgb.b}}, {"hex", ToHex(rgb)}};
-  }
-  nlohmann::json checks = nlohmann::json::array();
-  for (const auto& check : CheckPalette(palette)) {
-    checks.push_back({{"id", check.id},
-                      {"level", LevelName(check.level)},
-                      {"description", check.description},
-                      {"passed", check.passed},
-                      {"detail", check.detail}});
-  }
-  return {{"name", palette.name},
-          {"description", palette.description},
-          {"shades", shades},
-          {"checks", checks}};
 }
 
 void PrintPalette(const Palette& palette) {
@@ -79,11 +57,7 @@ int RunPalettes(const PalettesOptions& options) {
     }
   }
   if (options.json) {
-    nlohmann::json all = nlohmann::json::array();
-    for (const auto& palette : palettes) all.push_back(PaletteJson(palette));
-    std::cout << nlohmann::json{{"palettes", all}}.dump(2, ' ', false,
-                                                        nlohmann::json::error_handler_t::replace)
-              << "\n";
+    std::cout << PalettesJson(palettes) << "\n";
   } else {
     for (size_t i = 0; i < palettes.size(); ++i) {
       if (i) std::cout << "\n";

@@ -4,7 +4,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <set>
 
 #include "chromatag/base/output_files.h"
@@ -18,12 +17,11 @@
 #include "chromatag/verify/sheet_check.h"
 #include "chromatag/verify/stress.h"
 #include "commands.h"
+#include "flag_terms.h"
 #include "progress.h"
 
 namespace chromatag::cli {
 namespace {
-
-using Json = nlohmann::ordered_json;
 
 struct VerifyCommandOptions {
   std::string sheet;
@@ -45,33 +43,6 @@ struct VerifyCommandOptions {
   std::string report;
 };
 
-Json SheetJson(const SheetVerdict& verdict) {
-  Json tags = Json::array();
-  for (const auto& t : verdict.tags) {
-    tags.push_back({{"id", t.expected.id},
-                    {"page", t.expected.page + 1},
-                    {"times_found", t.times_found},
-                    {"found_id", t.found_id},
-                    {"hamming", t.hamming},
-                    {"margin", t.margin},
-                    {"position_error_mm", t.position_error_mm},
-                    {"passed", t.passed},
-                    {"problem", t.problem}});
-  }
-  Json unexpected = Json::array();
-  for (const auto& u : verdict.unexpected) {
-    unexpected.push_back({{"page", u.page + 1},
-                          {"family", u.family},
-                          {"id", u.id},
-                          {"center_mm", {u.center_mm[0], u.center_mm[1]}}});
-  }
-  return {{"passed", verdict.passed},
-          {"tags_passed", verdict.tags_passed},
-          {"tags", tags},
-          {"unexpected", unexpected},
-          {"file_problems", verdict.file_problems}};
-}
-
 void PrintSheet(const SheetVerdict& verdict) {
   Print("  %5s %4s %5s %7s %7s %9s  %s\n", "ID", "page", "found", "hamming", "margin", "error mm",
         "verdict");
@@ -87,30 +58,6 @@ void PrintSheet(const SheetVerdict& verdict) {
   Print("%d of %zu %s%s. %s\n", verdict.tags_passed, verdict.tags.size(),
         verdict.tags.size() == 1 ? "tag passes" : "tags pass",
         verdict.unexpected.empty() ? ", nothing else found" : "", verdict.passed ? "PASS" : "FAIL");
-}
-
-Json AuditJson(const FamilyAudit& audit) {
-  Json pairs = Json::array();
-  for (const auto& p : audit.closest_pairs) {
-    pairs.push_back(
-        {{"id_a", p.id_a}, {"id_b", p.id_b}, {"rotation", p.rotation}, {"distance", p.distance}});
-  }
-  Json flips = Json::array();
-  for (const auto& f : audit.flips) {
-    flips.push_back({{"flips", f.flips},
-                     {"exhaustive", f.exhaustive},
-                     {"trials", f.trials},
-                     {"correct", f.correct},
-                     {"wrong_id", f.wrong_id},
-                     {"rejected", f.rejected}});
-  }
-  return {{"codes", audit.num_codes},
-          {"min_distance", audit.min_distance},
-          {"radius", audit.radius},
-          {"distance_histogram", audit.histogram},
-          {"closest_pairs", pairs},
-          {"bit_flips", flips},
-          {"decoding_safe", audit.DecodingIsSafe()}};
 }
 
 void PrintAudit(const std::string& family, const FamilyAudit& audit) {
@@ -133,19 +80,6 @@ void PrintAudit(const std::string& family, const FamilyAudit& audit) {
   }
   Print("  (* every pattern; otherwise a random sample)  decoding within the radius: %s\n",
         audit.DecodingIsSafe() ? "always right" : "NOT SAFE");
-}
-
-Json StressJson(const std::vector<TagStress>& stresses) {
-  Json all = Json::array();
-  for (const auto& s : stresses) {
-    Json conditions = Json::object();
-    for (const auto& c : s.conditions) conditions[c.condition] = c.decoded;
-    all.push_back({{"id", s.id},
-                   {"smallest_size_px", s.smallest_size_px},
-                   {"largest_tilt_deg", s.largest_tilt_deg},
-                   {"conditions", conditions}});
-  }
-  return all;
 }
 
 void PrintStress(const std::vector<TagStress>& stresses) {
@@ -188,6 +122,31 @@ std::vector<TagStress> RunStress(const TagFamily& family, const std::vector<int>
   return stresses;
 }
 
+// The last line: how many tags pass, which pages' shape was not checked, the grade.
+void PrintPrintSummary(const PrintVerdict& verdict) {
+  // A page's shape counts as checked when any image of it measured it.
+  std::set<int> shape_checked, shape_unchecked;
+  for (const PrintPageResult& r : verdict.images) {
+    if (r.page >= 0) (r.geometry_checked ? shape_checked : shape_unchecked).insert(r.page);
+  }
+  int unchecked = 0;
+  for (int p : shape_unchecked) unchecked += shape_checked.count(p) ? 0 : 1;
+  const std::string shape_note =
+      unchecked == 0 ? ""
+      : unchecked == 1 && shape_checked.empty()
+          ? "; the page's shape was not checked"
+          : "; the shape of " + std::to_string(unchecked) + " page(s) was not checked";
+  Print("%d of %d tag%s pass%s%s. %s\n", verdict.tags_passed, verdict.tags_checked,
+        verdict.tags_checked == 1 ? "" : "s",
+        verdict.tags_warned
+            ? (" (" + std::to_string(verdict.tags_warned) + " with warnings)").c_str()
+            : "",
+        shape_note.c_str(),
+        verdict.grade == Grade::kFail   ? "FAIL"
+        : verdict.grade == Grade::kWarn ? "PASS with warnings"
+                                        : "PASS");
+}
+
 void PrintPrintCheck(const SheetRecord& record, const PrintVerdict& verdict) {
   for (const PrintPageResult& r : verdict.images) {
     if (r.page < 0) {
@@ -227,27 +186,7 @@ void PrintPrintCheck(const SheetRecord& record, const PrintVerdict& verdict) {
   }
   for (int p : verdict.pages_not_seen)
     Print("page %d: no scan or photo shows it (not checked)\n", p + 1);
-  // A page's shape counts as checked when any image of it measured it.
-  std::set<int> shape_checked, shape_unchecked;
-  for (const PrintPageResult& r : verdict.images) {
-    if (r.page >= 0) (r.geometry_checked ? shape_checked : shape_unchecked).insert(r.page);
-  }
-  int unchecked = 0;
-  for (int p : shape_unchecked) unchecked += shape_checked.count(p) ? 0 : 1;
-  const std::string shape_note =
-      unchecked == 0 ? ""
-      : unchecked == 1 && shape_checked.empty()
-          ? "; the page's shape was not checked"
-          : "; the shape of " + std::to_string(unchecked) + " page(s) was not checked";
-  Print("%d of %d tag%s pass%s%s. %s\n", verdict.tags_passed, verdict.tags_checked,
-        verdict.tags_checked == 1 ? "" : "s",
-        verdict.tags_warned
-            ? (" (" + std::to_string(verdict.tags_warned) + " with warnings)").c_str()
-            : "",
-        shape_note.c_str(),
-        verdict.grade == Grade::kFail   ? "FAIL"
-        : verdict.grade == Grade::kWarn ? "PASS with warnings"
-                                        : "PASS");
+  PrintPrintSummary(verdict);
 }
 
 // "0.5%" or "0.005": a relative tolerance.
@@ -262,6 +201,15 @@ std::optional<double> ParseFraction(const std::string& text, std::string* error)
     return std::nullopt;
   }
   return percent ? value / 100.0 : value;
+}
+
+// The findings in the command line's terms, in the table, JSON and report alike.
+void InCommandLineTerms(PrintVerdict* verdict) {
+  for (PrintPageResult& image : verdict->images) {
+    for (std::string& problem : image.problems) problem = InFlagTerms(problem);
+    for (PrintTagResult& tag : image.tags)
+      for (std::string& problem : tag.problems) problem = InFlagTerms(problem);
+  }
 }
 
 int RunPrintCheck(const VerifyCommandOptions& o) {
@@ -296,8 +244,9 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
   }
   const auto record = ReadPrintedSheet(o.sheet, &error);
   if (!record) return Fail("verify", error);
-  const auto verdict = CheckPrintFiles(*record, o.prints, options, &error);
+  auto verdict = CheckPrintFiles(*record, o.prints, options, &error);
   if (!verdict) return Fail("verify", error);
+  InCommandLineTerms(&*verdict);
   if (!o.report.empty()) {
     const std::string bytes = report_format == ".pdf" ? RenderPrintReportPdf(*record, *verdict)
                                                       : RenderPrintReportPng(*record, *verdict);
@@ -319,6 +268,67 @@ int RunPrintCheck(const VerifyCommandOptions& o) {
     if (!o.report.empty()) Print("Report: %s\n", o.report.c_str());
   }
   return verdict->passed() ? kExitOk : kExitFailure;
+}
+
+// The stress table, or the JSON document; the exit code.
+int Finish(const VerifyCommandOptions& o, const std::string& json,
+           const std::vector<TagStress>& stresses, bool passed) {
+  if (o.json) {
+    std::cout << json << "\n";
+  } else {
+    PrintStress(stresses);
+  }
+  return passed ? kExitOk : kExitFailure;
+}
+
+// A generated sheet, detected again.
+int VerifySheet(const VerifyCommandOptions& o, const VerifyOptions& options) {
+  std::string error;
+  // The sheet first, so that a missing sheet is named as such (not its sidecar).
+  const auto verdict = VerifySheetFile(o.sheet, options, &error);
+  if (!verdict) return Fail("verify", error);
+  const auto record = ReadSidecar(SidecarPath(o.sheet), &error);
+  if (!record) return Fail("verify", error);
+  std::vector<TagStress> stresses;
+  if (o.stress) {
+    std::vector<int> ids;
+    for (const auto& tag : record->tags) ids.push_back(tag.id);
+    stresses = RunStress(*record->family, ids, record->palette);
+  }
+  if (o.json)
+    return Finish(o, SheetVerdictJson(*verdict, o.sheet, o.stress ? &stresses : nullptr), stresses,
+                  verdict->passed);
+  Print("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
+        o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
+        record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
+        record->num_pages == 1 ? "" : "s", record->palette.name.c_str(),
+        record->format == SheetFormat::kPng ? record->dpi : o.dpi);
+  PrintSheet(*verdict);
+  return Finish(o, "", stresses, verdict->passed);
+}
+
+// Every kept ID of --family rendered and detected again, and the audit.
+int VerifyWholeFamily(const VerifyCommandOptions& o, const VerifyOptions& options) {
+  std::string error;
+  const auto palette = o.palette_file.empty() ? BuiltinPalette(o.palette, &error)
+                                              : LoadPaletteFile(o.palette_file, &error);
+  if (!palette) return Fail("verify", error);
+  const auto verdict = VerifyFamily(o.family, *palette, options, &error);
+  if (!verdict) return Fail("verify", error);
+  std::vector<TagStress> stresses;
+  if (o.stress) {
+    auto family = TagFamily::Load(o.family);
+    stresses = RunStress(*family, family->kept_ids(), *palette);
+  }
+  if (o.json)
+    return Finish(o, FamilyVerdictJson(o.family, *verdict, o.stress ? &stresses : nullptr),
+                  stresses, verdict->passed);
+  Print("Every kept %s ID, rendered with palette %s and detected again:\n", o.family.c_str(),
+        palette->name.c_str());
+  PrintSheet(verdict->sheet);
+  PrintAudit(o.family, verdict->audit);
+  Print("%s\n", verdict->passed ? "PASS" : "FAIL");
+  return Finish(o, "", stresses, verdict->passed);
 }
 
 int RunVerify(const VerifyCommandOptions& o) {
@@ -344,63 +354,7 @@ int RunVerify(const VerifyCommandOptions& o) {
     return Fail("verify",
                 "give a sheet (chromatag verify tags.pdf) or a family (--family 16h5 --all)");
   }
-  Json out;
-  bool passed = false;
-  std::vector<TagStress> stresses;
-  if (!o.sheet.empty()) {
-    // The sheet first, so that a missing sheet is named as such (not its sidecar).
-    const auto verdict = VerifySheetFile(o.sheet, options, &error);
-    if (!verdict) return Fail("verify", error);
-    const auto record = ReadSidecar(SidecarPath(o.sheet), &error);
-    if (!record) return Fail("verify", error);
-    passed = verdict->passed;
-    if (o.stress) {
-      std::vector<int> ids;
-      for (const auto& tag : record->tags) ids.push_back(tag.id);
-      stresses = RunStress(*record->family, ids, record->palette);
-    }
-    if (o.json) {
-      out = SheetJson(*verdict);
-      out["sheet"] = o.sheet;
-    } else {
-      Print("Sheet %s: %s, %zu tag%s of %.1f mm on %d page%s, palette %s, at %.0f dpi\n",
-            o.sheet.c_str(), record->family->name().c_str(), record->tags.size(),
-            record->tags.size() == 1 ? "" : "s", record->tag_size_mm, record->num_pages,
-            record->num_pages == 1 ? "" : "s", record->palette.name.c_str(),
-            record->format == SheetFormat::kPng ? record->dpi : o.dpi);
-      PrintSheet(*verdict);
-    }
-  } else {
-    const auto palette = o.palette_file.empty() ? BuiltinPalette(o.palette, &error)
-                                                : LoadPaletteFile(o.palette_file, &error);
-    if (!palette) return Fail("verify", error);
-    const auto verdict = VerifyFamily(o.family, *palette, options, &error);
-    if (!verdict) return Fail("verify", error);
-    passed = verdict->passed;
-    if (o.stress) {
-      auto family = TagFamily::Load(o.family);
-      stresses = RunStress(*family, family->kept_ids(), *palette);
-    }
-    if (o.json) {
-      out = SheetJson(verdict->sheet);
-      out["family"] = o.family;
-      out["audit"] = AuditJson(verdict->audit);
-      out["passed"] = verdict->passed;
-    } else {
-      Print("Every kept %s ID, rendered with palette %s and detected again:\n", o.family.c_str(),
-            palette->name.c_str());
-      PrintSheet(verdict->sheet);
-      PrintAudit(o.family, verdict->audit);
-      Print("%s\n", verdict->passed ? "PASS" : "FAIL");
-    }
-  }
-  if (o.json) {
-    if (o.stress) out["stress"] = StressJson(stresses);
-    std::cout << out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
-  } else {
-    PrintStress(stresses);
-  }
-  return passed ? kExitOk : kExitFailure;
+  return o.sheet.empty() ? VerifyWholeFamily(o, options) : VerifySheet(o, options);
 }
 
 }  // namespace

@@ -12,13 +12,14 @@
 #include "chromatag/base/input_file.h"
 #include "chromatag/families/version.h"
 #include "commands.h"
+#include "flag_terms.h"
 #include "library_output.h"
 
 namespace chromatag::cli {
 
 int Fail(const char* command, const std::string& message, int code) {
   // One line, whatever a library put in its message (OpenCV's end in "\n").
-  std::string line = message;
+  std::string line = InFlagTerms(message);
   while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
   for (size_t at; (at = line.find('\n')) != std::string::npos;) line.replace(at, 1, "; ");
   std::cerr << "chromatag " << command << ": " << line << "\n";

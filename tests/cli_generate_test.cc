@@ -115,6 +115,16 @@ TEST(CliGenerateTest, BadInputIsOneLineExitTwoAndNothingWritten) {
       {{"--ids", "0", "--page", "a9"}, "valid: a4, a3, letter, legal"},
       {{"--ids", "0", "--family", "25h9"}, "not in {16h5,36h11}"},
       {{}, "say which tags: --ids 0-9,12 or --all"},
+      // The libraries' messages with the flags named (cli/flag_terms.cc).
+      {{"--ids", "0", "--palette", "neon"}, "or a palette file with --palette-file)"},
+      {{"--board", "6y4"}, "--board must be COLSxROWS with 1 to 100 of each"},
+      {{"--ids", "0", "--spacing", "5mm"},
+       "--spacing is for boards (--board COLSxROWS); sheets take --gap"},
+      {{"--board", "2x2", "--cut-ring"}, "no --one-per-page, --cut-ring or --crop-marks"},
+      {{"--board", "6x4", "--quiet-zone", "20", "--spacing", "1mm"},
+       "--spacing 1.0 mm holds the quiet zone of tags of at most 0.30 mm (20 cells of 6 across "
+       "the black square); tags are 1 mm or more: give a larger --spacing or a smaller "
+       "--quiet-zone"},
   };
   for (const auto& bad : cases) {
     std::vector<std::string> args = {"generate", "-o", out};

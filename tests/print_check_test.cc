@@ -386,7 +386,8 @@ TEST_F(PrintCheckTest, PhotoTiltedAboutOneAxisSaysTheShapeWasNotChecked) {
   EXPECT_EQ(r.grade, Grade::kWarn) << AllProblems(r);
   bool said = false;
   for (const std::string& p : r.problems)
-    said |= p.rfind("the page's shape was not checked", 0) == 0 && p.find("--camera") != p.npos;
+    said |= p.rfind("the page's shape was not checked", 0) == 0 &&
+            p.find("give the camera's intrinsics") != p.npos;
   EXPECT_TRUE(said) << AllProblems(r);
   // The command's verdict says so too.
   const std::string file = *dir_ + "/tilted.png";
@@ -396,6 +397,8 @@ TEST_F(PrintCheckTest, PhotoTiltedAboutOneAxisSaysTheShapeWasNotChecked) {
   EXPECT_NE(run.out.find("pass; the page's shape was not checked. PASS with warnings"),
             std::string::npos)
       << run.out;
+  // In the command line's terms (cli/flag_terms.cc).
+  EXPECT_NE(run.out.find("give --camera, add a photo"), std::string::npos) << run.out;
   PrintCheckOptions with_camera;
   with_camera.camera =
       CameraIntrinsics{1800, 1800, (camera.width - 1) / 2.0, (camera.height - 1) / 2.0, {}};

@@ -58,7 +58,7 @@ std::string DescribeFailure(const CalibSheetLayout& layout,
   if (Count(match) == 0) {
     return "this is not " + sheet + ": the photo shows " + layout.family + " tags " +
            IdList(others) + ", but its corner tags are " + IdList(expected) +
-           " (a different calibration sheet, or the wrong --sheet)";
+           " (a different calibration sheet, or the wrong sheet's sidecar)";
   }
   std::string missing;
   for (int k = 0; k < 4; ++k) {

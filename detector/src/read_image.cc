@@ -30,7 +30,9 @@ cv::Mat DecodeImage(const std::string& bytes, const std::string& name, std::stri
   if (!ImageBytesSize(bytes, &size)) {
     const std::string ext = LowerExtension(name);
     if (ext == ".pdf" || ext == ".svg" || bytes.rfind("%PDF", 0) == 0) {
-      return Fail(error, cannot + "a PDF or SVG sheet is checked by chromatag verify; images are " +
+      return Fail(error, cannot +
+                             "a PDF or SVG sheet is rasterised and checked by the round trip "
+                             "(verify); images are " +
                              kSizedImageFormats);
     }
     // A PNG, JPEG or TIFF signature whose header then cannot be walked.

@@ -69,7 +69,7 @@ TEST_F(ReadImageTest, SaysWhyAFileCannotBeRead) {
       {"pipe.png", "': not a regular file"},
       {"notes.png", "': not a PNG, JPEG, TIFF, BMP, WebP, PPM/PGM/PAM/PFM file"},
       {"cut.png", "': its header cannot be read (damaged or cut short)"},
-      {"sheet.pdf", "': a PDF or SVG sheet is checked by chromatag verify"},
+      {"sheet.pdf", "': a PDF or SVG sheet is rasterised and checked by the round trip (verify)"},
       {"huge.png", "': 40000 x 40000 pixels, over the limit of 256 Mpx"},
   };
   for (const auto& c : cases) {

@@ -172,8 +172,7 @@ std::optional<Palette> BuiltinPalette(const std::string& name, std::string* erro
   if (error) {
     std::string valid;
     for (const auto& known : BuiltinPaletteNames()) valid += (valid.empty() ? "" : ", ") + known;
-    *error = "unknown palette '" + name + "' (valid: " + valid +
-             ", or a palette file with --palette-file)";
+    *error = "unknown palette '" + name + "' (valid: " + valid + ", or a palette file)";
   }
   return std::nullopt;
 }

@@ -72,7 +72,7 @@ bool SheetOptions::IsValid(std::string* error) const {
   }
   if (board) {
     if (board->columns < 1 || board->rows < 1 || board->columns > 100 || board->rows > 100)
-      return fail("a board is 1 to 100 tags wide and high (--board COLSxROWS, e.g. 6x4)");
+      return fail("a board is 1 to 100 tags wide and high (COLSxROWS, e.g. 6x4)");
     const size_t n = static_cast<size_t>(board->columns) * static_cast<size_t>(board->rows);
     if (ids.size() != n) {
       return fail("a " + std::to_string(board->columns) + "x" + std::to_string(board->rows) +
@@ -80,7 +80,7 @@ bool SheetOptions::IsValid(std::string* error) const {
                   " IDs were given");
     }
     if (one_per_page || tag.cut_ring || crop_marks)
-      return fail("a board is one page of tags: no --one-per-page, --cut-ring or --crop-marks");
+      return fail("a board is one page of tags: no tag per page, cut ring or crop marks");
     const double quiet = tag_size_mm * tag.quiet_zone_cells / family->black_square_cells();
     if (!(board->spacing_mm >= quiet - 1e-9 && board->spacing_mm <= kMaxPageSideMm)) {
       return fail("the spacing between a board's tags must be at least their quiet zone, " +
@@ -89,9 +89,9 @@ bool SheetOptions::IsValid(std::string* error) const {
     }
   }
   if (format == SheetFormat::kPng) {
-    if (!(dpi >= 10.0 && dpi <= 4800.0)) return fail("--dpi must be in [10, 4800]");
+    if (!(dpi >= 10.0 && dpi <= 4800.0)) return fail("the resolution must be in [10, 4800] dpi");
     const std::string problem = RasterPageProblem(page.width_mm, page.height_mm, dpi);
-    if (!problem.empty()) return fail("a PNG sheet: " + problem + "; lower --dpi");
+    if (!problem.empty()) return fail("a PNG sheet: " + problem + "; lower the resolution");
   }
   return true;
 }
@@ -122,7 +122,7 @@ std::optional<SheetLayout> LayoutBoard(const SheetOptions& options, double usabl
           (options.page.may_turn ? ", turned " + Mm(internal::Usable(options, true).width) + " x " +
                                        Mm(internal::Usable(options, true).height) + " mm"
                                  : std::string()) +
-          " (leave --size out for the largest that fits)";
+          " (give no tag size for the largest that fits)";
     }
     return std::nullopt;
   }

@@ -247,7 +247,8 @@ std::optional<SheetFormat> FormatFromPath(const std::string& path, std::string* 
   if (extension == ".svg") return SheetFormat::kSvg;
   if (extension == ".png") return SheetFormat::kPng;
   if (error) {
-    *error = "cannot tell the format of '" + path + "' (use .pdf, .svg or .png, or --format)";
+    *error =
+        "cannot tell the format of '" + path + "' (use .pdf, .svg or .png, or give the format)";
   }
   return std::nullopt;
 }

@@ -40,12 +40,13 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
     if (x == std::string::npos || !whole(text.substr(0, x), &grid.columns) ||
         !whole(text.substr(x + 1), &grid.rows) || grid.columns < 1 || grid.rows < 1 ||
         grid.columns > 100 || grid.rows > 100) {
-      *error = "--board must be COLSxROWS with 1 to 100 of each, e.g. 6x4, not '" + in.board + "'";
+      *error =
+          "the board must be COLSxROWS with 1 to 100 of each, e.g. 6x4, not '" + in.board + "'";
       return false;
     }
     board = grid;
   } else if (!in.spacing.empty()) {
-    *error = "--spacing is for boards (--board COLSxROWS); sheets take --gap";
+    *error = "a spacing is for boards (COLSxROWS tags); sheets take a gap";
     return false;
   }
   const size_t board_tags =
@@ -60,7 +61,7 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
     }
     out->ids.assign(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(board_tags));
   } else if (in.all == !in.ids.empty()) {
-    *error = "say which tags: --ids 0-9,12 or --all (not both)";
+    *error = "say which tags: a list of IDs (0-9,12) or all kept IDs (not both)";
     return false;
   } else if (in.all) {
     out->ids = out->family->kept_ids();
@@ -94,7 +95,7 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
   if (!in.spacing.empty()) {
     const auto spacing = ParseLength(in.spacing, error);
     if (!spacing) {
-      *error = "--spacing: " + *error;
+      *error = "the spacing: " + *error;
       return false;
     }
     spacing_mm = spacing->mm;
@@ -121,9 +122,9 @@ bool ToSheetOptions(const SheetRequest& in, const std::string& output_path, Shee
     if (spacing_mm && *spacing_mm / quiet_share < 1.0) {
       char text[256];
       std::snprintf(text, sizeof(text),
-                    "--spacing %s mm holds the quiet zone of tags of at most %.2f mm (%d cells of "
-                    "%d across the black square); tags are 1 mm or more: give a larger --spacing "
-                    "or a smaller --quiet-zone",
+                    "a spacing of %s mm holds the quiet zone of tags of at most %.2f mm (%d cells "
+                    "of %d across the black square); tags are 1 mm or more: give a larger spacing "
+                    "or a smaller quiet zone",
                     internal::Mm(*spacing_mm).c_str(), *spacing_mm / quiet_share, in.quiet_zone,
                     out->family->black_square_cells());
       *error = text;

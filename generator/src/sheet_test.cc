@@ -506,7 +506,7 @@ TEST(BoardSheetTest, FillsItsPageAndRecordsItsFrame) {
   larger.tag_size_mm += 1;
   larger.board->spacing_mm = std::ceil(larger.tag_size_mm / 3 * 10) / 10;
   EXPECT_FALSE(LayoutSheet(larger, &error));
-  EXPECT_NE(error.find("leave --size out for the largest that fits"), std::string::npos) << error;
+  EXPECT_NE(error.find("give no tag size for the largest that fits"), std::string::npos) << error;
 
   const auto files = RenderSheet(options, "b.pdf", &error);
   ASSERT_TRUE(files) << error;
@@ -548,12 +548,14 @@ TEST(BoardSheetTest, RefusesWhatIsNoBoardAndSaysWhy) {
     const bool ok = ToSheetOptions(request, "b.pdf", &options, &error);
     EXPECT_FALSE(ok) << request.board;
     EXPECT_NE(error.find(what), std::string::npos) << error;
+    // In the library's terms: the command line adds its flags' names.
+    EXPECT_EQ(error.find("--"), std::string::npos) << error;
   };
-  refused(BoardRequest("6y4"), "--board must be COLSxROWS");
-  refused(BoardRequest("0x4"), "--board must be COLSxROWS");
+  refused(BoardRequest("6y4"), "the board must be COLSxROWS");
+  refused(BoardRequest("0x4"), "the board must be COLSxROWS");
   refused(BoardRequest("7x5"), "16h5 keeps 28 IDs");
-  refused(BoardRequest("99999999999x1"), "--board must be COLSxROWS");
-  refused(BoardRequest(" 2x 2"), "--board must be COLSxROWS");
+  refused(BoardRequest("99999999999x1"), "the board must be COLSxROWS");
+  refused(BoardRequest(" 2x 2"), "the board must be COLSxROWS");
   SheetRequest ids = BoardRequest("2x2");
   ids.ids = "0-2";
   refused(ids, "holds 4 tags, but 3 IDs");
@@ -562,7 +564,7 @@ TEST(BoardSheetTest, RefusesWhatIsNoBoardAndSaysWhy) {
   SheetRequest narrow = BoardRequest("6x4");
   narrow.quiet_zone = 20;
   narrow.spacing = "1mm";
-  refused(narrow, "--spacing 1.0 mm holds the quiet zone of tags of at most 0.30 mm");
+  refused(narrow, "a spacing of 1.0 mm holds the quiet zone of tags of at most 0.30 mm");
   SheetRequest tight = BoardRequest("2x2");
   tight.size = "30mm";
   tight.spacing = "5mm";
@@ -575,7 +577,7 @@ TEST(BoardSheetTest, RefusesWhatIsNoBoardAndSaysWhy) {
   EXPECT_EQ(options.tag_size_mm, 15.0);
   SheetRequest zero = BoardRequest("2x2");
   zero.spacing = "0mm";
-  refused(zero, "--spacing: ");
+  refused(zero, "the spacing: ");
   SheetRequest big = BoardRequest("6x4");
   big.size = "40mm";
   ASSERT_TRUE(ToSheetOptions(big, "b.pdf", &options, &error)) << error;
@@ -588,10 +590,10 @@ TEST(BoardSheetTest, RefusesWhatIsNoBoardAndSaysWhy) {
   SheetRequest spacing;
   spacing.ids = "0";
   spacing.spacing = "5mm";
-  refused(spacing, "--spacing is for boards");
+  refused(spacing, "a spacing is for boards");
   SheetRequest ring = BoardRequest("2x2");
   ring.cut_ring = true;
-  refused(ring, "no --one-per-page, --cut-ring or --crop-marks");
+  refused(ring, "no tag per page, cut ring or crop marks");
 }
 
 }  // namespace

@@ -223,15 +223,14 @@ std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
           if (error) {
             *error = "scan '" + path + "' records " + std::to_string(std::lround(image.dpi_x)) +
                      " x " + std::to_string(std::lround(image.dpi_y)) +
-                     " dpi, outside [50, 4800]; give the scanner's resolution with --scan-dpi";
+                     " dpi, outside [50, 4800]; give the scanner's resolution";
           }
           return std::nullopt;
         }
       } else {
         if (error) {
-          *error = "scan '" + path +
-                   "' does not record its resolution; give it with --scan-dpi (the scanner's "
-                   "dpi)";
+          *error =
+              "scan '" + path + "' does not record its resolution; give the scanner's resolution";
         }
         return std::nullopt;
       }

@@ -141,14 +141,16 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
         findings, Grade::kWarn,
         Format("the page's shape was not checked: this view gives its aspect only as %.3f ± %.3f, "
                "where 1 ± %.3f is allowed (the view does not fix the camera's focal length); "
-               "give --camera, add a photo tilted about both axes or face on, or scan the page",
+               "give the camera's intrinsics, add a photo tilted about both axes or face on, or "
+               "scan the page",
                r->aspect, 2 * r->aspect_error, o.max_aspect_error));
   }
   if (r->tags_in_fit >= 3 && r->rms_mm > 0.5 * o.max_position_error_mm) {
-    AddFinding(findings, Grade::kWarn,
-               Format("the tags do not lie on one flat page (fit residual %.2f mm rms): the sheet "
-                      "curls%s",
-                      r->rms_mm, r->scan ? "" : " or the lens distorts (give --camera)"));
+    AddFinding(
+        findings, Grade::kWarn,
+        Format("the tags do not lie on one flat page (fit residual %.2f mm rms): the sheet "
+               "curls%s",
+               r->rms_mm, r->scan ? "" : " or the lens distorts (give the camera's intrinsics)"));
   }
   // A tag of the sheet's family, read exactly, on the page where the sidecar
   // lists none means the sidecar does not describe this print (cut down, or
@@ -170,7 +172,7 @@ void JudgeScanDpi(const PrintImage& image, const PrintPageResult& r,
       (std::abs(r.scale_x - 1.0) > 0.2 || std::abs(r.scale_y - 1.0) > 0.2)) {
     AddFinding(findings, Grade::kFail,
                Format("the file records %.0f x %.0f dpi: if the scanner used another resolution, "
-                      "give it with --scan-dpi",
+                      "give the scanner's resolution",
                       image.dpi_x, image.dpi_y));
   }
 }

@@ -60,7 +60,7 @@ void Judge(const SheetRecord& record, const VerifyOptions& options, TagVerdict* 
 
 bool VerifyOptions::IsValid(std::string* error) const {
   if (!(dpi >= 50.0 && dpi <= 1200.0)) {
-    if (error) *error = "--dpi must be in [50, 1200]";
+    if (error) *error = "the resolution must be in [50, 1200] dpi";
     return false;
   }
   if (!(max_position_error_mm > 0.0)) {

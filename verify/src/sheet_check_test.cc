@@ -173,7 +173,7 @@ TEST(SheetCheckTest, MissingSidecarAndBadOptionsAreErrors) {
   VerifyOptions options;
   options.dpi = 5.0;
   EXPECT_FALSE(VerifySheetFile("/nonexistent/tags.pdf", options, &error));
-  EXPECT_NE(error.find("--dpi must be in [50, 1200]"), std::string::npos);
+  EXPECT_NE(error.find("the resolution must be in [50, 1200] dpi"), std::string::npos);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #ifndef CHROMATAG_DETECTOR_CAMERA_H_
 #define CHROMATAG_DETECTOR_CAMERA_H_
 
+#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -26,6 +27,16 @@ std::vector<cv::Point2d> ProjectPoints(const CameraIntrinsics& camera,
 // distorted image). NaN for a pixel the fisheye model cannot invert.
 std::vector<cv::Point2d> UndistortPoints(const CameraIntrinsics& camera,
                                          const std::vector<cv::Point2d>& pixels);
+
+// The intrinsics of a camera calibrated on frames of `calibrated` pixels,
+// for frames of `frame` pixels. The same size: `camera` as it is. The same
+// aspect (the two scales within 0.5 %): fx, fy, cx and cy scaled, with pixel
+// centres at integers (a pixel's edge at -0.5 stays at -0.5), the lens
+// distortion unchanged (it is in normalised coordinates). Another shape
+// (a cropped or stretched frame): nullopt, as no scaling holds; calibrate
+// at that size.
+std::optional<CameraIntrinsics> IntrinsicsForFrame(const CameraIntrinsics& camera,
+                                                   cv::Size calibrated, cv::Size frame);
 
 }  // namespace chromatag
 

@@ -5,6 +5,7 @@
 #define CHROMATAG_FAMILIES_AUDIT_H_
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "chromatag/families/decoder.h"
@@ -59,6 +60,12 @@ struct FamilyAudit {
 };
 
 FamilyAudit AuditFamily(const CodeDecoder& decoder, const AuditOptions& options = {});
+
+// The audit as JSON (one line; the "audit" of `chromatag verify --family F
+// --all --json`): codes, min_distance, radius, distance_histogram,
+// closest_pairs (id_a, id_b, rotation, distance), bit_flips (flips,
+// exhaustive, trials, correct, wrong_id, rejected) and decoding_safe.
+std::string FamilyAuditJson(const FamilyAudit& audit);
 
 }  // namespace chromatag
 

@@ -23,6 +23,13 @@ std::optional<FamilyVerdict> VerifyFamily(const std::string& family_name, const 
                                           const VerifyOptions& options,
                                           std::string* error = nullptr);
 
+// `chromatag verify --family F --all --json`'s document, on one line: the
+// round trip's verdict as SheetVerdictJson writes it, "family", "audit"
+// (FamilyAuditJson), "passed" for the whole check, and "stress" (StressJson)
+// when `stress` is not null.
+std::string FamilyVerdictJson(const std::string& family, const FamilyVerdict& verdict,
+                              const std::vector<TagStress>* stress = nullptr);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_VERIFY_FAMILY_CHECK_H_

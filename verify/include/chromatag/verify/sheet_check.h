@@ -79,6 +79,15 @@ std::optional<SheetVerdict> VerifySheetFile(const std::string& sheet_path,
                                             const VerifyOptions& options,
                                             std::string* error = nullptr);
 
+struct TagStress;  // stress.h
+
+// `chromatag verify SHEET --json`'s document, on one line: the verdict
+// (passed, tags_passed, tags, unexpected, file_problems; pages from 1),
+// "sheet" as given, and "stress" (StressJson) when `stress` is not null.
+// Text that is not UTF-8 is written with U+FFFD.
+std::string SheetVerdictJson(const SheetVerdict& verdict, const std::string& sheet,
+                             const std::vector<TagStress>* stress = nullptr);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_VERIFY_SHEET_CHECK_H_

@@ -57,6 +57,11 @@ struct TagStress {
 TagStress StressTag(const TagFamily& family, int id, const TagColors& colors,
                     const Detector& detector, const StressOptions& options = {});
 
+// The stress results as a JSON array (one line; the "stress" of `chromatag
+// verify --stress --json`): per tag its id, smallest_size_px,
+// largest_tilt_deg and conditions (each condition's name: decoded or not).
+std::string StressJson(const std::vector<TagStress>& stresses);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_VERIFY_STRESS_H_
