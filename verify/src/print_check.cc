@@ -39,6 +39,28 @@ Quad ToFitSpace(const internal::FitSpace& space, const Quad& corners) {
   return q;
 }
 
+// The detections of `family`.
+std::vector<const Detection*> OfFamily(const DetectionResult& result, const TagFamily* family) {
+  std::vector<const Detection*> mine;
+  for (const Detection& d : result.detections)
+    if (d.family == family) mine.push_back(&d);
+  return mine;
+}
+
+// Pairs the page's tags with the detections by ID and fits the page over
+// their corners (affine for a scan); false when there is no fit.
+bool FitPageToTags(const internal::FitSpace& space, const PrintCheckOptions& options, bool scan,
+                   PageMatch* m) {
+  for (const Detection* d : m->mine) m->fit_corners.push_back(ToFitSpace(space, d->corners));
+  m->pairs = internal::PairByIds(m->tags, m->mine);
+  const auto fit = m->pairs.empty() ? std::nullopt
+                                    : internal::FitPage(m->tags, m->fit_corners, m->pairs, scan,
+                                                        options.max_position_error_mm);
+  if (!fit) return false;
+  m->fit = *fit;
+  return true;
+}
+
 // Where fitted corners' centre lies on the page.
 cv::Point2d OnPage(const cv::Matx33d& page_from_fit, const Quad& fitted) {
   return ApplyHomography(page_from_fit, Centre(fitted));
@@ -217,8 +239,7 @@ PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
   // 1. Which page: the one most of the sheet's detected IDs belong to.
   const DetectionResult result = detector.Detect(bgr, PixelOrder::kBgr);
   PageMatch m;
-  for (const Detection& d : result.detections)
-    if (d.family == record.family.get()) m.mine.push_back(&d);
+  m.mine = OfFamily(result, record.family.get());
   r.page = internal::ChoosePage(record, m.mine);
   if (r.page < 0) {
     r.undecoded = internal::Undecoded(bgr, result, record);
@@ -229,16 +250,10 @@ PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
     if (t.page == r.page) m.tags.push_back(t);
 
   // 2. One fit from page millimetres over every paired tag's corners.
-  for (const Detection* d : m.mine) m.fit_corners.push_back(ToFitSpace(space, d->corners));
-  m.pairs = internal::PairByIds(m.tags, m.mine);
-  const auto fit = m.pairs.empty() ? std::nullopt
-                                   : internal::FitPage(m.tags, m.fit_corners, m.pairs, r.scan,
-                                                       options.max_position_error_mm);
-  if (!fit) {
+  if (!FitPageToTags(space, options, r.scan, &m)) {
     AddFinding(&page_findings, Grade::kFail, "the found tags do not fit the sheet's layout");
     return settle();
   }
-  m.fit = *fit;
   r.image_from_page = space.PixelsFromFit() * m.fit.image_from_page;
   r.tags_in_fit = static_cast<int>(m.fit.kept.size());
   r.rms_mm = m.fit.rms_mm;
