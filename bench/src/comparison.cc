@@ -75,6 +75,21 @@ uint64_t DetectAndScore(const Frame& frame, int d, TagDetector* detector,
   return touched;
 }
 
+// ChromaTag alone on each frame of a chunk, timed into its record.
+// Returns the frames' touch sum.
+uint64_t TimeChromaTagAlone(const std::vector<Frame>& frames, ChromaTagDetector& chromatag,
+                            FrameRecord* records, std::vector<FoundTag>* found) {
+  uint64_t touched = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    touched += TouchFrame(frames[i].bgr);
+    const auto start = Clock::now();
+    chromatag.Detect(frames[i].bgr, found);
+    records[i].chromatag_alone_us =
+        std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+  }
+  return touched;
+}
+
 // ChromaTag with the config calibrated for the frame's print; on a tag-free
 // frame (no print) every calibrated config, each of which must find nothing.
 void RunCalibrated(const Frame& frame, const CalibratedDetectors& calibrated, FrameRecord* record,
@@ -137,15 +152,8 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       }
     }
     // ChromaTag again on the chunk, with nothing else in between.
-    if (apriltag || aruco) {
-      for (int i = 0; i < count; ++i) {
-        touched += TouchFrame(frames[i].bgr);
-        const auto start = Clock::now();
-        chromatag.Detect(frames[i].bgr, &found);
-        records[first + i].chromatag_alone_us =
-            std::chrono::duration<double, std::micro>(Clock::now() - start).count();
-      }
-    }
+    if (apriltag || aruco)
+      touched += TimeChromaTagAlone(frames, chromatag, &records[first], &found);
     local.detect_s += Seconds(detect_start, Clock::now());
     const auto analysis_start = Clock::now();
     for (int i = 0; i < count; ++i)
