@@ -181,6 +181,16 @@ void ListUnexpected(const PageMatch& m, const std::vector<int>& owner,
   }
 }
 
+// The image resampled onto the page for the report, at most 4000 pixels
+// on its longer side and 3 a millimetre.
+void DrawPageView(const SheetRecord& record, const cv::Mat& bgr, const internal::PageFit& fit,
+                  const internal::FitSpace& space, PrintPageResult* r) {
+  const double max_side = std::max(record.page.width_mm, record.page.height_mm);
+  r->view_px_per_mm = std::min(3.0, 4000.0 / max_side);
+  r->page_view =
+      internal::PageView(bgr, fit.image_from_page, space, record.page, r->view_px_per_mm);
+}
+
 }  // namespace
 
 bool PrintCheckOptions::IsValid(std::string* error) const {
@@ -271,10 +281,7 @@ PrintPageResult CheckPrintImage(const SheetRecord& record, const cv::Mat& bgr,
   // 5. The page's verdict, and its view for the report.
   internal::JudgePage(options, record, &r, &page_findings);
   internal::JudgeScanDpi(image, r, &page_findings);
-  const double max_side = std::max(record.page.width_mm, record.page.height_mm);
-  r.view_px_per_mm = std::min(3.0, 4000.0 / max_side);
-  r.page_view =
-      internal::PageView(bgr, m.fit.image_from_page, space, record.page, r.view_px_per_mm);
+  DrawPageView(record, bgr, m.fit, space, &r);
   return settle();
 }
 
