@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <opencv2/core/utility.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -58,18 +59,22 @@ std::string CommandLine(int argc, char** argv) {
   return command.str();
 }
 
-}  // namespace
+// What the command line asks for.
+struct Args {
+  int trials = 5;
+  chromatag::bench::TrialOptions options;
+  std::string out_dir = "calib-results", label;
+};
 
-int main(int argc, char** argv) {
-  using namespace chromatag::bench;
+// Parses the command line into *args; an exit code when there is nothing
+// more to do (--help, or a bad argument).
+std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
   CLI::App app{
       "Camera calibration from a ChromaTag board against OpenCV's ChArUco calibration, on the "
       "same simulated camera and board poses"};
-  int trials = 5;
-  TrialOptions options;
+  chromatag::bench::TrialOptions& options = args->options;
   options.render_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  std::string out_dir = "calib-results", label;
-  app.add_option("--trials", trials, "trials, each with its own poses and camera effects")
+  app.add_option("--trials", args->trials, "trials, each with its own poses and camera effects")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   app.add_option("--views", options.views, "board poses per trial (both boards at each)")
@@ -81,8 +86,9 @@ int main(int argc, char** argv) {
                  "threads rendering views (detection and calibration always run on one)")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
-  app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
-  app.add_option("--out", out_dir, "folder for report.md and results.json")->capture_default_str();
+  app.add_option("--label", args->label, "what was measured, for the report (e.g. the commit)");
+  app.add_option("--out", args->out_dir, "folder for report.md and results.json")
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -90,6 +96,18 @@ int main(int argc, char** argv) {
     std::cerr << "calib_comparison: error: " << e.what() << " (see calib_comparison --help)\n";
     return 2;
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace chromatag::bench;
+  Args args;
+  if (const auto code = ParseArgs(argc, argv, &args)) return *code;
+  const TrialOptions& options = args.options;
+  const int trials = args.trials;
+  const std::string& out_dir = args.out_dir;
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) {
@@ -116,7 +134,7 @@ int main(int argc, char** argv) {
     std::cerr << "calib_comparison: trial " << t + 1 << " of " << trials << " done\n";
   }
   info.command = CommandLine(argc, argv);
-  info.label = label;
+  info.label = args.label;
   info.cpu = CpuModel();
 #ifdef CHROMATAG_BUILD_FLAGS
   info.build = CHROMATAG_BUILD_FLAGS;

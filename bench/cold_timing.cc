@@ -81,6 +81,58 @@ std::vector<cv::Mat> TagCrops(const Detector& detector, const std::vector<Frame>
   return crops;
 }
 
+// ChromaTag on each frame of a chunk in each of the four states, its times
+// added to *times; `found` and `result` are the detectors' buffers, kept
+// from chunk to chunk. Returns the frames' touch sum.
+uint64_t TimeChunk(const std::vector<Frame>& chunk, const std::vector<cv::Mat>& crops,
+                   const Detector& detector, TagDetector& apriltag, TagDetector& aruco,
+                   std::vector<FoundTag>* found_buffer, DetectionResult* result_buffer,
+                   Times* times) {
+  std::vector<FoundTag>& found = *found_buffer;
+  DetectionResult& result = *result_buffer;
+  uint64_t touched = 0;
+  for (int state = 0; state < kStates; ++state) {
+    for (const Frame& rendered : chunk) {
+      const cv::Mat& frame = rendered.bgr;
+      if (state <= 1) {
+        aruco.Detect(frame, &found);
+        apriltag.Detect(frame, &found);
+      }
+      if (state == 1) {
+        for (const cv::Mat& crop : crops) detector.Detect(crop, PixelOrder::kBgr, &result);
+      }
+      if (state == 3) detector.Detect(frame, PixelOrder::kBgr, &result);
+      touched = touched + TouchFrame(frame);
+      detector.Detect(frame, PixelOrder::kBgr, &result);
+      auto& out = (*times)[state][rendered.truth.has_tags ? 1 : 0];
+      for (int s = 0; s < kNumStages; ++s) out[s].push_back(result.summary.stage_time_us[s]);
+      out[kNumStages].push_back(result.summary.total_time_us);
+    }
+  }
+  return touched;
+}
+
+// The medians, per kind of frame and state, as a Markdown table.
+void PrintTable(const std::string& set, int frames, uint64_t seed, size_t crops,
+                const Times& times) {
+  std::printf("cold_timing --set %s --frames %d --seed %llu: medians in us, %zu crops\n\n",
+              set.c_str(), frames, static_cast<unsigned long long>(seed), crops);
+  std::printf("| frames | state | n | total |");
+  for (int s = 0; s < kNumStages; ++s) std::printf(" %s |", StageName(static_cast<Stage>(s)));
+  std::printf("\n|---|---|---:|---:|");
+  for (int s = 0; s < kNumStages; ++s) std::printf("---:|");
+  std::printf("\n");
+  for (int kind_index : {1, 0}) {
+    for (int state = 0; state < kStates; ++state) {
+      const auto& out = times[state][kind_index];
+      std::printf("| %s | %s | %zu | %.1f |", kind_index ? "with tags" : "tag-free",
+                  kStateNames[state], out[kNumStages].size(), Median(out[kNumStages]));
+      for (int s = 0; s < kNumStages; ++s) std::printf(" %.1f |", Median(out[s]));
+      std::printf("\n");
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -125,40 +177,9 @@ int main(int argc, char** argv) {
     const std::vector<Frame> chunk =
         RenderFrames(*setup.dataset, first, std::min(kChunk, frames - first), threads);
     if (crops.empty()) crops = TagCrops(*detector, chunk, setup.families);
-    for (int state = 0; state < kStates; ++state) {
-      for (const Frame& rendered : chunk) {
-        const cv::Mat& frame = rendered.bgr;
-        if (state <= 1) {
-          aruco.Detect(frame, &found);
-          apriltag.Detect(frame, &found);
-        }
-        if (state == 1) {
-          for (const cv::Mat& crop : crops) detector->Detect(crop, PixelOrder::kBgr, &result);
-        }
-        if (state == 3) detector->Detect(frame, PixelOrder::kBgr, &result);
-        touched = touched + TouchFrame(frame);
-        detector->Detect(frame, PixelOrder::kBgr, &result);
-        auto& out = times[state][rendered.truth.has_tags ? 1 : 0];
-        for (int s = 0; s < kNumStages; ++s) out[s].push_back(result.summary.stage_time_us[s]);
-        out[kNumStages].push_back(result.summary.total_time_us);
-      }
-    }
+    touched =
+        touched + TimeChunk(chunk, crops, *detector, apriltag, aruco, &found, &result, &times);
   }
-  std::printf("cold_timing --set %s --frames %d --seed %llu: medians in us, %zu crops\n\n",
-              set.c_str(), frames, static_cast<unsigned long long>(seed), crops.size());
-  std::printf("| frames | state | n | total |");
-  for (int s = 0; s < kNumStages; ++s) std::printf(" %s |", StageName(static_cast<Stage>(s)));
-  std::printf("\n|---|---|---:|---:|");
-  for (int s = 0; s < kNumStages; ++s) std::printf("---:|");
-  std::printf("\n");
-  for (int kind_index : {1, 0}) {
-    for (int state = 0; state < kStates; ++state) {
-      const auto& out = times[state][kind_index];
-      std::printf("| %s | %s | %zu | %.1f |", kind_index ? "with tags" : "tag-free",
-                  kStateNames[state], out[kNumStages].size(), Median(out[kNumStages]));
-      for (int s = 0; s < kNumStages; ++s) std::printf(" %.1f |", Median(out[s]));
-      std::printf("\n");
-    }
-  }
+  PrintTable(set, frames, seed, crops.size(), times);
   return 0;
 }

@@ -19,6 +19,46 @@
 using namespace chromatag;
 using namespace chromatag::bench;
 
+namespace {
+
+// The second setting: `on` switched on, or `off` switched off, in the
+// options or in the stages' switches.
+void SwitchOption(const std::string& off, const std::string& on, DetectorOptions* b,
+                  internal::StageSwitches* b_switches) {
+  if (on == "cast_seeds") {
+    b->cast_seeds = true;
+  } else if (off == "two_step_rises") {
+    b->two_step_rises = false;
+  } else if (off == "colour_split_read") {
+    b_switches->colour_split_read = false;
+  } else {
+    (off == "quads_from_scans" ? b_switches->quads_from_scans
+     : off == "grow_regions"   ? b_switches->grow_regions
+                               : b_switches->refine_corners) = false;
+  }
+}
+
+// The paired medians, with tags and tag-free, as a Markdown table.
+void PrintTable(const std::string& set, int frames, uint64_t seed, const std::string& off,
+                const std::string& on, const std::vector<PairedFrame>& pairs) {
+  std::printf(
+      "pair_timing --set %s --frames %d --seed %llu: defaults (A) against %s %s (B), "
+      "medians in us\n\n",
+      set.c_str(), frames, static_cast<unsigned long long>(seed),
+      on.empty() ? off.c_str() : on.c_str(), on.empty() ? "off" : "on");
+  std::printf(
+      "| frames | n | A | B | B - A, paired | B - A, A timed first | B - A, B timed first | "
+      "detections A / B |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (bool with_tags : {true, false}) {
+    const PairedMedians m = SummarisePairs(pairs, with_tags);
+    std::printf("| %s | %d | %.1f | %.1f | %+.1f | %+.1f | %+.1f | %d / %d |\n",
+                with_tags ? "with tags" : "tag-free", m.frames, m.a_us, m.b_us, m.b_minus_a_us,
+                m.b_minus_a_a_first_us, m.b_minus_a_b_first_us, m.a_found, m.b_found);
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{
       "ChromaTag's time with its defaults and with one option switched, paired frame by frame "
@@ -66,33 +106,10 @@ int main(int argc, char** argv) {
   a.families = setup.families;
   DetectorOptions b = a;
   internal::StageSwitches b_switches;
-  if (on == "cast_seeds") {
-    b.cast_seeds = true;
-  } else if (off == "two_step_rises") {
-    b.two_step_rises = false;
-  } else if (off == "colour_split_read") {
-    b_switches.colour_split_read = false;
-  } else {
-    (off == "quads_from_scans" ? b_switches.quads_from_scans
-     : off == "grow_regions"   ? b_switches.grow_regions
-                               : b_switches.refine_corners) = false;
-  }
+  SwitchOption(off, on, &b, &b_switches);
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const auto pairs =
       RunPairedTiming(*setup.dataset, a, b, b_switches, *setup.apriltag, *setup.aruco, threads);
-  std::printf(
-      "pair_timing --set %s --frames %d --seed %llu: defaults (A) against %s %s (B), "
-      "medians in us\n\n",
-      set.c_str(), frames, static_cast<unsigned long long>(seed),
-      on.empty() ? off.c_str() : on.c_str(), on.empty() ? "off" : "on");
-  std::printf(
-      "| frames | n | A | B | B - A, paired | B - A, A timed first | B - A, B timed first | "
-      "detections A / B |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
-  for (bool with_tags : {true, false}) {
-    const PairedMedians m = SummarisePairs(pairs, with_tags);
-    std::printf("| %s | %d | %.1f | %.1f | %+.1f | %+.1f | %+.1f | %d / %d |\n",
-                with_tags ? "with tags" : "tag-free", m.frames, m.a_us, m.b_us, m.b_minus_a_us,
-                m.b_minus_a_a_first_us, m.b_minus_a_b_first_us, m.a_found, m.b_found);
-  }
+  PrintTable(set, frames, seed, off, on, pairs);
   return 0;
 }

@@ -13,11 +13,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -198,48 +201,53 @@ bool DumpMisses(const Dataset& dataset, const std::vector<FrameRecord>& records,
   return true;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set"};
+// What the command line asks for.
+struct Args {
   std::string set = "classic", which_detectors = "all";
-  app.add_option("--set", set,
+  DatasetOptions dataset_options;
+  RunOptions run_options;
+  bool quick = false;
+  std::string out_dir = "bench-results";
+  std::string label, dump_dir, config;
+  bool skip_calibrated = false;
+};
+
+// Parses the command line into *args; an exit code when there is nothing
+// more to do (--help, or a bad argument).
+std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
+  CLI::App app{"ChromaTag against AprilTag 3 and OpenCV ArUco on a rendered data set"};
+  app.add_option("--set", args->set,
                  "data set: classic (16h5, kind conditions) or camera (16h5 and 36h11, "
                  "as hard as real cameras)")
       ->check(CLI::IsMember({"classic", "camera"}))
       ->capture_default_str();
-  app.add_option("--detectors", which_detectors,
+  app.add_option("--detectors", args->which_detectors,
                  "all three, or chromatag alone (quick detector iteration; targets relative to "
                  "AprilTag then read n/a)")
       ->check(CLI::IsMember({"all", "chromatag"}))
       ->capture_default_str();
-  DatasetOptions dataset_options;
-  RunOptions run_options;
-  run_options.render_threads = std::max(1u, std::thread::hardware_concurrency());
-  bool quick = false;
-  std::string out_dir = "bench-results";
+  DatasetOptions& dataset_options = args->dataset_options;
+  args->run_options.render_threads = std::max(1u, std::thread::hardware_concurrency());
   app.add_option("--frames", dataset_options.num_frames, "frames to render and detect")
       ->check(CLI::Range(1, 10'000'000))
       ->capture_default_str();
-  app.add_flag("--quick", quick, "a small run (400 frames) to check that everything works");
+  app.add_flag("--quick", args->quick, "a small run (400 frames) to check that everything works");
   app.add_option("--seed", dataset_options.seed, "data set seed")->capture_default_str();
-  app.add_option("--threads", run_options.render_threads,
+  app.add_option("--threads", args->run_options.render_threads,
                  "threads rendering frames (detectors always run on one)")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   app.add_option("--photos", dataset_options.photo_dir, "folder of background photographs")
       ->capture_default_str();
-  app.add_option("--out", out_dir, "folder for report.md, the PNG figures and frames.csv")
+  app.add_option("--out", args->out_dir, "folder for report.md, the PNG figures and frames.csv")
       ->capture_default_str();
-  std::string label, dump_dir, config;
-  app.add_option("--config", config,
+  app.add_option("--config", args->config,
                  "ChromaTag's options from a detector config JSON (as 'chromatag detect "
                  "--config'); the set's families replace any it names");
-  app.add_option("--label", label, "what was measured, for the report (e.g. the commit)");
-  bool skip_calibrated = false;
-  app.add_flag("--skip-calibrated", skip_calibrated,
+  app.add_option("--label", args->label, "what was measured, for the report (e.g. the commit)");
+  app.add_flag("--skip-calibrated", args->skip_calibrated,
                "camera set: do not calibrate for each print and run ChromaTag with those configs");
-  app.add_option("--dump-misses", dump_dir,
+  app.add_option("--dump-misses", args->dump_dir,
                  "also write each frame whose tag ChromaTag missed to this folder, as PNG with a "
                  "JSON of its truth and Table 4(b)'s reason");
   try {
@@ -249,18 +257,139 @@ int main(int argc, char** argv) {
     std::cerr << "tag_comparison: error: " << e.what() << " (see tag_comparison --help)\n";
     return 2;
   }
-  if (quick && app.count("--frames") == 0) dataset_options.num_frames = 400;
+  if (args->quick && app.count("--frames") == 0) dataset_options.num_frames = 400;
   // The set's own defaults, with what was given on the command line.
-  const DatasetKind kind = *ParseDatasetKind(set);
-  {
-    DatasetOptions given = dataset_options;
-    dataset_options = DatasetOptions::ForKind(kind);
-    dataset_options.num_frames = given.num_frames;
-    dataset_options.seed = given.seed;
-    dataset_options.photo_dir = given.photo_dir;
+  const DatasetOptions given = dataset_options;
+  dataset_options = DatasetOptions::ForKind(*ParseDatasetKind(args->set));
+  dataset_options.num_frames = given.num_frames;
+  dataset_options.seed = given.seed;
+  dataset_options.photo_dir = given.photo_dir;
+  return std::nullopt;
+}
+
+// The camera set's prints, each with ChromaTag on the config calibrated for
+// it; false (said on stderr) when a calibration fails.
+bool CalibrateForEachPrint(const std::vector<std::string>& families,
+                           std::vector<std::unique_ptr<ChromaTagDetector>>* owned,
+                           CalibratedDetectors* calibrated,
+                           std::vector<std::pair<std::string, chromatag::DetectorOptions>>* used) {
+  std::cerr << "tag_comparison: calibrating for each print\n";
+  std::string error;
+  for (int k = 0; k < kNumPrintKinds; ++k) {
+    const PrintKind print = static_cast<PrintKind>(k);
+    auto options = CalibratedOptions(print, &error);
+    if (!options) {
+      std::cerr << "tag_comparison: calibration for " << PrintKindName(print) << ": " << error
+                << "\n";
+      return false;
+    }
+    options->families = families;
+    owned->push_back(ChromaTagDetector::CreateWithOptions(*options, &error));
+    if (!owned->back()) {
+      std::cerr << "tag_comparison: " << error << "\n";
+      return false;
+    }
+    (*calibrated)[k] = owned->back().get();
+    used->emplace_back(PrintKindName(print), *options);
   }
+  return true;
+}
+
+// The command as typed, arguments with spaces quoted.
+std::string CommandLine(int argc, char** argv) {
+  std::ostringstream command;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = i ? argv[i] : std::filesystem::path(argv[0]).filename().string();
+    command << (i ? " " : "") << (arg.find(' ') == std::string::npos ? arg : "'" + arg + "'");
+  }
+  return command.str();
+}
+
+// Progress on stderr: one line redrawn on a terminal, else a line every tenth.
+std::function<void(int, int)> ProgressPrinter() {
+  const bool terminal = isatty(STDERR_FILENO);
+  auto reported = std::make_shared<int>(0);
+  return [terminal, reported](int done, int total) {
+    if (terminal) {
+      std::cerr << "\r  " << done << " / " << total << " frames" << std::flush;
+    } else if (done * 10 / total > *reported || done == total) {
+      *reported = done * 10 / total;
+      std::cerr << "  " << done << " / " << total << " frames\n";
+    }
+  };
+}
+
+// The detectors the run compares.
+struct Detectors {
+  std::unique_ptr<ChromaTagDetector> chromatag;
+  std::unique_ptr<TagDetector> apriltag, aruco;
+  std::vector<std::unique_ptr<ChromaTagDetector>> calibrated_owned;
+  CalibratedDetectors calibrated{};
+  std::vector<std::pair<std::string, chromatag::DetectorOptions>> calibrated_options;
+};
+
+// Creates the detectors the arguments ask for; an exit code on failure.
+std::optional<int> CreateDetectors(const Args& args, DatasetKind kind, Detectors* out) {
   const std::vector<std::string> families = DatasetFamilies(kind);
-  const bool all_detectors = which_detectors == "all";
+  std::string error;
+  chromatag::DetectorOptions chromatag_options;
+  if (!args.config.empty() &&
+      !chromatag::LoadDetectorConfig(args.config, &chromatag_options, &error)) {
+    std::cerr << "tag_comparison: " << error << "\n";
+    return 2;
+  }
+  chromatag_options.families = families;
+  out->chromatag = ChromaTagDetector::CreateWithOptions(chromatag_options, &error);
+  if (!out->chromatag) {
+    std::cerr << "tag_comparison: " << error << "\n";
+    return args.config.empty() ? 1 : 2;
+  }
+  if (kind == DatasetKind::kCamera && !args.skip_calibrated &&
+      !CalibrateForEachPrint(families, &out->calibrated_owned, &out->calibrated,
+                             &out->calibrated_options)) {
+    return 1;
+  }
+  if (args.which_detectors == "all") {
+    out->apriltag = MakeAprilTagDetector(families, &error);
+    out->aruco = MakeArucoDetector(families, &error);
+  }
+  return std::nullopt;
+}
+
+// The report, the example montage and the missed frames; the exit code.
+int WriteOutputs(const Dataset& dataset, const Detectors& detectors,
+                 const std::vector<FrameRecord>& records, const ReportInfo& info,
+                 const Args& args) {
+  std::string markdown, error;
+  if (!WriteReport(records, info, args.out_dir, &markdown, &error)) {
+    std::cerr << "tag_comparison: " << error << "\n";
+    return 1;
+  }
+  if (!WriteExamples(dataset,
+                     {detectors.chromatag.get(), detectors.apriltag.get(), detectors.aruco.get()},
+                     args.out_dir + "/examples.jpg")) {
+    std::cerr << "tag_comparison: could not write " << args.out_dir << "/examples.jpg\n";
+  }
+  if (!args.dump_dir.empty()) {
+    int written = 0;
+    if (!DumpMisses(dataset, records, args.dump_dir, &written)) {
+      std::cerr << "tag_comparison: could not write the missed frames to " << args.dump_dir << "\n";
+      return 1;
+    }
+    std::cerr << "tag_comparison: " << written << " missed frames written to " << args.dump_dir
+              << "\n";
+  }
+  std::cout << markdown << "\nWritten to " << args.out_dir << "/report.md\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  if (const auto code = ParseArgs(argc, argv, &args)) return *code;
+  const DatasetKind kind = *ParseDatasetKind(args.set);
+  const DatasetOptions& dataset_options = args.dataset_options;
 
   // Every detector on one thread, OpenCV's own pool included (ArUco would
   // otherwise spread over the cores); rendering threads are ours.
@@ -272,47 +401,9 @@ int main(int argc, char** argv) {
     std::cerr << "tag_comparison: " << error << "\n";
     return 2;
   }
-  chromatag::DetectorOptions chromatag_options;
-  if (!config.empty() && !chromatag::LoadDetectorConfig(config, &chromatag_options, &error)) {
-    std::cerr << "tag_comparison: " << error << "\n";
-    return 2;
-  }
-  chromatag_options.families = families;
-  auto chromatag = ChromaTagDetector::CreateWithOptions(chromatag_options, &error);
-  if (!chromatag) {
-    std::cerr << "tag_comparison: " << error << "\n";
-    return config.empty() ? 1 : 2;
-  }
-  // The camera set's prints, each with the config calibrated for it.
-  std::vector<std::unique_ptr<ChromaTagDetector>> calibrated_owned;
-  CalibratedDetectors calibrated{};
-  std::vector<std::pair<std::string, chromatag::DetectorOptions>> calibrated_options;
-  if (kind == DatasetKind::kCamera && !skip_calibrated) {
-    std::cerr << "tag_comparison: calibrating for each print\n";
-    for (int k = 0; k < kNumPrintKinds; ++k) {
-      const PrintKind print = static_cast<PrintKind>(k);
-      auto options = CalibratedOptions(print, &error);
-      if (!options) {
-        std::cerr << "tag_comparison: calibration for " << PrintKindName(print) << ": " << error
-                  << "\n";
-        return 1;
-      }
-      options->families = families;
-      calibrated_owned.push_back(ChromaTagDetector::CreateWithOptions(*options, &error));
-      if (!calibrated_owned.back()) {
-        std::cerr << "tag_comparison: " << error << "\n";
-        return 1;
-      }
-      calibrated[k] = calibrated_owned.back().get();
-      calibrated_options.emplace_back(PrintKindName(print), *options);
-    }
-  }
-  std::unique_ptr<TagDetector> apriltag, aruco;
-  if (all_detectors) {
-    apriltag = MakeAprilTagDetector(families, &error);
-    aruco = MakeArucoDetector(families, &error);
-  }
-  for (const std::string& dir : {out_dir, dump_dir}) {
+  Detectors detectors;
+  if (const auto code = CreateDetectors(args, kind, &detectors)) return *code;
+  for (const std::string& dir : {args.out_dir, args.dump_dir}) {
     std::error_code ec;
     if (!dir.empty()) std::filesystem::create_directories(dir, ec);
     if (ec) {
@@ -321,34 +412,19 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::cerr << "tag_comparison: " << set << " set, " << dataset_options.num_frames
-            << " frames, seed " << dataset_options.seed << ", " << run_options.render_threads
+  std::cerr << "tag_comparison: " << args.set << " set, " << dataset_options.num_frames
+            << " frames, seed " << dataset_options.seed << ", " << args.run_options.render_threads
             << " rendering threads\n";
   RunTimes times;
   const std::string load_before = LoadAverage();
-  const bool terminal = isatty(STDERR_FILENO);
-  int reported = 0;
-  const auto records = RunComparison(
-      *dataset, *chromatag, apriltag.get(), aruco.get(), run_options, &times,
-      [&](int done, int total) {
-        if (terminal) {
-          std::cerr << "\r  " << done << " / " << total << " frames" << std::flush;
-        } else if (done * 10 / total > reported || done == total) {
-          reported = done * 10 / total;
-          std::cerr << "  " << done << " / " << total << " frames\n";
-        }
-      },
-      calibrated);
-  if (terminal) std::cerr << "\n";
+  const auto records =
+      RunComparison(*dataset, *detectors.chromatag, detectors.apriltag.get(), detectors.aruco.get(),
+                    args.run_options, &times, ProgressPrinter(), detectors.calibrated);
+  if (isatty(STDERR_FILENO)) std::cerr << "\n";
 
   ReportInfo info;
-  std::ostringstream command;  // As typed, arguments with spaces quoted.
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = i ? argv[i] : std::filesystem::path(argv[0]).filename().string();
-    command << (i ? " " : "") << (arg.find(' ') == std::string::npos ? arg : "'" + arg + "'");
-  }
-  info.command = command.str();
-  info.label = label;
+  info.command = CommandLine(argc, argv);
+  info.label = args.label;
   info.cpu = CpuModel();
 #ifdef CHROMATAG_BUILD_FLAGS
   info.build = CHROMATAG_BUILD_FLAGS;
@@ -357,25 +433,8 @@ int main(int argc, char** argv) {
   info.dataset = dataset_options;
   info.photos = dataset->photos();
   info.times = times;
+  const bool all_detectors = args.which_detectors == "all";
   info.active = {true, all_detectors, all_detectors};
-  info.calibrated = calibrated_options;
-  std::string markdown;
-  if (!WriteReport(records, info, out_dir, &markdown, &error)) {
-    std::cerr << "tag_comparison: " << error << "\n";
-    return 1;
-  }
-  if (!WriteExamples(*dataset, {chromatag.get(), apriltag.get(), aruco.get()},
-                     out_dir + "/examples.jpg")) {
-    std::cerr << "tag_comparison: could not write " << out_dir << "/examples.jpg\n";
-  }
-  if (!dump_dir.empty()) {
-    int written = 0;
-    if (!DumpMisses(*dataset, records, dump_dir, &written)) {
-      std::cerr << "tag_comparison: could not write the missed frames to " << dump_dir << "\n";
-      return 1;
-    }
-    std::cerr << "tag_comparison: " << written << " missed frames written to " << dump_dir << "\n";
-  }
-  std::cout << markdown << "\nWritten to " << out_dir << "/report.md\n";
-  return 0;
+  info.calibrated = detectors.calibrated_options;
+  return WriteOutputs(*dataset, detectors, records, info, args);
 }

@@ -236,4 +236,19 @@ cv::Mat RenderPrintedTag(const TagFamily& family, int id, const TagColors& sent,
   return Develop(scene, camera);
 }
 
+std::array<cv::Point2d, 4> PinholePageCorners(const PageSize& page, double f, double tilt_deg,
+                                              double yaw_deg, double distance_mm, cv::Size size) {
+  const double t = tilt_deg * CV_PI / 180, y = yaw_deg * CV_PI / 180;
+  const cv::Matx33d rx(1, 0, 0, 0, std::cos(t), -std::sin(t), 0, std::sin(t), std::cos(t));
+  const cv::Matx33d ry(std::cos(y), 0, std::sin(y), 0, 1, 0, -std::sin(y), 0, std::cos(y));
+  std::array<cv::Point2d, 4> out;
+  const double w = page.width_mm / 2, h = page.height_mm / 2;
+  const cv::Vec3d corners[4] = {{-w, -h, 0}, {w, -h, 0}, {w, h, 0}, {-w, h, 0}};
+  for (int i = 0; i < 4; ++i) {
+    const cv::Vec3d p = ry * rx * corners[i] + cv::Vec3d(0, 0, distance_mm);
+    out[i] = {f * p[0] / p[2] + (size.width - 1) / 2.0, f * p[1] / p[2] + (size.height - 1) / 2.0};
+  }
+  return out;
+}
+
 }  // namespace chromatag::testing

@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/base/units.h"
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
@@ -99,6 +100,13 @@ cv::Point2d ScanPixelOfPagePoint(const cv::Point2d& page_mm, const cv::Size2d& p
 // say where the page's corners land; uneven light as RenderSheetPhoto).
 cv::Mat PrintAndPhotograph(const cv::Mat& page_bgr, double page_px_per_mm, const PrintFn& print,
                            const PrintGeometry& geometry, const SimCamera& camera);
+
+// Where a page's corners land in a pinhole camera (square pixels, principal
+// point at the centre, focal length f px) looking at the page's centre from
+// `distance_mm`, the page turned by `tilt_deg` about its horizontal axis and
+// `yaw_deg` about its vertical one: a perspective a real camera can make.
+std::array<cv::Point2d, 4> PinholePageCorners(const PageSize& page, double f, double tilt_deg,
+                                              double yaw_deg, double distance_mm, cv::Size size);
 
 // What `camera` reports for a flat patch of `printed` colour under even light,
 // read as sRGB and normalised to the paper white the same way: the best any

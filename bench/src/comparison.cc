@@ -38,6 +38,84 @@ uint64_t TouchFrame(const cv::Mat& image) {
   return sum;
 }
 
+namespace {
+
+// One detector on one frame, timed, scored against the truth, and its pose
+// measured when it found the tag. Returns the frame's touch sum.
+uint64_t DetectAndScore(const Frame& frame, int d, TagDetector* detector,
+                        ChromaTagDetector& chromatag, FrameRecord* record,
+                        std::vector<FoundTag>* found) {
+  const uint64_t touched = TouchFrame(frame.bgr);
+  const auto start = Clock::now();
+  detector->Detect(frame.bgr, found);
+  const auto end = Clock::now();
+  DetectorRecord& out = record->detectors[d];
+  out.ran = true;
+  out.time_us = std::chrono::duration<double, std::micro>(end - start).count();
+  out.num_found = static_cast<int>(found->size());
+  const TagTruth* own = nullptr;
+  const TagTruth* other = nullptr;
+  if (frame.truth.has_tags) {
+    own = d == kChromaTag ? &frame.truth.chromatag : &frame.truth.apriltag;
+    other = d == kChromaTag ? &frame.truth.apriltag : &frame.truth.chromatag;
+  }
+  out.score = ScoreFrame(*found, own, other);
+  if (d == kChromaTag) record->chromatag_summary = chromatag.last_summary();
+  if (out.score.found) {
+    const FoundTag& tag = (*found)[out.score.found_index];
+    const cv::Matx33d k(own->fx, 0, own->cx, 0, own->fx, own->cy, 0, 0, 1);
+    PoseEstimate pose;
+    if (detector->Pose(tag, k, 1.0, &pose))
+      PoseError(pose, *own, &out.rotation_error_deg, &out.translation_error_pct);
+    if (d == kChromaTag && detector->TagDetector::Pose(tag, k, 1.0, &pose)) {
+      PoseError(pose, *own, &record->chromatag_four_corner_rotation_error_deg,
+                &record->chromatag_four_corner_translation_error_pct);
+    }
+  }
+  return touched;
+}
+
+// ChromaTag alone on each frame of a chunk, timed into its record.
+// Returns the frames' touch sum.
+uint64_t TimeChromaTagAlone(const std::vector<Frame>& frames, ChromaTagDetector& chromatag,
+                            FrameRecord* records, std::vector<FoundTag>* found) {
+  uint64_t touched = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    touched += TouchFrame(frames[i].bgr);
+    const auto start = Clock::now();
+    chromatag.Detect(frames[i].bgr, found);
+    records[i].chromatag_alone_us =
+        std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+  }
+  return touched;
+}
+
+// ChromaTag with the config calibrated for the frame's print; on a tag-free
+// frame (no print) every calibrated config, each of which must find nothing.
+void RunCalibrated(const Frame& frame, const CalibratedDetectors& calibrated, FrameRecord* record,
+                   std::vector<FoundTag>* found) {
+  const FrameTruth& truth = record->truth;
+  if (truth.has_tags) {
+    ChromaTagDetector* detector = calibrated[static_cast<int>(truth.print)];
+    if (!detector) return;
+    detector->Detect(frame.bgr, found);
+    record->calibrated.ran = true;
+    record->calibrated.num_found = static_cast<int>(found->size());
+    record->calibrated.score = ScoreFrame(*found, &truth.chromatag, &truth.apriltag);
+    return;
+  }
+  for (ChromaTagDetector* detector : calibrated) {
+    if (!detector) continue;
+    detector->Detect(frame.bgr, found);
+    record->calibrated.ran = true;
+    record->calibrated.num_found += static_cast<int>(found->size());
+    record->calibrated.score.false_positives +=
+        ScoreFrame(*found, nullptr, nullptr).false_positives;
+  }
+}
+
+}  // namespace
+
 std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector& chromatag,
                                        TagDetector* apriltag, TagDetector* aruco,
                                        const RunOptions& options, RunTimes* times,
@@ -64,76 +142,22 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       warmed_up = true;
     }
     for (int i = 0; i < count; ++i) {
-      const Frame& frame = frames[i];
       FrameRecord& record = records[first + i];
-      record.truth = frame.truth;
-      const bool tags = frame.truth.has_tags;
+      record.truth = frames[i].truth;
+      // The detectors take turns at going first.
       for (int turn = 0; turn < kNumDetectors; ++turn) {
         const int d = (first + i + turn) % kNumDetectors;
         if (!detectors[d]) continue;
-        touched += TouchFrame(frame.bgr);
-        const auto start = Clock::now();
-        detectors[d]->Detect(frame.bgr, &found);
-        const auto end = Clock::now();
-        DetectorRecord& out = record.detectors[d];
-        out.ran = true;
-        out.time_us = std::chrono::duration<double, std::micro>(end - start).count();
-        out.num_found = static_cast<int>(found.size());
-        const TagTruth* own = nullptr;
-        const TagTruth* other = nullptr;
-        if (tags) {
-          own = d == kChromaTag ? &frame.truth.chromatag : &frame.truth.apriltag;
-          other = d == kChromaTag ? &frame.truth.apriltag : &frame.truth.chromatag;
-        }
-        out.score = ScoreFrame(found, own, other);
-        if (d == kChromaTag) record.chromatag_summary = chromatag.last_summary();
-        if (out.score.found) {
-          const FoundTag& tag = found[out.score.found_index];
-          const cv::Matx33d k(own->fx, 0, own->cx, 0, own->fx, own->cy, 0, 0, 1);
-          PoseEstimate pose;
-          if (detectors[d]->Pose(tag, k, 1.0, &pose))
-            PoseError(pose, *own, &out.rotation_error_deg, &out.translation_error_pct);
-          if (d == kChromaTag && detectors[d]->TagDetector::Pose(tag, k, 1.0, &pose)) {
-            PoseError(pose, *own, &record.chromatag_four_corner_rotation_error_deg,
-                      &record.chromatag_four_corner_translation_error_pct);
-          }
-        }
+        touched += DetectAndScore(frames[i], d, detectors[d], chromatag, &record, &found);
       }
     }
     // ChromaTag again on the chunk, with nothing else in between.
-    if (apriltag || aruco) {
-      for (int i = 0; i < count; ++i) {
-        touched += TouchFrame(frames[i].bgr);
-        const auto start = Clock::now();
-        chromatag.Detect(frames[i].bgr, &found);
-        records[first + i].chromatag_alone_us =
-            std::chrono::duration<double, std::micro>(Clock::now() - start).count();
-      }
-    }
+    if (apriltag || aruco)
+      touched += TimeChromaTagAlone(frames, chromatag, &records[first], &found);
     local.detect_s += Seconds(detect_start, Clock::now());
     const auto analysis_start = Clock::now();
-    for (int i = 0; i < count; ++i) {
-      FrameRecord& record = records[first + i];
-      const FrameTruth& truth = record.truth;
-      if (truth.has_tags) {
-        ChromaTagDetector* detector = calibrated[static_cast<int>(truth.print)];
-        if (!detector) continue;
-        detector->Detect(frames[i].bgr, &found);
-        record.calibrated.ran = true;
-        record.calibrated.num_found = static_cast<int>(found.size());
-        record.calibrated.score = ScoreFrame(found, &truth.chromatag, &truth.apriltag);
-        continue;
-      }
-      // A tag-free frame has no print: every calibrated config must find nothing.
-      for (ChromaTagDetector* detector : calibrated) {
-        if (!detector) continue;
-        detector->Detect(frames[i].bgr, &found);
-        record.calibrated.ran = true;
-        record.calibrated.num_found += static_cast<int>(found.size());
-        record.calibrated.score.false_positives +=
-            ScoreFrame(found, nullptr, nullptr).false_positives;
-      }
-    }
+    for (int i = 0; i < count; ++i)
+      RunCalibrated(frames[i], calibrated, &records[first + i], &found);
     for (int i = 0; i < count; ++i) {
       FrameRecord& record = records[first + i];
       if (record.truth.has_tags && !record.detectors[kChromaTag].score.found) {

@@ -306,8 +306,8 @@ bool WriteMap(const Context& c, const RecallMap& map, const std::string& title,
   return WriteHeatMap(heat, c.out_dir + "/" + file, c.error);
 }
 
-bool FigureSection(const Context& c, std::string* section) {
-  const Curves curves = ComputeCurves(c);
+// Figures 9a to 9c (and AprilTag's map) as PNG files in the output folder.
+bool WriteFigures(const Context& c, const Curves& curves) {
   LinePlot size_plot;
   size_plot.title = "Figure 9a: recall against tag size";
   size_plot.x_label = "tag size (square root of the black square's area), px";
@@ -323,33 +323,39 @@ bool FigureSection(const Context& c, std::string* section) {
     size_plot.series.push_back(CurveSeries(curves.size[d], c.info.names[d], d));
     angle_plot.series.push_back(CurveSeries(curves.angle[d], c.info.names[d], d));
   }
-  if (!WriteLinePlot(size_plot, c.out_dir + "/fig9a_recall_vs_size.png", c.error) ||
-      !WriteLinePlot(angle_plot, c.out_dir + "/fig9b_recall_vs_angle.png", c.error) ||
-      !WriteMap(c, curves.map[kChromaTag], "Figure 9c: ChromaTag recall, size x angle",
-                "fig9c_chromatag_size_angle.png") ||
-      (c.info.active[kAprilTag] &&
-       !WriteMap(c, curves.map[kAprilTag], "AprilTag 3 recall, size x angle",
-                 "fig9c_apriltag_size_angle.png"))) {
-    return false;
-  }
-  auto curve_table = [&](const std::vector<RecallCurve>& set, const std::string& unit) {
-    Table rows;
-    for (int i = 0; i < set[0].bins.count; ++i) {
-      if (set[0].trials[i] == 0) continue;
-      const bool last = i == set[0].bins.count - 1;
-      std::vector<std::string> row = {Fixed(set[0].bins.Edge(i), 0) +
-                                          (last ? "+" : "–" + Fixed(set[0].bins.Edge(i + 1), 0)) +
-                                          " " + unit,
-                                      Grouped(set[0].trials[i])};
-      for (int d = 0; d < kNumDetectors; ++d) {
-        row.push_back(c.info.active[d] ? Fixed(100.0 * set[d].Recall(i), 1) : "n/a");
-      }
-      rows.push_back(row);
+  return WriteLinePlot(size_plot, c.out_dir + "/fig9a_recall_vs_size.png", c.error) &&
+         WriteLinePlot(angle_plot, c.out_dir + "/fig9b_recall_vs_angle.png", c.error) &&
+         WriteMap(c, curves.map[kChromaTag], "Figure 9c: ChromaTag recall, size x angle",
+                  "fig9c_chromatag_size_angle.png") &&
+         (!c.info.active[kAprilTag] ||
+          WriteMap(c, curves.map[kAprilTag], "AprilTag 3 recall, size x angle",
+                   "fig9c_apriltag_size_angle.png"));
+}
+
+// Recall per bin of one curve set (size or angle), each detector a column.
+std::string CurveTable(const Context& c, const std::vector<RecallCurve>& set,
+                       const std::string& unit) {
+  Table rows;
+  for (int i = 0; i < set[0].bins.count; ++i) {
+    if (set[0].trials[i] == 0) continue;
+    const bool last = i == set[0].bins.count - 1;
+    std::vector<std::string> row = {Fixed(set[0].bins.Edge(i), 0) +
+                                        (last ? "+" : "–" + Fixed(set[0].bins.Edge(i + 1), 0)) +
+                                        " " + unit,
+                                    Grouped(set[0].trials[i])};
+    for (int d = 0; d < kNumDetectors; ++d) {
+      row.push_back(c.info.active[d] ? Fixed(100.0 * set[d].Recall(i), 1) : "n/a");
     }
-    return Markdown(
-        {"bin", "tags", c.info.names[0] + " %", c.info.names[1] + " %", c.info.names[2] + " %"},
-        rows);
-  };
+    rows.push_back(row);
+  }
+  return Markdown(
+      {"bin", "tags", c.info.names[0] + " %", c.info.names[1] + " %", c.info.names[2] + " %"},
+      rows);
+}
+
+bool FigureSection(const Context& c, std::string* section) {
+  const Curves curves = ComputeCurves(c);
+  if (!WriteFigures(c, curves)) return false;
   std::ostringstream out;
   out << "### Figure 9: recall against tag size and viewing angle\n\n"
       << "Tag size is the square root of the black square's area in the image; the viewing angle "
@@ -365,59 +371,74 @@ bool FigureSection(const Context& c, std::string* section) {
       << "\n"
       << RecallSummary(c) << "\n"
       << "<details><summary>Recall per size bin</summary>\n\n"
-      << curve_table(curves.size, "px") << "\n</details>\n\n"
+      << CurveTable(c, curves.size, "px") << "\n</details>\n\n"
       << "<details><summary>Recall per angle bin</summary>\n\n"
-      << curve_table(curves.angle, "°") << "\n</details>\n";
+      << CurveTable(c, curves.angle, "°") << "\n</details>\n";
   *section = out.str();
   return true;
+}
+
+// One detector's row of the corner table: its corners against the truth.
+std::vector<std::string> CornerRow(const Context& c, int d) {
+  std::vector<double> errors, large;
+  cv::Point2d offset;
+  double radial = 0.0;
+  int found = 0, within3 = 0;
+  for (const auto& r : c.records) {
+    const FrameScore& s = r.detectors[d].score;
+    if (!s.found) continue;
+    ++found;
+    offset += s.mean_offset_px;
+    radial += s.mean_radial_offset_px;
+    for (double e : s.corner_error_px) {
+      errors.push_back(e);
+      if (OwnTruth(r, d).size_px >= 50) large.push_back(e);
+      within3 += e <= 3.0 ? 1 : 0;
+    }
+  }
+  if (found) offset /= found, radial /= found;
+  return {c.info.names[d],
+          Grouped(found),
+          Fixed(Percentile(errors, 50), 2),
+          Fixed(Percentile(errors, 90), 2),
+          Fixed(Percentile(large, 50), 2),
+          Fixed(Percentile(large, 90), 2),
+          Percent(within3, errors.size()),
+          found ? "(" + Fixed(offset.x, 2) + ", " + Fixed(offset.y, 2) + ")" : "–",
+          Fixed(found ? radial : kNaN, 2)};
+}
+
+// ChromaTag's inner ring corners (FrameScore::inner_corner_error_px).
+std::vector<std::string> InnerRingRow(const Context& c) {
+  std::vector<double> errors, large;
+  int found = 0, within3 = 0;
+  for (const auto& r : c.records) {
+    const FrameScore& s = r.detectors[kChromaTag].score;
+    if (!s.found || s.inner_corner_error_px.empty()) continue;
+    ++found;
+    for (double e : s.inner_corner_error_px) {
+      errors.push_back(e);
+      if (OwnTruth(r, kChromaTag).size_px >= 50) large.push_back(e);
+      within3 += e <= 3.0 ? 1 : 0;
+    }
+  }
+  return {c.info.names[kChromaTag] + ", inner rings",
+          Grouped(found),
+          Fixed(Percentile(errors, 50), 2),
+          Fixed(Percentile(errors, 90), 2),
+          Fixed(Percentile(large, 50), 2),
+          Fixed(Percentile(large, 90), 2),
+          Percent(within3, errors.size()),
+          "–",
+          "–"};
 }
 
 std::string CornerTable(const Context& c) {
   Table rows;
   for (int d = 0; d < kNumDetectors; ++d) {
-    if (!c.info.active[d]) continue;
-    std::vector<double> errors, large;
-    cv::Point2d offset;
-    double radial = 0.0;
-    int found = 0, within3 = 0;
-    for (const auto& r : c.records) {
-      const FrameScore& s = r.detectors[d].score;
-      if (!s.found) continue;
-      ++found;
-      offset += s.mean_offset_px;
-      radial += s.mean_radial_offset_px;
-      for (double e : s.corner_error_px) {
-        errors.push_back(e);
-        if (OwnTruth(r, d).size_px >= 50) large.push_back(e);
-        within3 += e <= 3.0 ? 1 : 0;
-      }
-    }
-    if (found) offset /= found, radial /= found;
-    rows.push_back({c.info.names[d], Grouped(found), Fixed(Percentile(errors, 50), 2),
-                    Fixed(Percentile(errors, 90), 2), Fixed(Percentile(large, 50), 2),
-                    Fixed(Percentile(large, 90), 2), Percent(within3, errors.size()),
-                    found ? "(" + Fixed(offset.x, 2) + ", " + Fixed(offset.y, 2) + ")" : "–",
-                    Fixed(found ? radial : kNaN, 2)});
+    if (c.info.active[d]) rows.push_back(CornerRow(c, d));
   }
-  // ChromaTag's inner ring corners (FrameScore::inner_corner_error_px).
-  if (c.info.active[kChromaTag]) {
-    std::vector<double> errors, large;
-    int found = 0, within3 = 0;
-    for (const auto& r : c.records) {
-      const FrameScore& s = r.detectors[kChromaTag].score;
-      if (!s.found || s.inner_corner_error_px.empty()) continue;
-      ++found;
-      for (double e : s.inner_corner_error_px) {
-        errors.push_back(e);
-        if (OwnTruth(r, kChromaTag).size_px >= 50) large.push_back(e);
-        within3 += e <= 3.0 ? 1 : 0;
-      }
-    }
-    rows.push_back({c.info.names[kChromaTag] + ", inner rings", Grouped(found),
-                    Fixed(Percentile(errors, 50), 2), Fixed(Percentile(errors, 90), 2),
-                    Fixed(Percentile(large, 50), 2), Fixed(Percentile(large, 90), 2),
-                    Percent(within3, errors.size()), "–", "–"});
-  }
+  if (c.info.active[kChromaTag]) rows.push_back(InnerRingRow(c));
   return "### Corner error\n\n"
          "Distance between each detected corner of the black square and the ground truth, over "
          "every true positive, in pixels. All three are put into spec section 7's conventions "
@@ -492,8 +513,8 @@ std::string FalseDetectionTable(const Context& c) {
                   rows);
 }
 
-bool WriteCsv(const Context& c) {
-  std::ofstream out(c.out_dir + "/frames.csv");
+// frames.csv's first line: the column names.
+void WriteCsvHeader(std::ostream& out) {
   out << "index,condition,has_tags,id,photo,exposure,blur_sigma_px,motion_blur_px,noise_sigma,"
          "jpeg_quality,chromatag_size_px,chromatag_angle_deg,apriltag_size_px,apriltag_angle_deg,"
          "set,family,quiet_zone_cells,cast,gradient,tone_gamma,print_chroma,shot_snr,read_noise,"
@@ -509,55 +530,74 @@ bool WriteCsv(const Context& c) {
   out << ",seeds,chromatag_miss_stage,chromatag_miss_reason";
   for (const char* key : keys) out << "," << key << "_rotation_deg," << key << "_translation_pct";
   out << ",chromatag_4_corners_rotation_deg,chromatag_4_corners_translation_pct\n";
+}
+
+// How the frame was made.
+void WriteTruthColumns(std::ostream& out, const FrameTruth& t) {
+  out << t.index << "," << ConditionName(t.condition) << "," << t.has_tags << ","
+      << (t.has_tags ? t.chromatag.id : -1) << "," << t.photo << "," << t.exposure << ","
+      << t.blur_sigma_px << "," << t.motion_blur_px << "," << t.noise_sigma << "," << t.jpeg_quality
+      << "," << t.chromatag.size_px << "," << t.chromatag.view_angle_deg << ","
+      << t.apriltag.size_px << "," << t.apriltag.view_angle_deg << "," << DatasetKindName(t.kind)
+      << "," << t.family << "," << t.quiet_zone_cells << "," << t.cast << "," << t.gradient << ","
+      << t.tone_gamma << "," << t.print_chroma << "," << t.shot_snr << "," << t.read_noise << ","
+      << BayerModeName(t.bayer) << "," << PrintKindName(t.print) << "," << t.red_gain << ","
+      << t.blue_gain << "," << t.mixed_light;
+}
+
+// What each detector, ChromaTag alone and the calibrated configs found, and
+// ChromaTag's stages and miss.
+void WriteDetectionColumns(std::ostream& out, const FrameRecord& r) {
+  for (const DetectorRecord& d : r.detectors) {
+    double mean = 0;
+    for (double e : d.score.corner_error_px) mean += e / 4;
+    if (!d.ran) {
+      out << ",,,,,";
+      continue;
+    }
+    out << "," << d.time_us << "," << d.score.found << "," << d.score.false_positives << ","
+        << d.score.duplicates << "," << (d.score.found ? std::to_string(mean) : "");
+  }
+  out << ",";
+  if (!std::isnan(r.chromatag_alone_us)) out << r.chromatag_alone_us;
+  out << ",";
+  if (r.calibrated.ran) {
+    out << r.calibrated.score.found << "," << r.calibrated.score.false_positives << ","
+        << r.calibrated.score.duplicates;
+  } else {
+    out << ",,";
+  }
+  for (double us : r.chromatag_summary.stage_time_us) out << "," << us;
+  for (int n : r.chromatag_summary.rejected) out << "," << n;
+  out << "," << r.chromatag_summary.seeds << ",";
+  if (r.chromatag_miss.analysed) {
+    out << MissStageName(r.chromatag_miss.stage) << ",\"" << r.chromatag_miss.reason << "\"";
+  } else {
+    out << ",";
+  }
+}
+
+// Each detector's pose errors; empty where no pose was measured.
+void WritePoseColumns(std::ostream& out, const FrameRecord& r) {
+  auto number = [&out](double v) {
+    out << ",";
+    if (!std::isnan(v)) out << v;
+  };
+  for (const DetectorRecord& d : r.detectors) {
+    number(d.rotation_error_deg);
+    number(d.translation_error_pct);
+  }
+  number(r.chromatag_four_corner_rotation_error_deg);
+  number(r.chromatag_four_corner_translation_error_pct);
+}
+
+bool WriteCsv(const Context& c) {
+  std::ofstream out(c.out_dir + "/frames.csv");
+  WriteCsvHeader(out);
   for (const auto& r : c.records) {
-    const FrameTruth& t = r.truth;
-    out << t.index << "," << ConditionName(t.condition) << "," << t.has_tags << ","
-        << (t.has_tags ? t.chromatag.id : -1) << "," << t.photo << "," << t.exposure << ","
-        << t.blur_sigma_px << "," << t.motion_blur_px << "," << t.noise_sigma << ","
-        << t.jpeg_quality << "," << t.chromatag.size_px << "," << t.chromatag.view_angle_deg << ","
-        << t.apriltag.size_px << "," << t.apriltag.view_angle_deg << "," << DatasetKindName(t.kind)
-        << "," << t.family << "," << t.quiet_zone_cells << "," << t.cast << "," << t.gradient << ","
-        << t.tone_gamma << "," << t.print_chroma << "," << t.shot_snr << "," << t.read_noise << ","
-        << BayerModeName(t.bayer) << "," << PrintKindName(t.print) << "," << t.red_gain << ","
-        << t.blue_gain << "," << t.mixed_light;
-    for (const DetectorRecord& d : r.detectors) {
-      double mean = 0;
-      for (double e : d.score.corner_error_px) mean += e / 4;
-      if (!d.ran) {
-        out << ",,,,,";
-        continue;
-      }
-      out << "," << d.time_us << "," << d.score.found << "," << d.score.false_positives << ","
-          << d.score.duplicates << "," << (d.score.found ? std::to_string(mean) : "");
-    }
-    out << ",";
-    if (!std::isnan(r.chromatag_alone_us)) out << r.chromatag_alone_us;
-    out << ",";
-    if (r.calibrated.ran) {
-      out << r.calibrated.score.found << "," << r.calibrated.score.false_positives << ","
-          << r.calibrated.score.duplicates;
-    } else {
-      out << ",,";
-    }
-    for (double us : r.chromatag_summary.stage_time_us) out << "," << us;
-    for (int n : r.chromatag_summary.rejected) out << "," << n;
-    out << "," << r.chromatag_summary.seeds << ",";
-    if (r.chromatag_miss.analysed) {
-      out << MissStageName(r.chromatag_miss.stage) << ",\"" << r.chromatag_miss.reason << "\"";
-    } else {
-      out << ",";
-    }
-    // Empty where no pose was measured.
-    auto number = [&out](double v) {
-      out << ",";
-      if (!std::isnan(v)) out << v;
-    };
-    for (const DetectorRecord& d : r.detectors) {
-      number(d.rotation_error_deg);
-      number(d.translation_error_pct);
-    }
-    number(r.chromatag_four_corner_rotation_error_deg);
-    number(r.chromatag_four_corner_translation_error_pct);
+    WriteTruthColumns(out, r.truth);
+    WriteDetectionColumns(out, r);
+    WritePoseColumns(out, r);
     out << "\n";
   }
   out.close();

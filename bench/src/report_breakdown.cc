@@ -121,6 +121,72 @@ std::string FamilyRecallSection(const Context& c) {
   return out.str();
 }
 
+namespace {
+
+// The configs calibrated for each print, against the defaults.
+std::string CalibratedConfigsTable(const Context& c) {
+  std::ostringstream out;
+  Table configs;
+  for (const auto& [print, o] : c.info.calibrated) {
+    configs.push_back({print, Fixed(o.adiff_thresh, 1), Fixed(o.border_thresh, 1),
+                       Fixed(o.min_decision_margin, 1), Fixed(o.max_green_a, 1),
+                       o.two_step_rises ? "on" : "off"});
+  }
+  out << "The calibrated configs (the defaults: " << Fixed(DetectorOptions{}.adiff_thresh, 1)
+      << ", " << Fixed(DetectorOptions{}.border_thresh, 1) << ", "
+      << Fixed(DetectorOptions{}.min_decision_margin, 1) << ", "
+      << Fixed(DetectorOptions{}.max_green_a, 1) << ", "
+      << (DetectorOptions{}.two_step_rises ? "on" : "off") << "):\n\n"
+      << Markdown({"print", "ADiffThresh", "BorderThresh", "min decision margin", "max green a*",
+                   "two-step rises"},
+                  configs)
+      << "\n";
+  return out.str();
+}
+
+// One print's recall by size and tilt, each family with its own columns.
+std::string PrintRecallTable(const Context& c, PrintKind print, bool calibrated) {
+  std::ostringstream out;
+  Table rows;
+  auto add = [&](const std::string& label, const TagFilter& filter) {
+    std::vector<std::string> row = {label};
+    for (const char* family : {"16h5", "36h11"}) {
+      const TagFilter keep = [&](const FrameTruth& f, const TagTruth& t) {
+        return f.print == print && f.family == family && filter(f, t);
+      };
+      const auto tally = Count(c, keep);
+      const Tally cal = CountCalibrated(c, keep);
+      row.insert(row.end(), {Grouped(tally[kChromaTag].tags), RecallCell(c, tally, kChromaTag),
+                             calibrated ? Percent(cal.hits, cal.tags) : "n/a",
+                             RecallCell(c, tally, kAprilTag), RecallCell(c, tally, kAruco)});
+    }
+    rows.push_back(row);
+  };
+  for (const Range& size : kSizeGroups) {
+    add("size " + size.name, [&](const FrameTruth&, const TagTruth& t) {
+      return size.Contains(t.size_px) && UpTo60(t);
+    });
+  }
+  for (const Range& tilt : kTiltGroups) {
+    add("tilt " + tilt.name, [&](const FrameTruth&, const TagTruth& t) {
+      return tilt.Contains(t.view_angle_deg) && t.size_px >= 30;
+    });
+  }
+  add("≥ 30 px, ≤ 60°", [](const FrameTruth&, const TagTruth& t) { return Squarish(t); });
+  add("all", [](const FrameTruth&, const TagTruth&) { return true; });
+  const std::string& ct = c.info.names[kChromaTag];
+  const std::string& at = c.info.names[kAprilTag];
+  const std::string& ar = c.info.names[kAruco];
+  out << "**" << PrintKindName(print) << "**\n\n"
+      << Markdown({"range", "16h5 tags", ct + " %", "calibrated %", at + " %", ar + " %",
+                   "36h11 tags", ct + " %", "calibrated %", at + " %", ar + " %"},
+                  rows)
+      << "\n";
+  return out.str();
+}
+
+}  // namespace
+
 std::string PrintRecallSection(const Context& c) {
   if (c.info.dataset.kind != DatasetKind::kCamera) return "";
   const bool calibrated = AnyCalibrated(c);
@@ -137,61 +203,9 @@ std::string PrintRecallSection(const Context& c) {
          "photos of that print's calibration sheet (calib-sheet in the print's palette, printed "
          "the same way, photographed under a tungsten lamp and daylight)"
       << (calibrated ? "" : " (not run)") << ".\n\n";
-  if (!c.info.calibrated.empty()) {
-    Table configs;
-    for (const auto& [print, o] : c.info.calibrated) {
-      configs.push_back({print, Fixed(o.adiff_thresh, 1), Fixed(o.border_thresh, 1),
-                         Fixed(o.min_decision_margin, 1), Fixed(o.max_green_a, 1),
-                         o.two_step_rises ? "on" : "off"});
-    }
-    out << "The calibrated configs (the defaults: " << Fixed(DetectorOptions{}.adiff_thresh, 1)
-        << ", " << Fixed(DetectorOptions{}.border_thresh, 1) << ", "
-        << Fixed(DetectorOptions{}.min_decision_margin, 1) << ", "
-        << Fixed(DetectorOptions{}.max_green_a, 1) << ", "
-        << (DetectorOptions{}.two_step_rises ? "on" : "off") << "):\n\n"
-        << Markdown({"print", "ADiffThresh", "BorderThresh", "min decision margin", "max green a*",
-                     "two-step rises"},
-                    configs)
-        << "\n";
-  }
-  for (int k = 0; k < kNumPrintKinds; ++k) {
-    const PrintKind print = static_cast<PrintKind>(k);
-    Table rows;
-    auto add = [&](const std::string& label, const TagFilter& filter) {
-      std::vector<std::string> row = {label};
-      for (const char* family : {"16h5", "36h11"}) {
-        const TagFilter keep = [&](const FrameTruth& f, const TagTruth& t) {
-          return f.print == print && f.family == family && filter(f, t);
-        };
-        const auto tally = Count(c, keep);
-        const Tally cal = CountCalibrated(c, keep);
-        row.insert(row.end(), {Grouped(tally[kChromaTag].tags), RecallCell(c, tally, kChromaTag),
-                               calibrated ? Percent(cal.hits, cal.tags) : "n/a",
-                               RecallCell(c, tally, kAprilTag), RecallCell(c, tally, kAruco)});
-      }
-      rows.push_back(row);
-    };
-    for (const Range& size : kSizeGroups) {
-      add("size " + size.name, [&](const FrameTruth&, const TagTruth& t) {
-        return size.Contains(t.size_px) && UpTo60(t);
-      });
-    }
-    for (const Range& tilt : kTiltGroups) {
-      add("tilt " + tilt.name, [&](const FrameTruth&, const TagTruth& t) {
-        return tilt.Contains(t.view_angle_deg) && t.size_px >= 30;
-      });
-    }
-    add("≥ 30 px, ≤ 60°", [](const FrameTruth&, const TagTruth& t) { return Squarish(t); });
-    add("all", [](const FrameTruth&, const TagTruth&) { return true; });
-    const std::string& ct = c.info.names[kChromaTag];
-    const std::string& at = c.info.names[kAprilTag];
-    const std::string& ar = c.info.names[kAruco];
-    out << "**" << PrintKindName(print) << "**\n\n"
-        << Markdown({"range", "16h5 tags", ct + " %", "calibrated %", at + " %", ar + " %",
-                     "36h11 tags", ct + " %", "calibrated %", at + " %", ar + " %"},
-                    rows)
-        << "\n";
-  }
+  if (!c.info.calibrated.empty()) out << CalibratedConfigsTable(c);
+  for (int k = 0; k < kNumPrintKinds; ++k)
+    out << PrintRecallTable(c, static_cast<PrintKind>(k), calibrated);
   return out.str();
 }
 

@@ -149,6 +149,39 @@ std::vector<double> StdDev(const std::vector<std::vector<cv::Point3d>>& object,
   return out;
 }
 
+// OpenCV's camera matrix, distortion and poses into *fit.
+void StoreFit(const cv::Mat& k, cv::Mat d, std::vector<cv::Mat> rvecs, std::vector<cv::Mat> tvecs,
+              Fit* fit) {
+  fit->camera.fx = k.at<double>(0, 0);
+  fit->camera.fy = k.at<double>(1, 1);
+  fit->camera.cx = k.at<double>(0, 2);
+  fit->camera.cy = k.at<double>(1, 2);
+  d.convertTo(d, CV_64F);
+  fit->camera.distortion.assign(d.ptr<double>(), d.ptr<double>() + std::min<size_t>(d.total(), 5));
+  fit->rvecs.clear();
+  fit->tvecs.clear();
+  for (size_t i = 0; i < rvecs.size(); ++i) {
+    rvecs[i].convertTo(rvecs[i], CV_64F);
+    tvecs[i].convertTo(tvecs[i], CV_64F);
+    fit->rvecs.emplace_back(rvecs[i].ptr<double>());
+    fit->tvecs.emplace_back(tvecs[i].ptr<double>());
+  }
+}
+
+// Whether every number of the fit is finite.
+bool IsFinite(const Fit& fit) {
+  std::vector<double> all = {fit.camera.fx, fit.camera.fy, fit.camera.cx, fit.camera.cy,
+                             fit.rms_px};
+  all.insert(all.end(), fit.camera.distortion.begin(), fit.camera.distortion.end());
+  for (size_t i = 0; i < fit.rvecs.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      all.push_back(fit.rvecs[i][c]);
+      all.push_back(fit.tvecs[i][c]);
+    }
+  }
+  return std::all_of(all.begin(), all.end(), [](double x) { return std::isfinite(x); });
+}
+
 // With `deviations`, also the standard deviations (StdDev), which only the
 // last fit needs.
 bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& used,
@@ -185,31 +218,9 @@ bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& us
     *error = "the fit failed (" + e.err + ")";
     return false;
   }
-  fit->camera.fx = k.at<double>(0, 0);
-  fit->camera.fy = k.at<double>(1, 1);
-  fit->camera.cx = k.at<double>(0, 2);
-  fit->camera.cy = k.at<double>(1, 2);
-  d.convertTo(d, CV_64F);
-  fit->camera.distortion.assign(d.ptr<double>(), d.ptr<double>() + std::min<size_t>(d.total(), 5));
-  fit->rvecs.clear();
-  fit->tvecs.clear();
-  for (size_t i = 0; i < rvecs.size(); ++i) {
-    rvecs[i].convertTo(rvecs[i], CV_64F);
-    tvecs[i].convertTo(tvecs[i], CV_64F);
-    fit->rvecs.emplace_back(rvecs[i].ptr<double>());
-    fit->tvecs.emplace_back(tvecs[i].ptr<double>());
-  }
+  StoreFit(k, d, rvecs, tvecs, fit);
   // A fit that diverged: nothing of it is usable.
-  std::vector<double> all = {fit->camera.fx, fit->camera.fy, fit->camera.cx, fit->camera.cy,
-                             fit->rms_px};
-  all.insert(all.end(), fit->camera.distortion.begin(), fit->camera.distortion.end());
-  for (size_t i = 0; i < fit->rvecs.size(); ++i) {
-    for (int c = 0; c < 3; ++c) {
-      all.push_back(fit->rvecs[i][c]);
-      all.push_back(fit->tvecs[i][c]);
-    }
-  }
-  if (!std::all_of(all.begin(), all.end(), [](double x) { return std::isfinite(x); })) {
+  if (!IsFinite(*fit)) {
     *error = "the fit did not converge";
     return false;
   }
@@ -382,27 +393,45 @@ std::vector<std::string> CalibrationParameterNames(const CameraIntrinsics& camer
   return names;
 }
 
-std::optional<CameraCalibration> CalibrateCamera(const Board& board,
-                                                 const std::vector<CalibrationView>& views,
-                                                 cv::Size image_size,
-                                                 const CameraCalibrationOptions& options,
-                                                 std::string* error) {
-  const auto fail = [&](const std::string& message) -> std::optional<CameraCalibration> {
-    if (error) *error = message;
-    return std::nullopt;
-  };
-  if (!options.IsValid(error) || !CheckCalibrationBoard(board, options, error)) return std::nullopt;
-  if (image_size.width <= 0 || image_size.height <= 0) return fail("the image size is empty");
+namespace {
+
+// What CalibrateCamera works on: each view's board corners, and the result
+// that records what became of each view and tag.
+struct Calibration {
+  const Board& board;
+  const std::vector<CalibrationView>& views;
+  const CameraCalibrationOptions& options;
   CameraCalibration result;
-  result.image_size = image_size;
-  std::vector<ViewPoints> points(views.size());
-  for (size_t v = 0; v < views.size(); ++v) {
-    CalibrationViewResult& out = result.views.emplace_back();
-    out.name = views[v].name;
-    for (size_t i = 0; i < views[v].detections.size(); ++i) {
-      const Detection& d = views[v].detections[i];
+  std::vector<ViewPoints> points;
+
+  // Tag t of view v leaves the view, for `why`.
+  void LeaveOut(size_t v, size_t t, const std::string& why) {
+    result.views[v].tags_left_out.push_back(views[v].detections[points[v].detection[t]].id);
+    result.views[v].why_left_out.push_back(why);
+    points[v].Erase(t);
+  }
+
+  // Whether view v still shows enough board tags; if not, says so.
+  bool Usable(size_t v) {
+    if (static_cast<int>(points[v].board.size()) >= options.min_tags_per_view) return true;
+    result.views[v].why_not = std::to_string(points[v].board.size()) +
+                              " board tag(s) seen (needs " +
+                              std::to_string(options.min_tags_per_view) + ")";
+    return false;
+  }
+};
+
+// Per view, the corners of its board tags on the board and in the image.
+void CollectBoardCorners(Calibration* c) {
+  const cv::Size image_size = c->result.image_size;
+  c->points.resize(c->views.size());
+  for (size_t v = 0; v < c->views.size(); ++v) {
+    CalibrationViewResult& out = c->result.views.emplace_back();
+    out.name = c->views[v].name;
+    for (size_t i = 0; i < c->views[v].detections.size(); ++i) {
+      const Detection& d = c->views[v].detections[i];
       if (d.family == nullptr) continue;
-      const int index = board.Find(d.family->name(), d.id);
+      const int index = c->board.Find(d.family->name(), d.id);
       if (index < 0) continue;
       // A tag cut by the image's edge has corners extrapolated from the
       // visible parts of its sides, straight where the lens bends them.
@@ -415,127 +444,126 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
         out.why_left_out.push_back("a corner outside the image");
         continue;
       }
-      points[v].detection.push_back(static_cast<int>(i));
-      points[v].board.push_back(BoardTagCorners(board.tags[index], *d.family));
-      points[v].image.push_back(RingCorners(d));
+      c->points[v].detection.push_back(static_cast<int>(i));
+      c->points[v].board.push_back(BoardTagCorners(c->board.tags[index], *d.family));
+      c->points[v].image.push_back(RingCorners(d));
     }
   }
-  const auto leave_out = [&](size_t v, size_t t, const std::string& why) {
-    result.views[v].tags_left_out.push_back(views[v].detections[points[v].detection[t]].id);
-    result.views[v].why_left_out.push_back(why);
-    points[v].Erase(t);
-  };
-  const auto usable = [&](size_t v) {
-    if (static_cast<int>(points[v].board.size()) >= options.min_tags_per_view) return true;
-    result.views[v].why_not = std::to_string(points[v].board.size()) +
-                              " board tag(s) seen (needs " +
-                              std::to_string(options.min_tags_per_view) + ")";
-    return false;
-  };
+}
+
+// The views with enough board tags; a view taken twice is used once, the
+// first time.
+std::vector<size_t> UsableDistinctViews(Calibration* c) {
   std::vector<size_t> used;
-  for (size_t v = 0; v < views.size(); ++v) {
-    if (!usable(v)) continue;
-    // A view taken twice is used once, the first time.
+  for (size_t v = 0; v < c->views.size(); ++v) {
+    if (!c->Usable(v)) continue;
     bool repeat = false;
     for (size_t u : used) {
-      const double shift =
-          LargestCornerShift(points[v], views[v].detections, points[u], views[u].detections);
+      const double shift = LargestCornerShift(c->points[v], c->views[v].detections, c->points[u],
+                                              c->views[u].detections);
       if (shift <= kSameViewPx) {
-        result.views[v].why_not = "the same view as '" + views[u].name +
-                                  Format("' (every corner within %.2f px): used once", shift);
+        c->result.views[v].why_not = "the same view as '" + c->views[u].name +
+                                     Format("' (every corner within %.2f px): used once", shift);
         repeat = true;
         break;
       }
     }
     if (!repeat) used.push_back(v);
   }
-  // Fewer than three views left: say what became of the others.
-  const auto too_few = [&] {
-    int few_tags = 0, badly = 0, repeats = 0;
-    for (const CalibrationViewResult& v : result.views) {
-      few_tags += v.why_not.find("board tag") != std::string::npos ? 1 : 0;
-      badly += v.why_not.find("reprojects") != std::string::npos ? 1 : 0;
-      repeats += v.why_not.rfind("the same view as", 0) == 0 ? 1 : 0;
-    }
-    std::string message = "fewer than three views show enough of the board (" +
-                          std::to_string(views.size()) + " given";
-    if (few_tags)
-      message += ", " + std::to_string(few_tags) + " with fewer than " +
-                 std::to_string(options.min_tags_per_view) + " of its tags";
-    if (repeats)
-      message += ", " + std::to_string(repeats) +
-                 " the same as another view (copies of one "
-                 "image, or a camera that did not move)";
-    if (badly)
-      message += Format(
-          ", %.0f reprojecting worse than %.2f px rms: is the board file the board "
-          "in the views?",
-          badly, options.max_view_rms_px);
-    return fail(message + ")");
-  };
-  if (used.size() < 3) return too_few();
-  Fit fit;
-  std::string why;
-  if (!RunFit(points, used, image_size, options, &fit, &why)) return fail(why);
-  // Tags whose corners disagree with the others in their view under the
-  // first fit's camera (EstimateBoardPose's robust pose: a misread ID pulls
-  // the fitted view, not this) leave the view.
+  return used;
+}
+
+// Fewer than three views left: what became of the others.
+std::string TooFewViews(const Calibration& c) {
+  int few_tags = 0, badly = 0, repeats = 0;
+  for (const CalibrationViewResult& v : c.result.views) {
+    few_tags += v.why_not.find("board tag") != std::string::npos ? 1 : 0;
+    badly += v.why_not.find("reprojects") != std::string::npos ? 1 : 0;
+    repeats += v.why_not.rfind("the same view as", 0) == 0 ? 1 : 0;
+  }
+  std::string message = "fewer than three views show enough of the board (" +
+                        std::to_string(c.views.size()) + " given";
+  if (few_tags)
+    message += ", " + std::to_string(few_tags) + " with fewer than " +
+               std::to_string(c.options.min_tags_per_view) + " of its tags";
+  if (repeats)
+    message += ", " + std::to_string(repeats) +
+               " the same as another view (copies of one "
+               "image, or a camera that did not move)";
+  if (badly)
+    message += Format(
+        ", %.0f reprojecting worse than %.2f px rms: is the board file the board "
+        "in the views?",
+        badly, c.options.max_view_rms_px);
+  return message + ")";
+}
+
+// Tags whose corners disagree with the others in their view under the
+// first fit's camera (EstimateBoardPose's robust pose: a misread ID pulls
+// the fitted view, not this) leave the view. Returns the views still usable.
+std::vector<size_t> DropTagsOffBoardPose(Calibration* c, const std::vector<size_t>& used,
+                                         const Fit& fit) {
   std::vector<size_t> kept;
   for (size_t v : used) {
     BoardPose pose;
-    if (EstimateBoardPose(views[v].detections, board, fit.camera, &pose)) {
-      for (size_t t = points[v].board.size(); t-- > 0;) {
+    if (EstimateBoardPose(c->views[v].detections, c->board, fit.camera, &pose)) {
+      for (size_t t = c->points[v].board.size(); t-- > 0;) {
         const auto& rejected = pose.detections_rejected;
-        if (std::find(rejected.begin(), rejected.end(), points[v].detection[t]) != rejected.end())
-          leave_out(v, t, "disagrees with the other tags' board pose");
+        if (std::find(rejected.begin(), rejected.end(), c->points[v].detection[t]) !=
+            rejected.end())
+          c->LeaveOut(v, t, "disagrees with the other tags' board pose");
       }
     }
-    if (usable(v)) kept.push_back(v);
+    if (c->Usable(v)) kept.push_back(v);
   }
-  used = kept;
-  // Then, until nothing changes: views that fit badly leave the
-  // calibration and tags with a corner far from the fit leave their view.
-  for (int round = 0; round < 5; ++round) {
-    if (used.size() < 3) return too_few();
-    if (!RunFit(points, used, image_size, options, &fit, &why)) return fail(why);
-    const double corner_limit =
-        std::max(options.max_corner_error_px, options.corner_error_factor * fit.rms_px);
-    bool changed = false;
-    kept.clear();
-    for (size_t u = 0; u < used.size(); ++u) {
-      const size_t v = used[u];
-      const auto residuals = Residuals(points[v], fit, u);
-      const double rms = Rms(residuals);
-      if (rms > options.max_view_rms_px) {
-        result.views[v].why_not =
-            Format("reprojects at %.2f px rms (limit %.2f)", rms, options.max_view_rms_px);
-        changed = true;
-        continue;
-      }
-      for (size_t t = residuals.size(); t-- > 0;) {
-        double worst = 0;
-        for (const cv::Point2d& e : residuals[t]) worst = std::max(worst, cv::norm(e));
-        if (worst > corner_limit) {
-          leave_out(v, t,
+  return kept;
+}
+
+// Views that fit badly leave the calibration and tags with a corner far from
+// the fit leave their view. False when nothing changed.
+bool DropPoorFits(Calibration* c, const Fit& fit, std::vector<size_t>* used) {
+  const CameraCalibrationOptions& options = c->options;
+  const double corner_limit =
+      std::max(options.max_corner_error_px, options.corner_error_factor * fit.rms_px);
+  bool changed = false;
+  std::vector<size_t> kept;
+  for (size_t u = 0; u < used->size(); ++u) {
+    const size_t v = (*used)[u];
+    const auto residuals = Residuals(c->points[v], fit, u);
+    const double rms = Rms(residuals);
+    if (rms > options.max_view_rms_px) {
+      c->result.views[v].why_not =
+          Format("reprojects at %.2f px rms (limit %.2f)", rms, options.max_view_rms_px);
+      changed = true;
+      continue;
+    }
+    for (size_t t = residuals.size(); t-- > 0;) {
+      double worst = 0;
+      for (const cv::Point2d& e : residuals[t]) worst = std::max(worst, cv::norm(e));
+      if (worst > corner_limit) {
+        c->LeaveOut(v, t,
                     Format("a corner %.2f px from the fit (limit %.2f)", worst, corner_limit));
-          changed = true;
-        }
+        changed = true;
       }
-      if (usable(v)) kept.push_back(v);
     }
-    used = kept;
-    if (!changed) break;
+    if (c->Usable(v)) kept.push_back(v);
   }
-  if (used.size() < 3) return too_few();
-  if (!RunFit(points, used, image_size, options, &fit, &why, /*deviations=*/true)) return fail(why);
+  *used = kept;
+  return changed;
+}
+
+// The final fit's camera, and per used view its corners, residuals, pose and
+// tilt.
+void RecordFit(const Fit& fit, const std::vector<size_t>& used, Calibration* c) {
+  CameraCalibration& result = c->result;
   for (size_t u = 0; u < used.size(); ++u) {
     const size_t v = used[u];
     CalibrationViewResult& out = result.views[v];
     out.used = true;
-    out.tags = static_cast<int>(points[v].board.size());
-    const auto residuals = Residuals(points[v], fit, u);
+    out.tags = static_cast<int>(c->points[v].board.size());
+    const auto residuals = Residuals(c->points[v], fit, u);
     out.rms_px = Rms(residuals);
-    out.corners = Flatten(points[v].image);
+    out.corners = Flatten(c->points[v].image);
     out.residuals = Flatten(residuals);
     out.rvec = fit.rvecs[u];
     out.tvec = fit.tvecs[u];
@@ -549,9 +577,43 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
   // k3 held at 0 has no deviation.
   result.std_dev = fit.std_dev;
   result.std_dev.resize(4 + result.camera.distortion.size(), 0.0);
-  result.warnings = Warnings(result);
-  result.doubts = Doubts(result);
-  return result;
+}
+
+}  // namespace
+
+std::optional<CameraCalibration> CalibrateCamera(const Board& board,
+                                                 const std::vector<CalibrationView>& views,
+                                                 cv::Size image_size,
+                                                 const CameraCalibrationOptions& options,
+                                                 std::string* error) {
+  const auto fail = [&](const std::string& message) -> std::optional<CameraCalibration> {
+    if (error) *error = message;
+    return std::nullopt;
+  };
+  if (!options.IsValid(error) || !CheckCalibrationBoard(board, options, error)) return std::nullopt;
+  if (image_size.width <= 0 || image_size.height <= 0) return fail("the image size is empty");
+  Calibration c{board, views, options, CameraCalibration(), {}};
+  c.result.image_size = image_size;
+  CollectBoardCorners(&c);
+  std::vector<size_t> used = UsableDistinctViews(&c);
+  if (used.size() < 3) return fail(TooFewViews(c));
+  Fit fit;
+  std::string why;
+  if (!RunFit(c.points, used, image_size, options, &fit, &why)) return fail(why);
+  used = DropTagsOffBoardPose(&c, used, fit);
+  // Then refits until nothing changes.
+  for (int round = 0; round < 5; ++round) {
+    if (used.size() < 3) return fail(TooFewViews(c));
+    if (!RunFit(c.points, used, image_size, options, &fit, &why)) return fail(why);
+    if (!DropPoorFits(&c, fit, &used)) break;
+  }
+  if (used.size() < 3) return fail(TooFewViews(c));
+  if (!RunFit(c.points, used, image_size, options, &fit, &why, /*deviations=*/true))
+    return fail(why);
+  RecordFit(fit, used, &c);
+  c.result.warnings = Warnings(c.result);
+  c.result.doubts = Doubts(c.result);
+  return c.result;
 }
 
 }  // namespace chromatag

@@ -189,22 +189,9 @@ double DrawViewBars(cairo_t* cr, const CameraCalibration& c, double x, double y,
   return y + height + 12;
 }
 
-void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& title) {
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
-  double y = kMargin + 12;
-  Text(cr, kMargin, y, 14, "Camera calibration: " + title, true);
-  y += 16;
-  int used = 0;
-  for (const auto& v : c.views) used += v.used ? 1 : 0;
-  Text(cr, kMargin, y, 8.5,
-       std::string(LensModelName(c.camera.model)) + " model, " +
-           F("%.0f x %.0f pixels, ", c.image_size.width, c.image_size.height) +
-           F("%.0f of %.0f views used, ", used, c.views.size()) +
-           F("reprojection rms %.3f px. chromatag ", c.rms_px) + kVersion,
-       false, 0.25);
-  // Left column: parameters, warnings, left-out views.
-  y += 22;
+// The fitted parameters with their standard deviations, from `y` down;
+// returns the y below them.
+double DrawParameters(cairo_t* cr, const CameraCalibration& c, double y) {
   Text(cr, kMargin, y, 9.5, "Parameters (one standard deviation)", true);
   y += 14;
   const std::vector<std::string> names = CalibrationParameterNames(c.camera);
@@ -222,7 +209,11 @@ void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& titl
                                      : std::string()));
     y += 11;
   }
-  y += 8;
+  return y;
+}
+
+// The doubts and warnings, from `y` down; returns the y below them.
+double DrawWarnings(cairo_t* cr, const CameraCalibration& c, double y) {
   // The parameters in doubt first, then what the views leave weak.
   std::vector<std::string> warnings = c.doubts;
   warnings.insert(warnings.end(), c.warnings.begin(), c.warnings.end());
@@ -235,7 +226,11 @@ void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& titl
     }
     y += 3;
   }
-  y += 6;
+  return y;
+}
+
+// The views and tags left out and why, from `y` down to the page's foot.
+void DrawLeftOut(cairo_t* cr, const CameraCalibration& c, double y) {
   std::vector<std::string> left_out;
   for (const CalibrationViewResult& view : c.views) {
     if (!view.used) left_out.push_back(view.name + ": " + view.why_not);
@@ -256,6 +251,29 @@ void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& titl
       y += 9.5;
     }
   }
+}
+
+void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& title) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  double y = kMargin + 12;
+  Text(cr, kMargin, y, 14, "Camera calibration: " + title, true);
+  y += 16;
+  int used = 0;
+  for (const auto& v : c.views) used += v.used ? 1 : 0;
+  Text(cr, kMargin, y, 8.5,
+       std::string(LensModelName(c.camera.model)) + " model, " +
+           F("%.0f x %.0f pixels, ", c.image_size.width, c.image_size.height) +
+           F("%.0f of %.0f views used, ", used, c.views.size()) +
+           F("reprojection rms %.3f px. chromatag ", c.rms_px) + kVersion,
+       false, 0.25);
+  // Left column: parameters, warnings, left-out views.
+  y += 22;
+  y = DrawParameters(cr, c, y);
+  y += 8;
+  y = DrawWarnings(cr, c, y);
+  y += 6;
+  DrawLeftOut(cr, c, y);
   // Right: two image panels, the scatter and the bars.
   // The image panels at most 236 points wide and 236 high, so that a
   // portrait frame leaves room for the plots below.

@@ -135,16 +135,17 @@ cv::Point2d PageToImage(const cv::Matx33d& image_from_page, const std::array<dou
   return {p[0] / p[2], p[1] / p[2]};
 }
 
-std::optional<SheetLocation> LocateSheet(const cv::Mat& bgr, const CalibSheetLayout& layout,
-                                         const LocateOptions& options, std::string* error) {
-  if (!options.IsValid(error)) return std::nullopt;
-  if (bgr.empty() || bgr.type() != CV_8UC3) {
-    if (error) *error = "the photo must be an 8-bit colour image";
-    return std::nullopt;
-  }
-  std::vector<Detection> best;
-  std::array<int, 4> best_match = {-1, -1, -1, -1};
-  SheetLocation location;
+namespace {
+
+// The photo's detections on the first threshold rung (the photo as it is,
+// then with its chroma raised) that finds all four corner tags, else the
+// rung that matched most; the rung's thresholds into *location. False only
+// when a detector cannot be made.
+bool FindCornerTags(const cv::Mat& bgr, const CalibSheetLayout& layout,
+                    const LocateOptions& options, std::vector<Detection>* best_detections,
+                    std::array<int, 4>* best_corners, SheetLocation* location, std::string* error) {
+  std::vector<Detection>& best = *best_detections;
+  std::array<int, 4>& best_match = *best_corners;
   cv::Mat enhanced;
   for (int attempt = 0; attempt < 2 && Count(best_match) < 4; ++attempt) {
     if (attempt == 1) enhanced = Enhanced(bgr, options.enhance_chroma);
@@ -158,24 +159,28 @@ std::optional<SheetLocation> LocateSheet(const cv::Mat& bgr, const CalibSheetLay
       // tracking; the four IDs and their arrangement are checked below.
       detector_options.min_decision_margin = 1.0;
       auto detector = Detector::Create(detector_options, error);
-      if (!detector) return std::nullopt;
+      if (!detector) return false;
       std::vector<Detection> detections = detector->Detect(image).detections;
       const auto match = MatchCorners(layout, detections);
       if (Count(match) > Count(best_match) || (best.empty() && !detections.empty())) {
         best = detections;
         best_match = match;
-        location.adiff_thresh = rung[0];
-        location.border_thresh = rung[1];
-        location.enhanced = attempt == 1;
+        location->adiff_thresh = rung[0];
+        location->border_thresh = rung[1];
+        location->enhanced = attempt == 1;
       }
       if (Count(best_match) == 4) break;
     }
   }
-  if (Count(best_match) < 4) {
-    if (error) *error = DescribeFailure(layout, best, best_match);
-    return std::nullopt;
-  }
+  return true;
+}
 
+// The homography from page millimetres to the photo over the four corner
+// tags' corners, and its residual; false with *error when they fit no one
+// flat sheet.
+bool FitSheet(const CalibSheetLayout& layout, const std::vector<Detection>& best,
+              const std::array<int, 4>& best_match, const LocateOptions& options,
+              SheetLocation* location, std::string* error) {
   std::vector<cv::Point2d> page_points, image_points;
   for (int k = 0; k < 4; ++k) {
     const Detection& d = best[best_match[k]];
@@ -187,32 +192,54 @@ std::optional<SheetLocation> LocateSheet(const cv::Mat& bgr, const CalibSheetLay
   const cv::Mat h = cv::findHomography(page_points, image_points, 0);
   if (h.empty()) {
     if (error) *error = "the corner tags do not fit one plane";
-    return std::nullopt;
+    return false;
   }
-  location.image_from_page = cv::Matx33d(h);
+  location->image_from_page = cv::Matx33d(h);
   // Residuals in page millimetres through the local scale of the fit.
   double sum_sq = 0, scale_sum = 0;
   for (size_t i = 0; i < page_points.size(); ++i) {
     const std::array<double, 2> mm = {page_points[i].x, page_points[i].y};
-    const cv::Point2d p = PageToImage(location.image_from_page, mm);
-    const cv::Point2d q = PageToImage(location.image_from_page, {mm[0] + 1.0, mm[1]});
+    const cv::Point2d p = PageToImage(location->image_from_page, mm);
+    const cv::Point2d q = PageToImage(location->image_from_page, {mm[0] + 1.0, mm[1]});
     const double scale = cv::norm(q - p);
     scale_sum += scale;
     sum_sq += std::pow(cv::norm(p - image_points[i]) / scale, 2);
   }
-  location.rms_mm = std::sqrt(sum_sq / page_points.size());
-  location.px_per_mm = scale_sum / page_points.size();
-  if (location.rms_mm > options.max_rms_mm) {
+  location->rms_mm = std::sqrt(sum_sq / page_points.size());
+  location->px_per_mm = scale_sum / page_points.size();
+  if (location->rms_mm > options.max_rms_mm) {
     if (error) {
       char text[200];
       std::snprintf(text, sizeof(text),
                     "the corner tags do not lie on one flat sheet (%.2f mm RMS, at most %.2f): "
                     "flatten the sheet, or photograph it from further away",
-                    location.rms_mm, options.max_rms_mm);
+                    location->rms_mm, options.max_rms_mm);
       *error = text;
     }
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::optional<SheetLocation> LocateSheet(const cv::Mat& bgr, const CalibSheetLayout& layout,
+                                         const LocateOptions& options, std::string* error) {
+  if (!options.IsValid(error)) return std::nullopt;
+  if (bgr.empty() || bgr.type() != CV_8UC3) {
+    if (error) *error = "the photo must be an 8-bit colour image";
     return std::nullopt;
   }
+  std::vector<Detection> best;
+  std::array<int, 4> best_match = {-1, -1, -1, -1};
+  SheetLocation location;
+  if (!FindCornerTags(bgr, layout, options, &best, &best_match, &location, error))
+    return std::nullopt;
+  if (Count(best_match) < 4) {
+    if (error) *error = DescribeFailure(layout, best, best_match);
+    return std::nullopt;
+  }
+  if (!FitSheet(layout, best, best_match, options, &location, error)) return std::nullopt;
   return location;
 }
 

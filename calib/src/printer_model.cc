@@ -128,38 +128,50 @@ Lab PrinterModel::Predict(const Rgb& sent) const {
 
 double PrinterModel::Tone(int channel, double x) const { return ToneT(tone[channel].data(), x); }
 
+namespace {
+
+Rgb AsRgb(const double* v) { return Rgb{v[0], v[1], v[2]}; }
+
+// One model's residual at x and its numeric Jacobian J, added into J^T J
+// and J^T r.
+void AddNormalEquations(const PrinterModel& m, const Lab& target, const double x[3],
+                        double jtj[3][3], double jtr[3]) {
+  const auto at = AsRgb;
+  const Lab p = m.Predict(at(x));
+  const double r[3] = {p.L - target.L, p.a - target.a, p.b - target.b};
+  double jac[3][3];
+  for (int j = 0; j < 3; ++j) {
+    const double h = 1e-5;
+    double xp[3] = {x[0], x[1], x[2]}, xm[3] = {x[0], x[1], x[2]};
+    xp[j] += h;
+    xm[j] -= h;
+    const Lab lp = m.Predict(at(xp)), lm = m.Predict(at(xm));
+    jac[0][j] = (lp.L - lm.L) / (2 * h);
+    jac[1][j] = (lp.a - lm.a) / (2 * h);
+    jac[2][j] = (lp.b - lm.b) / (2 * h);
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      for (int i = 0; i < 3; ++i) jtj[a][b] += jac[i][a] * jac[i][b];
+    }
+    for (int i = 0; i < 3; ++i) jtr[a] += jac[i][a] * r[i];
+  }
+}
+
+}  // namespace
+
 Rgb InvertPrinter(const std::vector<PrinterModel>& models, const Lab& target, const Rgb& start) {
   // Levenberg-Marquardt on three unknowns with a numeric Jacobian, projected
   // onto the unit cube: a LUT needs thousands of these, each tiny.
   double x[3] = {std::clamp(start.r, 0.0, 1.0), std::clamp(start.g, 0.0, 1.0),
                  std::clamp(start.b, 0.0, 1.0)};
-  auto at = [](const double* v) { return Rgb{v[0], v[1], v[2]}; };
+  const auto at = AsRgb;
   double cost = Distance2(models, target, at(x));
   double lambda = 1e-3;
   for (int iteration = 0; iteration < 60 && cost > 1e-10; ++iteration) {
     // Stack residuals over the models: J is (3 * models) x 3.
     double jtj[3][3] = {}, jtr[3] = {};
-    for (const PrinterModel& m : models) {
-      const Lab p = m.Predict(at(x));
-      const double r[3] = {p.L - target.L, p.a - target.a, p.b - target.b};
-      double jac[3][3];
-      for (int j = 0; j < 3; ++j) {
-        const double h = 1e-5;
-        double xp[3] = {x[0], x[1], x[2]}, xm[3] = {x[0], x[1], x[2]};
-        xp[j] += h;
-        xm[j] -= h;
-        const Lab lp = m.Predict(at(xp)), lm = m.Predict(at(xm));
-        jac[0][j] = (lp.L - lm.L) / (2 * h);
-        jac[1][j] = (lp.a - lm.a) / (2 * h);
-        jac[2][j] = (lp.b - lm.b) / (2 * h);
-      }
-      for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < 3; ++b) {
-          for (int i = 0; i < 3; ++i) jtj[a][b] += jac[i][a] * jac[i][b];
-        }
-        for (int i = 0; i < 3; ++i) jtr[a] += jac[i][a] * r[i];
-      }
-    }
+    for (const PrinterModel& m : models) AddNormalEquations(m, target, x, jtj, jtr);
     bool improved = false;
     for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
       cv::Matx33d a;

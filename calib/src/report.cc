@@ -235,20 +235,10 @@ double Row(cairo_t* cr, double y, const std::string& label, const std::string& v
   return y + 12;
 }
 
-void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
-  const Margins& w = r.thresholds.worst;
+// The thresholds derived and the white balance, from `y` down; returns the
+// y below them.
+double DrawThresholds(cairo_t* cr, const CalibrationResult& r, double y) {
   const DetectorOptions& d = r.thresholds.options;
-  double y = kPlotY + 4;
-  Text(cr, 470, y, 10, "Worst case over photos (sheet palette)", true);
-  y += 15;
-  y = Row(cr, y, "a* gap, reds - greens", F("%.1f", w.a_gap));
-  y = Row(cr, y, "b* gap, red-1 - red-0", F("%.1f", w.red_b_gap));
-  y = Row(cr, y, "b* gap, green-0 - green-1", F("%.1f", w.green_b_gap));
-  y = Row(cr, y, "a* spread within a colour", F("%.1f", w.a_spread));
-  y = Row(cr, y, "a* of the redder green", F("%.1f", w.max_green_a));
-  y = Row(cr, y, "pixel noise (a*)", F("%.1f", w.noise_a));
-  y = Row(cr, y, "expected decision margin", F("%.1f", w.decision()));
-  y += 8;
   Text(cr, 470, y, 10,
        F("Detector thresholds (safety factor %.1f)", r.options.thresholds.safety_factor), true);
   y += 15;
@@ -268,14 +258,11 @@ void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
           outcome == WhiteBalanceOutcome::kWritten     ? F("%.3f / %.3f / %.3f", g[0], g[1], g[2])
           : outcome == WhiteBalanceOutcome::kNotNeeded ? std::string("none: not needed")
                                                        : std::string("none: see the warnings"));
-  y += 8;
-  Text(cr, 470, y, 10, "Verdict per pair", true);
-  y += 15;
-  for (const PairVerdict& v : r.thresholds.verdicts) {
-    y = Row(cr, y, v.pair, std::string(VerdictName(v.verdict)) + F("  (%.1f)", v.worst_gap),
-            VerdictColour(v.verdict));
-  }
-  y += 8;
+  return y;
+}
+
+// The palette chosen, its shades and gaps, from `y` down.
+void DrawPaletteChoice(cairo_t* cr, const CalibrationResult& r, double y) {
   Text(cr, 470, y, 10, "Chosen palette (as printed, worst case)", true);
   y += 15;
   if (!r.palette) {
@@ -295,6 +282,31 @@ void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
   y = Row(cr, y, "a* gap / b* gaps", F("%.1f / %.1f / %.1f", p.a_gap, p.red_b_gap, p.green_b_gap));
   Row(cr, y, "score (1 = spec design goals)",
       F("%.2f   (sheet palette %.2f)", p.score, p.sheet_palette_score));
+}
+
+void DrawNumbers(cairo_t* cr, const CalibrationResult& r) {
+  const Margins& w = r.thresholds.worst;
+  double y = kPlotY + 4;
+  Text(cr, 470, y, 10, "Worst case over photos (sheet palette)", true);
+  y += 15;
+  y = Row(cr, y, "a* gap, reds - greens", F("%.1f", w.a_gap));
+  y = Row(cr, y, "b* gap, red-1 - red-0", F("%.1f", w.red_b_gap));
+  y = Row(cr, y, "b* gap, green-0 - green-1", F("%.1f", w.green_b_gap));
+  y = Row(cr, y, "a* spread within a colour", F("%.1f", w.a_spread));
+  y = Row(cr, y, "a* of the redder green", F("%.1f", w.max_green_a));
+  y = Row(cr, y, "pixel noise (a*)", F("%.1f", w.noise_a));
+  y = Row(cr, y, "expected decision margin", F("%.1f", w.decision()));
+  y += 8;
+  y = DrawThresholds(cr, r, y);
+  y += 8;
+  Text(cr, 470, y, 10, "Verdict per pair", true);
+  y += 15;
+  for (const PairVerdict& v : r.thresholds.verdicts) {
+    y = Row(cr, y, v.pair, std::string(VerdictName(v.verdict)) + F("  (%.1f)", v.worst_gap),
+            VerdictColour(v.verdict));
+  }
+  y += 8;
+  DrawPaletteChoice(cr, r, y);
 }
 
 Rgb DeltaEColour(double de) {

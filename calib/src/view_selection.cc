@@ -149,16 +149,23 @@ ViewDecision ViewSelector::Offer(const std::vector<Detection>& detections) {
   return decision;
 }
 
+namespace {
+
+// The image cells a view covers, a bit per cell.
+uint64_t CellBits(const ViewPose& pose) {
+  uint64_t b = 0;
+  for (size_t c = 0; c < pose.cells.size(); ++c) b |= pose.cells[c] ? uint64_t{1} << c : 0;
+  return b;
+}
+
+}  // namespace
+
 std::vector<size_t> ViewSelector::Choose(const std::vector<ViewPose>& candidates,
                                          std::vector<std::string>* why) {
   why->assign(candidates.size(), "");
   // Each candidate's new cells (a bit per cell) and distance to the nearest
   // kept pose, brought up to date as views are kept.
-  const auto bits = [](const ViewPose& pose) {
-    uint64_t b = 0;
-    for (size_t c = 0; c < pose.cells.size(); ++c) b |= pose.cells[c] ? uint64_t{1} << c : 0;
-    return b;
-  };
+  const auto bits = CellBits;
   uint64_t covered = 0;
   for (const ViewPose& k : kept_) covered |= bits(k);
   std::vector<uint64_t> cells(candidates.size());

@@ -45,16 +45,13 @@ bool FamilyAudit::DecodingIsSafe() const {
   return true;
 }
 
-FamilyAudit AuditFamily(const CodeDecoder& decoder, const AuditOptions& options) {
-  const TagFamily& family = decoder.family();
+namespace {
+
+// Every pair of kept codes at its closest rotation, and each code against
+// its own rotations; the pairs' distances counted in *histogram.
+std::vector<CodePair> RotatedPairs(const TagFamily& family, std::vector<int64_t>* histogram) {
   const auto& ids = family.kept_ids();
   const int n = family.num_bits();
-  FamilyAudit audit;
-  audit.num_codes = static_cast<int>(ids.size());
-  audit.min_distance = family.min_hamming();
-  audit.radius = decoder.radius();
-  audit.histogram.assign(n + 1, 0);
-
   std::vector<CodePair> pairs;
   for (size_t i = 0; i < ids.size(); ++i) {
     const Code a = family.CodeOf(ids[i]);
@@ -67,10 +64,60 @@ FamilyAudit AuditFamily(const CodeDecoder& decoder, const AuditOptions& options)
         const int d = HammingDistance(a, family.Rotate(family.CodeOf(ids[j]), turns));
         if (d < closest.distance) closest = {ids[i], ids[j], turns, d};
       }
-      ++audit.histogram[closest.distance];
+      ++(*histogram)[closest.distance];
       pairs.push_back(closest);
     }
   }
+  return pairs;
+}
+
+// What the decoder makes of every kept code, in every rotation, with
+// `flips` bits flipped: every pattern when there are few enough, else
+// random ones drawn from `rng`.
+FlipStats DecodeWithFlips(const CodeDecoder& decoder, int flips, const AuditOptions& options,
+                          std::mt19937_64& rng) {
+  const TagFamily& family = decoder.family();
+  const auto& ids = family.kept_ids();
+  const int n = family.num_bits();
+  FlipStats stats;
+  stats.flips = flips;
+  const int64_t patterns = Binomial(n, flips) * static_cast<int64_t>(ids.size()) * 4;
+  stats.exhaustive = patterns <= options.max_exhaustive_patterns;
+  if (stats.exhaustive) {
+    for (int id : ids) {
+      for (int rotation = 0; rotation < 4; ++rotation) {
+        const Code code = family.Rotate(family.CodeOf(id), rotation);
+        ForEachPattern(code, n, flips, 0,
+                       [&](Code observed) { Record(decoder, observed, id, rotation, &stats); });
+      }
+    }
+    return stats;
+  }
+  std::vector<int> bits(n);
+  for (int t = 0; t < options.trials_per_flip_count; ++t) {
+    const int id = ids[rng() % ids.size()];
+    const int rotation = static_cast<int>(rng() % 4);
+    Code observed = family.Rotate(family.CodeOf(id), rotation);
+    for (int b = 0; b < n; ++b) bits[b] = b;
+    for (int k = 0; k < flips; ++k) {  // A random set of distinct bits.
+      std::swap(bits[k], bits[k + rng() % (n - k)]);
+      observed ^= Code{1} << bits[k];
+    }
+    Record(decoder, observed, id, rotation, &stats);
+  }
+  return stats;
+}
+
+}  // namespace
+
+FamilyAudit AuditFamily(const CodeDecoder& decoder, const AuditOptions& options) {
+  const TagFamily& family = decoder.family();
+  FamilyAudit audit;
+  audit.num_codes = static_cast<int>(family.kept_ids().size());
+  audit.min_distance = family.min_hamming();
+  audit.radius = decoder.radius();
+  audit.histogram.assign(family.num_bits() + 1, 0);
+  std::vector<CodePair> pairs = RotatedPairs(family, &audit.histogram);
   const size_t listed = std::min(pairs.size(), static_cast<size_t>(options.max_pairs_listed));
   std::partial_sort(pairs.begin(), pairs.begin() + listed, pairs.end(),
                     [](const CodePair& x, const CodePair& y) {
@@ -80,36 +127,8 @@ FamilyAudit AuditFamily(const CodeDecoder& decoder, const AuditOptions& options)
   audit.closest_pairs.assign(pairs.begin(), pairs.begin() + listed);
 
   std::mt19937_64 rng(options.seed);
-  for (int flips = 0; flips <= audit.min_distance; ++flips) {
-    FlipStats stats;
-    stats.flips = flips;
-    const int64_t patterns = Binomial(n, flips) * static_cast<int64_t>(ids.size()) * 4;
-    stats.exhaustive = patterns <= options.max_exhaustive_patterns;
-    for (int id : ids) {
-      for (int rotation = 0; rotation < 4; ++rotation) {
-        const Code code = family.Rotate(family.CodeOf(id), rotation);
-        if (stats.exhaustive) {
-          ForEachPattern(code, n, flips, 0,
-                         [&](Code observed) { Record(decoder, observed, id, rotation, &stats); });
-        }
-      }
-    }
-    if (!stats.exhaustive) {
-      std::vector<int> bits(n);
-      for (int t = 0; t < options.trials_per_flip_count; ++t) {
-        const int id = ids[rng() % ids.size()];
-        const int rotation = static_cast<int>(rng() % 4);
-        Code observed = family.Rotate(family.CodeOf(id), rotation);
-        for (int b = 0; b < n; ++b) bits[b] = b;
-        for (int k = 0; k < flips; ++k) {  // A random set of distinct bits.
-          std::swap(bits[k], bits[k + rng() % (n - k)]);
-          observed ^= Code{1} << bits[k];
-        }
-        Record(decoder, observed, id, rotation, &stats);
-      }
-    }
-    audit.flips.push_back(stats);
-  }
+  for (int flips = 0; flips <= audit.min_distance; ++flips)
+    audit.flips.push_back(DecodeWithFlips(decoder, flips, options, rng));
   return audit;
 }
 

@@ -59,6 +59,53 @@ std::string FormatIdRanges(const std::vector<int>& ids) {
   return out;
 }
 
+namespace {
+
+// Why a code would print one shade only of red or of green (all its red
+// cells, or all its green cells, the same bit); empty when it prints both.
+std::string WhyOneShade(const TagFamily& family, Code code) {
+  const int d = family.payload_width();
+  int ones[2] = {0, 0};
+  int cells[2] = {0, 0};
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const int color = family.CellColorAt(row, col) == CellColor::kRed ? 0 : 1;
+      ++cells[color];
+      ones[color] += family.Bit(code, row, col) ? 1 : 0;
+    }
+  }
+  std::string reason;
+  const char* names[2] = {"red", "green"};
+  for (int color = 0; color < 2; ++color) {
+    if (ones[color] == 0 || ones[color] == cells[color]) {
+      if (!reason.empty()) reason += "; ";
+      reason += std::string(names[color]) + " cells are all bit " + (ones[color] == 0 ? "0" : "1") +
+                " (one shade, cannot be split)";
+    }
+  }
+  return reason;
+}
+
+// The minimum distance over all relative rotations of the kept codes.
+int MinDistanceOverRotations(const TagFamily& family, const std::vector<int>& kept) {
+  int min_distance = family.num_bits();
+  for (size_t i = 0; i < kept.size(); ++i) {
+    const Code a = family.CodeOf(kept[i]);
+    for (int turns = 1; turns < 4; ++turns) {
+      min_distance = std::min(min_distance, HammingDistance(a, family.Rotate(a, turns)));
+    }
+    for (size_t j = i + 1; j < kept.size(); ++j) {
+      const Code b = family.CodeOf(kept[j]);
+      for (int turns = 0; turns < 4; ++turns) {
+        min_distance = std::min(min_distance, HammingDistance(a, family.Rotate(b, turns)));
+      }
+    }
+  }
+  return min_distance;
+}
+
+}  // namespace
+
 const std::vector<std::string>& TagFamily::Names() {
   static const std::vector<std::string> names = {"16h5", "36h11"};
   return names;
@@ -96,47 +143,14 @@ std::shared_ptr<const TagFamily> TagFamily::Load(const std::string& name, std::s
 
   // Spec section 4: both shades of red and both shades of green.
   for (int id = 0; id < family->num_apriltag_ids(); ++id) {
-    int ones[2] = {0, 0};
-    int cells[2] = {0, 0};
-    for (int row = 0; row < d; ++row) {
-      for (int col = 0; col < d; ++col) {
-        const int color = family->CellColorAt(row, col) == CellColor::kRed ? 0 : 1;
-        ++cells[color];
-        ones[color] += family->Bit(family->codes_[id], row, col) ? 1 : 0;
-      }
-    }
-    std::string reason;
-    const char* names[2] = {"red", "green"};
-    for (int color = 0; color < 2; ++color) {
-      if (ones[color] == 0 || ones[color] == cells[color]) {
-        if (!reason.empty()) reason += "; ";
-        reason += std::string(names[color]) + " cells are all bit " +
-                  (ones[color] == 0 ? "0" : "1") + " (one shade, cannot be split)";
-      }
-    }
+    const std::string reason = WhyOneShade(*family, family->codes_[id]);
     if (reason.empty()) {
       family->kept_ids_.push_back(id);
     } else {
       family->rejected_.push_back({id, reason});
     }
   }
-
-  // Minimum distance over all relative rotations of the kept codes.
-  int min_distance = family->num_bits();
-  const auto& kept = family->kept_ids_;
-  for (size_t i = 0; i < kept.size(); ++i) {
-    const Code a = family->codes_[kept[i]];
-    for (int turns = 1; turns < 4; ++turns) {
-      min_distance = std::min(min_distance, HammingDistance(a, family->Rotate(a, turns)));
-    }
-    for (size_t j = i + 1; j < kept.size(); ++j) {
-      const Code b = family->codes_[kept[j]];
-      for (int turns = 0; turns < 4; ++turns) {
-        min_distance = std::min(min_distance, HammingDistance(a, family->Rotate(b, turns)));
-      }
-    }
-  }
-  family->min_hamming_ = min_distance;
+  family->min_hamming_ = MinDistanceOverRotations(*family, family->kept_ids_);
   cached = family;
   return cached;
 }

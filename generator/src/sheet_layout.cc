@@ -154,41 +154,12 @@ std::optional<SheetLayout> LayoutBoard(const SheetOptions& options, double usabl
   return layout;
 }
 
-}  // namespace
-
-std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string* error) {
-  if (!options.IsValid(error)) return std::nullopt;
-  using namespace internal;
-  SheetLayout layout;
-  const double marks = MarksMm(options);
-  const double outer = OuterMm(options);
-  layout.footprint_width_mm = outer + 2.0 * marks;
-  layout.footprint_height_mm = outer + 2.0 * marks + LabelHeightMm(options);
-
-  const auto [usable_w, usable_h] = Usable(options);
-  for (double bar : {100.0, 50.0, 20.0, 10.0}) {
-    if (bar <= usable_w) {
-      layout.scale_bar_mm = bar;
-      break;
-    }
-  }
-  if (layout.scale_bar_mm == 0.0 || usable_h <= 0.0) {
-    if (error) *error = "the page leaves no room inside its margins for tags and the scale bar";
-    return std::nullopt;
-  }
-  if (options.board) return LayoutBoard(options, usable_w, usable_h, std::move(layout), error);
-  if (layout.footprint_width_mm > usable_w || layout.footprint_height_mm > usable_h) {
-    if (error) {
-      *error = "a " + Mm(options.tag_size_mm) + " mm " + options.family->name() + " tag needs " +
-               Mm(layout.footprint_width_mm) + " x " + Mm(layout.footprint_height_mm) +
-               " mm of paper with its quiet zone" + (options.label ? " and label" : "") +
-               "; page " + options.page.name + " (" + Mm(options.page.width_mm) + " x " +
-               Mm(options.page.height_mm) + " mm) with " + Mm(options.margin_mm) +
-               " mm margins and the scale bar leaves " + Mm(usable_w) + " x " + Mm(usable_h) +
-               " mm";
-    }
-    return std::nullopt;
-  }
+// LayoutSheet for a sheet: as many tags (with their marks and label) as fit
+// across and down, page after page, the grid centred in the usable area.
+SheetLayout LayoutTagGrid(const SheetOptions& options, double usable_w, double usable_h,
+                          SheetLayout layout) {
+  const double marks = internal::MarksMm(options);
+  const double outer = internal::OuterMm(options);
   const double gap = options.gap_mm;
   layout.columns = options.one_per_page
                        ? 1
@@ -230,6 +201,44 @@ std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string*
   }
   layout.board_origin_mm = {0.0, options.page.height_mm};
   return layout;
+}
+
+}  // namespace
+
+std::optional<SheetLayout> LayoutSheet(const SheetOptions& options, std::string* error) {
+  if (!options.IsValid(error)) return std::nullopt;
+  using namespace internal;
+  SheetLayout layout;
+  const double marks = MarksMm(options);
+  const double outer = OuterMm(options);
+  layout.footprint_width_mm = outer + 2.0 * marks;
+  layout.footprint_height_mm = outer + 2.0 * marks + LabelHeightMm(options);
+
+  const auto [usable_w, usable_h] = Usable(options);
+  for (double bar : {100.0, 50.0, 20.0, 10.0}) {
+    if (bar <= usable_w) {
+      layout.scale_bar_mm = bar;
+      break;
+    }
+  }
+  if (layout.scale_bar_mm == 0.0 || usable_h <= 0.0) {
+    if (error) *error = "the page leaves no room inside its margins for tags and the scale bar";
+    return std::nullopt;
+  }
+  if (options.board) return LayoutBoard(options, usable_w, usable_h, std::move(layout), error);
+  if (layout.footprint_width_mm > usable_w || layout.footprint_height_mm > usable_h) {
+    if (error) {
+      *error = "a " + Mm(options.tag_size_mm) + " mm " + options.family->name() + " tag needs " +
+               Mm(layout.footprint_width_mm) + " x " + Mm(layout.footprint_height_mm) +
+               " mm of paper with its quiet zone" + (options.label ? " and label" : "") +
+               "; page " + options.page.name + " (" + Mm(options.page.width_mm) + " x " +
+               Mm(options.page.height_mm) + " mm) with " + Mm(options.margin_mm) +
+               " mm margins and the scale bar leaves " + Mm(usable_w) + " x " + Mm(usable_h) +
+               " mm";
+    }
+    return std::nullopt;
+  }
+  return LayoutTagGrid(options, usable_w, usable_h, std::move(layout));
 }
 
 std::optional<double> BoardTagSizeToFit(const SheetOptions& options, double spacing_share,

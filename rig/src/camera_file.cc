@@ -432,8 +432,8 @@ std::string CameraFileText(const CameraIntrinsics& camera, const CameraFileInfo&
         for (size_t i = 4; i < d.size(); ++i) {
           if (d[i] != 0.0)
             return fail(
-                "Kalibr's radtan model has no k3 to k6: calibrate without --k3 for a Kalibr "
-                "camchain");
+                "Kalibr's radtan model has no k3 to k6: calibrate with k3 fixed at 0 for a "
+                "Kalibr camchain");
         }
         d.resize(4);
       }

@@ -187,6 +187,40 @@ std::optional<std::array<double, 2>> ReadImageDpi(const std::string& bytes) {
   return TiffDpi(bytes);
 }
 
+namespace {
+
+// A scan's resolution: the one given, else the one its file records (which
+// must lie in [50, 4800] dpi); false with *error when there is none.
+bool ScanDpi(const std::string& path, const std::string& bytes, const PrintCheckOptions& options,
+             PrintImage* image, std::string* error) {
+  if (options.scan_dpi > 0) {
+    image->dpi_x = image->dpi_y = options.scan_dpi;
+    return true;
+  }
+  const auto dpi = ReadImageDpi(bytes);
+  if (!dpi) {
+    if (error) {
+      *error = "scan '" + path + "' does not record its resolution; give the scanner's resolution";
+    }
+    return false;
+  }
+  image->dpi_x = (*dpi)[0];
+  image->dpi_y = (*dpi)[1];
+  image->dpi_from_file = true;
+  if (!(std::min(image->dpi_x, image->dpi_y) >= 50.0 &&
+        std::max(image->dpi_x, image->dpi_y) <= 4800.0)) {
+    if (error) {
+      *error = "scan '" + path + "' records " + std::to_string(std::lround(image->dpi_x)) + " x " +
+               std::to_string(std::lround(image->dpi_y)) +
+               " dpi, outside [50, 4800]; give the scanner's resolution";
+    }
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
                                             const std::vector<std::string>& paths,
                                             const PrintCheckOptions& options, std::string* error) {
@@ -211,30 +245,7 @@ std::optional<PrintVerdict> CheckPrintFiles(const SheetRecord& record,
     if (bgr.empty()) return std::nullopt;
     PrintImage image;
     image.name = path;
-    if (options.scans) {
-      if (options.scan_dpi > 0) {
-        image.dpi_x = image.dpi_y = options.scan_dpi;
-      } else if (const auto dpi = ReadImageDpi(*bytes)) {
-        image.dpi_x = (*dpi)[0];
-        image.dpi_y = (*dpi)[1];
-        image.dpi_from_file = true;
-        if (!(std::min(image.dpi_x, image.dpi_y) >= 50.0 &&
-              std::max(image.dpi_x, image.dpi_y) <= 4800.0)) {
-          if (error) {
-            *error = "scan '" + path + "' records " + std::to_string(std::lround(image.dpi_x)) +
-                     " x " + std::to_string(std::lround(image.dpi_y)) +
-                     " dpi, outside [50, 4800]; give the scanner's resolution";
-          }
-          return std::nullopt;
-        }
-      } else {
-        if (error) {
-          *error =
-              "scan '" + path + "' does not record its resolution; give the scanner's resolution";
-        }
-        return std::nullopt;
-      }
-    }
+    if (options.scans && !ScanDpi(path, *bytes, options, &image, error)) return std::nullopt;
     PrintPageResult page = CheckPrintImage(record, bgr, image, *detector, options);
     if (page.page >= 0 && page.page < record.num_pages) seen[page.page] = true;
     verdict.grade = std::max(verdict.grade, page.grade);

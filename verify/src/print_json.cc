@@ -31,65 +31,73 @@ Json ShadesJson(const PrintedShades& c) {
           {"green_decision", m.green_decision}};
 }
 
+Json TagJson(const PrintTagResult& t, bool scan) {
+  Json tag = {{"id", t.expected.id},
+              {"grade", GradeName(t.grade)},
+              {"found", t.found},
+              {"found_id", t.found_id},
+              {"hamming", t.hamming},
+              {"margin", t.margin},
+              {"position_error_mm", t.position_error_mm},
+              {"shades", ShadesJson(t.colours)},
+              {"problems", t.problems},
+              {"problem_grades", Grades(t.problem_grades)}};
+  if (scan) tag["size_mm"] = t.size_mm;
+  return tag;
+}
+
+Json UndecodedJson(const std::vector<UndecodedCandidate>& candidates) {
+  Json undecoded = Json::array();
+  for (const UndecodedCandidate& u : candidates) {
+    Json corners = Json::array();
+    for (const cv::Point2d& p : u.corners_px) corners.push_back({p.x, p.y});
+    undecoded.push_back({{"corners_px", corners},
+                         {"red_b_split", u.red_b_split},
+                         {"green_b_split", u.green_b_split},
+                         {"a_gap", u.a_gap}});
+  }
+  return undecoded;
+}
+
+Json ImageJson(const PrintPageResult& r) {
+  Json image = {{"image", r.image},
+                {"page", r.page >= 0 ? Json(r.page + 1) : Json(nullptr)},
+                {"kind", r.scan ? "scan" : "photo"},
+                {"grade", GradeName(r.grade)},
+                {"tags_found", r.tags_found},
+                {"rms_mm", r.rms_mm},
+                {"geometry_checked", r.geometry_checked}};
+  if (r.scan) {
+    image["dpi"] = {r.dpi_x, r.dpi_y};
+    image["scale"] = {{"x", r.scale_x},
+                      {"y", r.scale_y},
+                      {"x_standard_error", r.scale_x_error},
+                      {"y_standard_error", r.scale_y_error},
+                      {"skew_deg", r.skew_deg}};
+  } else {
+    image["aspect"] = {{"x_over_y", r.aspect > 0 ? Json(r.aspect) : Json(nullptr)},
+                       {"standard_error", r.aspect_error},
+                       {"focal_px", r.focal_px},
+                       {"focal_source", r.focal_source}};
+  }
+  Json unexpected = Json::array();
+  for (const auto& u : r.unexpected) {
+    unexpected.push_back(
+        {{"family", u.family}, {"id", u.id}, {"center_mm", {u.center_mm[0], u.center_mm[1]}}});
+  }
+  Json tags = Json::array();
+  for (const PrintTagResult& t : r.tags) tags.push_back(TagJson(t, r.scan));
+  image["problems"] = r.problems;
+  image["problem_grades"] = Grades(r.problem_grades);
+  image["undecoded"] = UndecodedJson(r.undecoded);
+  image["unexpected"] = unexpected;
+  image["tags"] = tags;
+  return image;
+}
+
 Json ToJson(const SheetRecord& record, const PrintVerdict& verdict) {
   Json images = Json::array();
-  for (const PrintPageResult& r : verdict.images) {
-    Json tags = Json::array();
-    for (const PrintTagResult& t : r.tags) {
-      Json tag = {{"id", t.expected.id},
-                  {"grade", GradeName(t.grade)},
-                  {"found", t.found},
-                  {"found_id", t.found_id},
-                  {"hamming", t.hamming},
-                  {"margin", t.margin},
-                  {"position_error_mm", t.position_error_mm},
-                  {"shades", ShadesJson(t.colours)},
-                  {"problems", t.problems},
-                  {"problem_grades", Grades(t.problem_grades)}};
-      if (r.scan) tag["size_mm"] = t.size_mm;
-      tags.push_back(tag);
-    }
-    Json image = {{"image", r.image},
-                  {"page", r.page >= 0 ? Json(r.page + 1) : Json(nullptr)},
-                  {"kind", r.scan ? "scan" : "photo"},
-                  {"grade", GradeName(r.grade)},
-                  {"tags_found", r.tags_found},
-                  {"rms_mm", r.rms_mm},
-                  {"geometry_checked", r.geometry_checked}};
-    if (r.scan) {
-      image["dpi"] = {r.dpi_x, r.dpi_y};
-      image["scale"] = {{"x", r.scale_x},
-                        {"y", r.scale_y},
-                        {"x_standard_error", r.scale_x_error},
-                        {"y_standard_error", r.scale_y_error},
-                        {"skew_deg", r.skew_deg}};
-    } else {
-      image["aspect"] = {{"x_over_y", r.aspect > 0 ? Json(r.aspect) : Json(nullptr)},
-                         {"standard_error", r.aspect_error},
-                         {"focal_px", r.focal_px},
-                         {"focal_source", r.focal_source}};
-    }
-    Json unexpected = Json::array();
-    for (const auto& u : r.unexpected) {
-      unexpected.push_back(
-          {{"family", u.family}, {"id", u.id}, {"center_mm", {u.center_mm[0], u.center_mm[1]}}});
-    }
-    image["problems"] = r.problems;
-    image["problem_grades"] = Grades(r.problem_grades);
-    Json undecoded = Json::array();
-    for (const UndecodedCandidate& u : r.undecoded) {
-      Json corners = Json::array();
-      for (const cv::Point2d& p : u.corners_px) corners.push_back({p.x, p.y});
-      undecoded.push_back({{"corners_px", corners},
-                           {"red_b_split", u.red_b_split},
-                           {"green_b_split", u.green_b_split},
-                           {"a_gap", u.a_gap}});
-    }
-    image["undecoded"] = undecoded;
-    image["unexpected"] = unexpected;
-    image["tags"] = tags;
-    images.push_back(image);
-  }
+  for (const PrintPageResult& r : verdict.images) images.push_back(ImageJson(r));
   Json not_seen = Json::array();
   for (int p : verdict.pages_not_seen) not_seen.push_back(p + 1);
   return {{"sheet", record.sidecar_path},       {"grade", GradeName(verdict.grade)},

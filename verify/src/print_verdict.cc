@@ -91,35 +91,41 @@ void Settle(std::vector<Finding> findings, Grade* grade, std::vector<std::string
   }
 }
 
-void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageResult* r,
-               std::vector<Finding>* findings) {
-  r->geometry_checked = true;  // Unless a branch below says otherwise.
-  if (r->scan) {
-    const double tol = o.max_scale_error;
-    const double ex = std::max(0.001, 2 * r->scale_x_error),
-                 ey = std::max(0.001, 2 * r->scale_y_error);
-    const bool x_off = std::abs(r->scale_x - 1.0) > tol, y_off = std::abs(r->scale_y - 1.0) > tol;
-    if ((x_off || y_off) && std::abs(r->scale_x - r->scale_y) <= tol) {
-      const double mean = (r->scale_x + r->scale_y) / 2;
-      AddFinding(findings, Grade::kFail,
-                 Format("printed at %.1f %% of its size (scale x %.3f ± %.3f, y %.3f ± %.3f; "
-                        "allowed 1 ± %.3f): %.1f mm tags print as %.2f mm. Print at 100 %% "
-                        "(\"actual size\"), not \"fit to page\"",
-                        100 * mean, r->scale_x, ex, r->scale_y, ey, tol, record.tag_size_mm,
-                        record.tag_size_mm * mean));
-    } else if (x_off || y_off) {
-      AddFinding(
-          findings, Grade::kFail,
-          Format("stretched: scale x %.3f ± %.3f, y %.3f ± %.3f (allowed 1 ± %.3f each): the "
-                 "printer does not keep the page's aspect; poses from these tags will be off",
-                 r->scale_x, ex, r->scale_y, ey, tol));
-    }
-    if (std::abs(r->skew_deg) > 0.5) {
-      AddFinding(findings, Grade::kWarn,
-                 Format("the page's axes are %.1f degrees from square (the paper fed crooked)",
-                        r->skew_deg));
-    }
-  } else if (r->aspect == 0) {
+namespace {
+
+// A scan's scale: the whole page (fit to page) or one axis (stretched), and
+// its skew.
+void JudgeScanScale(const PrintCheckOptions& o, const SheetRecord& record, const PrintPageResult& r,
+                    std::vector<Finding>* findings) {
+  const double tol = o.max_scale_error;
+  const double ex = std::max(0.001, 2 * r.scale_x_error), ey = std::max(0.001, 2 * r.scale_y_error);
+  const bool x_off = std::abs(r.scale_x - 1.0) > tol, y_off = std::abs(r.scale_y - 1.0) > tol;
+  if ((x_off || y_off) && std::abs(r.scale_x - r.scale_y) <= tol) {
+    const double mean = (r.scale_x + r.scale_y) / 2;
+    AddFinding(findings, Grade::kFail,
+               Format("printed at %.1f %% of its size (scale x %.3f ± %.3f, y %.3f ± %.3f; "
+                      "allowed 1 ± %.3f): %.1f mm tags print as %.2f mm. Print at 100 %% "
+                      "(\"actual size\"), not \"fit to page\"",
+                      100 * mean, r.scale_x, ex, r.scale_y, ey, tol, record.tag_size_mm,
+                      record.tag_size_mm * mean));
+  } else if (x_off || y_off) {
+    AddFinding(findings, Grade::kFail,
+               Format("stretched: scale x %.3f ± %.3f, y %.3f ± %.3f (allowed 1 ± %.3f each): the "
+                      "printer does not keep the page's aspect; poses from these tags will be off",
+                      r.scale_x, ex, r.scale_y, ey, tol));
+  }
+  if (std::abs(r.skew_deg) > 0.5) {
+    AddFinding(
+        findings, Grade::kWarn,
+        Format("the page's axes are %.1f degrees from square (the paper fed crooked)", r.skew_deg));
+  }
+}
+
+// A photo's aspect: too few tags to judge it, stretched, or too loose a
+// view to tell (then the shape was not checked).
+void JudgePhotoAspect(const PrintCheckOptions& o, PrintPageResult* r,
+                      std::vector<Finding>* findings) {
+  if (r->aspect == 0) {
     r->geometry_checked = false;
     AddFinding(
         findings, Grade::kWarn,
@@ -145,18 +151,16 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
                "scan the page",
                r->aspect, 2 * r->aspect_error, o.max_aspect_error));
   }
-  if (r->tags_in_fit >= 3 && r->rms_mm > 0.5 * o.max_position_error_mm) {
-    AddFinding(
-        findings, Grade::kWarn,
-        Format("the tags do not lie on one flat page (fit residual %.2f mm rms): the sheet "
-               "curls%s",
-               r->rms_mm, r->scan ? "" : " or the lens distorts (give the camera's intrinsics)"));
-  }
+}
+
+// Detections where the sidecar has no tag.
+void JudgeUnexpected(const SheetRecord& record, const PrintPageResult& r,
+                     std::vector<Finding>* findings) {
   // A tag of the sheet's family, read exactly, on the page where the sidecar
   // lists none means the sidecar does not describe this print (cut down, or
   // another sheet's); one beside the page, of another family or read with
   // corrected bits may be something else in view.
-  for (const UnexpectedDetection& u : r->unexpected) {
+  for (const UnexpectedDetection& u : r.unexpected) {
     const bool on_page = u.exact && u.center_mm[0] >= 0 && u.center_mm[0] <= record.page.width_mm &&
                          u.center_mm[1] >= 0 && u.center_mm[1] <= record.page.height_mm;
     AddFinding(findings, on_page ? Grade::kFail : Grade::kWarn,
@@ -164,6 +168,26 @@ void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageR
                       u.family.c_str(), u.id, u.center_mm[0], u.center_mm[1],
                       on_page ? ": the sidecar does not describe this print" : ""));
   }
+}
+
+}  // namespace
+
+void JudgePage(const PrintCheckOptions& o, const SheetRecord& record, PrintPageResult* r,
+               std::vector<Finding>* findings) {
+  r->geometry_checked = true;  // Unless JudgePhotoAspect says otherwise.
+  if (r->scan) {
+    JudgeScanScale(o, record, *r, findings);
+  } else {
+    JudgePhotoAspect(o, r, findings);
+  }
+  if (r->tags_in_fit >= 3 && r->rms_mm > 0.5 * o.max_position_error_mm) {
+    AddFinding(
+        findings, Grade::kWarn,
+        Format("the tags do not lie on one flat page (fit residual %.2f mm rms): the sheet "
+               "curls%s",
+               r->rms_mm, r->scan ? "" : " or the lens distorts (give the camera's intrinsics)"));
+  }
+  JudgeUnexpected(record, *r, findings);
 }
 
 void JudgeScanDpi(const PrintImage& image, const PrintPageResult& r,

@@ -102,9 +102,64 @@ std::string CountProblem(int found, int described) {
 
 }  // namespace
 
+namespace {
+
+// Each page's size in pixels at `dpi`, as poppler will draw it; what is
+// wrong with the PDF's pages, or empty.
+std::string PdfPageSizes(poppler::document& pdf, const std::string& path, int num_pages, double dpi,
+                         std::vector<cv::Size>* sizes) {
+  const int count = pdf.pages();
+  if (count != num_pages) return CountProblem(count, num_pages);
+  for (int i = 0; i < count; ++i) {
+    std::unique_ptr<poppler::page> page(pdf.create_page(i));
+    if (!page) return "cannot read page " + std::to_string(i + 1) + " of '" + path + "'";
+    const poppler::rectf box = page->page_rect();
+    const double w_mm = box.width() / 72.0 * 25.4, h_mm = box.height() / 72.0 * 25.4;
+    const std::string problem = PageSizeProblem(i, w_mm, h_mm, dpi);
+    if (!problem.empty()) return problem;
+    // As poppler draws it: rounded, and turned by the page's /Rotate.
+    const int w = static_cast<int>(std::floor(w_mm / 25.4 * dpi + 0.5));
+    const int h = static_cast<int>(std::floor(h_mm / 25.4 * dpi + 0.5));
+    const bool turned = page->orientation() == poppler::page::landscape ||
+                        page->orientation() == poppler::page::seascape;
+    sizes->emplace_back(turned ? h : w, turned ? w : h);
+  }
+  return "";
+}
+
+// Each page file's size in pixels (an SVG's at `dpi`, a PNG's its own);
+// what is wrong with them, or empty.
+std::string PageFileSizes(const std::vector<std::string>& paths, SheetFormat format, int num_pages,
+                          double dpi, std::vector<cv::Size>* sizes) {
+  if (static_cast<int>(paths.size()) != num_pages)
+    return CountProblem(static_cast<int>(paths.size()), num_pages);
+  std::string message;
+  for (size_t i = 0; i < paths.size(); ++i) {
+    const std::string& path = paths[i];
+    if (format == SheetFormat::kSvg) {
+      double w = 0.0, h = 0.0;
+      RsvgHandle* handle = LoadSvg(path, dpi, &w, &h, &message);
+      if (handle == nullptr) return message;
+      g_object_unref(handle);
+      const std::string problem =
+          PageSizeProblem(static_cast<int>(i), w / dpi * 25.4, h / dpi * 25.4, dpi);
+      if (!problem.empty()) return problem;
+      sizes->emplace_back(static_cast<int>(std::lround(w)), static_cast<int>(std::lround(h)));
+    } else {
+      ImageSize size;
+      if (!ImageHeaderSize(path, &size)) return "cannot read the size of PNG page '" + path + "'";
+      const std::string problem = ImageSizeProblem(size);
+      if (!problem.empty()) return "PNG page '" + path + "': " + problem;
+      sizes->emplace_back(static_cast<int>(size.width), static_cast<int>(size.height));
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 std::optional<SheetPages> SheetPages::Open(const SheetRecord& record, double dpi,
                                            std::string* error) {
-  std::string message;
   auto source = std::make_shared<Source>();
   source->format = record.format;
   source->dpi = dpi;
@@ -116,59 +171,17 @@ std::optional<SheetPages> SheetPages::Open(const SheetRecord& record, double dpi
     return std::nullopt;
   };
   if (source->paths.empty()) return fail("the sidecar lists no sheet file");
-  switch (record.format) {
-    case SheetFormat::kPdf: {
-      PopplerMessages messages;
-      source->pdf.reset(poppler::document::load_from_file(source->paths[0]));
-      if (!source->pdf || source->pdf->is_locked())
-        return fail("cannot read PDF '" + source->paths[0] + "'" + messages.Note());
-      const int count = source->pdf->pages();
-      if (count != record.num_pages) return fail(CountProblem(count, record.num_pages));
-      for (int i = 0; i < count; ++i) {
-        std::unique_ptr<poppler::page> page(source->pdf->create_page(i));
-        if (!page)
-          return fail("cannot read page " + std::to_string(i + 1) + " of '" + source->paths[0] +
-                      "'");
-        const poppler::rectf box = page->page_rect();
-        const double w_mm = box.width() / 72.0 * 25.4, h_mm = box.height() / 72.0 * 25.4;
-        const std::string problem = PageSizeProblem(i, w_mm, h_mm, dpi);
-        if (!problem.empty()) return fail(problem);
-        // As poppler draws it: rounded, and turned by the page's /Rotate.
-        const int w = static_cast<int>(std::floor(w_mm / 25.4 * dpi + 0.5));
-        const int h = static_cast<int>(std::floor(h_mm / 25.4 * dpi + 0.5));
-        const bool turned = page->orientation() == poppler::page::landscape ||
-                            page->orientation() == poppler::page::seascape;
-        pages.sizes_.emplace_back(turned ? h : w, turned ? w : h);
-      }
-      break;
-    }
-    case SheetFormat::kSvg:
-    case SheetFormat::kPng:
-      if (static_cast<int>(source->paths.size()) != record.num_pages)
-        return fail(CountProblem(static_cast<int>(source->paths.size()), record.num_pages));
-      for (size_t i = 0; i < source->paths.size(); ++i) {
-        const std::string& path = source->paths[i];
-        if (record.format == SheetFormat::kSvg) {
-          double w = 0.0, h = 0.0;
-          RsvgHandle* handle = LoadSvg(path, dpi, &w, &h, &message);
-          if (handle == nullptr) return fail(message);
-          g_object_unref(handle);
-          const std::string problem =
-              PageSizeProblem(static_cast<int>(i), w / dpi * 25.4, h / dpi * 25.4, dpi);
-          if (!problem.empty()) return fail(problem);
-          pages.sizes_.emplace_back(static_cast<int>(std::lround(w)),
-                                    static_cast<int>(std::lround(h)));
-        } else {
-          ImageSize size;
-          if (!ImageHeaderSize(path, &size))
-            return fail("cannot read the size of PNG page '" + path + "'");
-          const std::string problem = ImageSizeProblem(size);
-          if (!problem.empty()) return fail("PNG page '" + path + "': " + problem);
-          pages.sizes_.emplace_back(static_cast<int>(size.width), static_cast<int>(size.height));
-        }
-      }
-      break;
+  std::string problem;
+  if (record.format == SheetFormat::kPdf) {
+    PopplerMessages messages;
+    source->pdf.reset(poppler::document::load_from_file(source->paths[0]));
+    if (!source->pdf || source->pdf->is_locked())
+      return fail("cannot read PDF '" + source->paths[0] + "'" + messages.Note());
+    problem = PdfPageSizes(*source->pdf, source->paths[0], record.num_pages, dpi, &pages.sizes_);
+  } else {
+    problem = PageFileSizes(source->paths, record.format, record.num_pages, dpi, &pages.sizes_);
   }
+  if (!problem.empty()) return fail(problem);
   pages.source_ = std::move(source);
   return pages;
 }

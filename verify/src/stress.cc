@@ -31,17 +31,58 @@ bool DecodedAs(const Detector& detector, const cv::Mat& frame, const TagFamily& 
          result.detections[0].family == &family;
 }
 
+// What a camera does to the view: blur, a colour cast, a Bayer mosaic
+// demosaiced, noise and JPEG, each when `params` asks for it.
+void ApplyCamera(const ViewParams& params, cv::Mat* frame_bgr) {
+  cv::Mat& frame = *frame_bgr;
+  if (params.blur_sigma > 0.0) cv::GaussianBlur(frame, frame, cv::Size(), params.blur_sigma);
+  if (params.gains != cv::Vec3d(1, 1, 1)) {
+    cv::multiply(frame, cv::Scalar(params.gains[2], params.gains[1], params.gains[0]), frame);
+  }
+  if (params.bayer) {
+    cv::Mat mosaic(frame.size(), CV_8UC1);
+    for (int y = 0; y < frame.rows; ++y) {
+      for (int x = 0; x < frame.cols; ++x) {
+        // RGGB: R at even row/even column, B at odd/odd, G elsewhere.
+        const int channel = (y % 2 == 0 && x % 2 == 0) ? 2 : (y % 2 == 1 && x % 2 == 1) ? 0 : 1;
+        mosaic.at<uint8_t>(y, x) = frame.at<cv::Vec3b>(y, x)[channel];
+      }
+    }
+    cv::cvtColor(mosaic, frame, cv::COLOR_BayerBG2BGR);  // OpenCV names RGGB "BG".
+  }
+  if (params.noise_sigma > 0.0) {
+    cv::Mat noise(frame.size(), CV_16SC3);
+    cv::theRNG().state = params.seed;
+    cv::randn(noise, 0, params.noise_sigma);
+    cv::Mat wide;
+    frame.convertTo(wide, CV_16SC3);
+    wide += noise;
+    wide.convertTo(frame, CV_8UC3);
+  }
+  if (params.jpeg_quality > 0) {
+    std::vector<uchar> bytes;
+    cv::imencode(".jpg", frame, bytes, {cv::IMWRITE_JPEG_QUALITY, params.jpeg_quality});
+    frame = cv::imdecode(bytes, cv::IMREAD_COLOR);
+  }
+}
+
+// The tag as BGR pixels, kRasterPixelsPerCell a cell.
+cv::Mat TagImage(const TagFamily& family, int id, const TagColors& colors,
+                 const TagDrawOptions& draw) {
+  const RgbImage raster = RasterizeTag(family, id, colors, kRasterPixelsPerCell, draw);
+  cv::Mat tag_rgb(raster.height, raster.width, CV_8UC3, const_cast<uint8_t*>(raster.pixels.data()));
+  cv::Mat tag;
+  cv::cvtColor(tag_rgb, tag, cv::COLOR_RGB2BGR);
+  return tag;
+}
+
 }  // namespace
 
 cv::Mat RenderView(const TagFamily& family, int id, const TagColors& colors,
                    const ViewParams& params, std::array<cv::Point2d, 4>* corners) {
   TagDrawOptions draw;
   draw.quiet_zone_cells = 2;
-  const RgbImage raster = RasterizeTag(family, id, colors, kRasterPixelsPerCell, draw);
-  cv::Mat tag_rgb(raster.height, raster.width, CV_8UC3, const_cast<uint8_t*>(raster.pixels.data()));
-  cv::Mat tag;
-  cv::cvtColor(tag_rgb, tag, cv::COLOR_RGB2BGR);
-
+  cv::Mat tag = TagImage(family, id, colors, draw);
   const int cells = family.black_square_cells();
   const double outer = static_cast<double>(OuterCells(family, draw)) / cells;  // In squares.
   const double distance = kFocalPx / params.size_px;  // Black square of side 1 at `distance`.
@@ -72,35 +113,7 @@ cv::Mat RenderView(const TagFamily& family, int id, const TagColors& colors,
       (*corners)[i] = {p.x - 0.5, p.y - 0.5};
     }
   }
-  if (params.blur_sigma > 0.0) cv::GaussianBlur(frame, frame, cv::Size(), params.blur_sigma);
-  if (params.gains != cv::Vec3d(1, 1, 1)) {
-    cv::multiply(frame, cv::Scalar(params.gains[2], params.gains[1], params.gains[0]), frame);
-  }
-  if (params.bayer) {
-    cv::Mat mosaic(frame.size(), CV_8UC1);
-    for (int y = 0; y < frame.rows; ++y) {
-      for (int x = 0; x < frame.cols; ++x) {
-        // RGGB: R at even row/even column, B at odd/odd, G elsewhere.
-        const int channel = (y % 2 == 0 && x % 2 == 0) ? 2 : (y % 2 == 1 && x % 2 == 1) ? 0 : 1;
-        mosaic.at<uint8_t>(y, x) = frame.at<cv::Vec3b>(y, x)[channel];
-      }
-    }
-    cv::cvtColor(mosaic, frame, cv::COLOR_BayerBG2BGR);  // OpenCV names RGGB "BG".
-  }
-  if (params.noise_sigma > 0.0) {
-    cv::Mat noise(frame.size(), CV_16SC3);
-    cv::theRNG().state = params.seed;
-    cv::randn(noise, 0, params.noise_sigma);
-    cv::Mat wide;
-    frame.convertTo(wide, CV_16SC3);
-    wide += noise;
-    wide.convertTo(frame, CV_8UC3);
-  }
-  if (params.jpeg_quality > 0) {
-    std::vector<uchar> bytes;
-    cv::imencode(".jpg", frame, bytes, {cv::IMWRITE_JPEG_QUALITY, params.jpeg_quality});
-    frame = cv::imdecode(bytes, cv::IMREAD_COLOR);
-  }
+  ApplyCamera(params, &frame);
   return frame;
 }
 

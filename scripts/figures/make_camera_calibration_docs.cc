@@ -18,6 +18,26 @@
 #include "chromatag/rig/board_file.h"
 #include "page_view.h"
 
+namespace {
+
+// The board with tag 9's square printed with tag 16's pattern.
+chromatag::testing::PrintedPage Misprinted(const chromatag::testing::PrintedPage& page,
+                                           const chromatag::SheetRecord& record) {
+  chromatag::testing::PrintedPage shown = page;
+  shown.bgr = page.bgr.clone();
+  const auto box = [&](int i) {
+    const auto& c = record.tags[i].corners_mm;
+    return cv::Rect(cv::Point(static_cast<int>(c[0][0] * page.px_per_mm),
+                              static_cast<int>(c[0][1] * page.px_per_mm)),
+                    cv::Point(static_cast<int>(c[2][0] * page.px_per_mm),
+                              static_cast<int>(c[2][1] * page.px_per_mm)));
+  };
+  page.bgr(box(16)).copyTo(shown.bgr(box(9)));
+  return shown;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace chromatag;
   if (argc != 2) {
@@ -47,18 +67,7 @@ int main(int argc, char** argv) {
       spin(-20, 20), side(-0.05, 0.05), blur(0.3, 1.0);
   for (int v = 0; v <= 20; ++v) {
     testing::PrintedPage shown = page;
-    if (v == 20) {
-      // Tag 9's square printed with tag 16's pattern.
-      shown.bgr = page.bgr.clone();
-      const auto box = [&](int i) {
-        const auto& c = record->tags[i].corners_mm;
-        return cv::Rect(cv::Point(static_cast<int>(c[0][0] * page.px_per_mm),
-                                  static_cast<int>(c[0][1] * page.px_per_mm)),
-                        cv::Point(static_cast<int>(c[2][0] * page.px_per_mm),
-                                  static_cast<int>(c[2][1] * page.px_per_mm)));
-      };
-      page.bgr(box(16)).copyTo(shown.bgr(box(9)));
-    }
+    if (v == 20) shown = Misprinted(page, *record);
     cv::Vec3d rvec, tvec;
     const double t = tilt(rng), a = axis(rng), s = spin(rng), x = side(rng), y = side(rng);
     testing::PlaceBoard(centre, {x, y, distance(rng)}, t, a, s, &rvec, &tvec);
