@@ -3,8 +3,8 @@
 
 Usage: scripts/function_lengths.py [BUILD_DIR] [--over N] [--tests]
 
-Reads BUILD_DIR/compile_commands.json (default: build), parses each of the
-project's C++ sources with libclang (Debian: python3-clang-14) and prints every
+Reads BUILD_DIR/compile_commands.json (default: build), parses each C++
+source of the tree the build was configured from with libclang (Debian: python3-clang-14) and prints every
 function, method, constructor and lambda-free body of more than N lines
 (default 60), longest first, as "lines  path:line  name". Test sources
 (*_test.cc, tests/) are left out unless --tests is given. A lambda counts as
@@ -32,13 +32,22 @@ def is_test(path):
     return path.endswith("_test.cc") or "/tests/" in path or "/fuzz/" in path
 
 
+def source_dir(build_dir):
+    """The source tree the build dir was configured from (its CMakeCache)."""
+    with open(os.path.join(build_dir, "CMakeCache.txt")) as f:
+        for line in f:
+            if line.startswith("CMAKE_HOME_DIRECTORY:"):
+                return os.path.realpath(line.split("=", 1)[1].strip())
+    sys.exit(f"{build_dir} is not a CMake build folder (no CMAKE_HOME_DIRECTORY)")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("build_dir", nargs="?", default="build")
     parser.add_argument("--over", type=int, default=60)
     parser.add_argument("--tests", action="store_true")
     args = parser.parse_args()
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    root = source_dir(args.build_dir)
     with open(os.path.join(args.build_dir, "compile_commands.json")) as f:
         commands = json.load(f)
     if os.path.exists(LIBCLANG):
