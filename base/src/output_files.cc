@@ -325,125 +325,182 @@ bool CheckOutputsAreNotInputs(const std::vector<std::string>& outputs,
   return true;
 }
 
+namespace {
+
+// One WriteFilesAtomically: the journal, the new files beside their targets,
+// the backups of the targets that exist, then the commit and the renames.
+// Each step returns false with *error set, having undone what it and the
+// steps before it made (the targets untouched).
+class AtomicWrite {
+ public:
+  AtomicWrite(const std::vector<OutputFile>& files, std::string* error)
+      : files_(files), error_(error), had_old_(files.size(), false) {}
+
+  bool Run() {
+    for (const OutputFile& file : files_) {
+      std::error_code ec;
+      const fs::path absolute = fs::absolute(file.path, ec);
+      targets_.push_back(ec ? file.path : absolute.string());
+      if (std::find(folders_.begin(), folders_.end(), Folder(file.path)) == folders_.end())
+        folders_.push_back(Folder(file.path));
+    }
+    for (const std::string& folder : folders_) FinishInterruptedWritesIn(folder);
+    return OpenJournal() && ListTargets() && WriteNewFiles() && LinkOldFiles() && Commit() &&
+           RenameIntoPlace();
+  }
+
+ private:
+  bool Fail(const std::string& path, const std::string& why) {
+    if (error_) *error_ = "cannot write '" + path + "': " + why;
+    return false;
+  }
+
+  // The journal, locked before anything is written to it; another process
+  // may find it empty and unlocked in between and remove it, so it is made
+  // again then.
+  bool OpenJournal() {
+    const std::string& first = files_[0].path;
+    for (int attempt = 0; journal_fd_ < 0; ++attempt) {
+      journal_ = Folder(first) + "/.chromatag-XXXXXX" + kJournalSuffix;
+      journal_fd_ =
+          mkostemps(journal_.data(), static_cast<int>(sizeof(kJournalSuffix) - 1), O_CLOEXEC);
+      if (journal_fd_ < 0) return Fail(first, std::strerror(errno));
+      struct stat st;
+      if (flock(journal_fd_, LOCK_EX) != 0 || fstat(journal_fd_, &st) != 0) {
+        const std::string why = std::strerror(errno);
+        unlink(journal_.c_str());
+        close(journal_fd_);
+        return Fail(first, why);
+      }
+      if (st.st_nlink == 0) {
+        close(journal_fd_);
+        journal_fd_ = -1;
+        if (attempt == 100) return Fail(first, "its folder's journal kept being removed");
+      }
+    }
+    stem_ = fs::path(journal_).filename().string();
+    stem_.resize(stem_.size() - (sizeof(kJournalSuffix) - 1));
+    return true;
+  }
+
+  // Removes what this write made and its journal: the targets untouched.
+  bool Abandon(const std::string& path, const std::string& why) {
+    for (size_t i = 0; i < made_; ++i) unlink(NewName(files_[i].path, stem_, i).c_str());
+    for (size_t i = 0; i < linked_; ++i)
+      if (had_old_[i]) unlink(OldName(files_[i].path, stem_, i).c_str());
+    unlink(journal_.c_str());
+    close(journal_fd_);
+    return Fail(path, why);
+  }
+
+  // The journal names the targets and is synced before any new file exists.
+  bool ListTargets() {
+    std::string listing = kJournalHeader;
+    for (const std::string& target : targets_) listing += "target " + EscapeLine(target) + "\n";
+    if (!WriteAll(journal_fd_, listing) || fsync(journal_fd_) != 0)
+      return Abandon(files_[0].path, std::strerror(errno));
+    SyncFolder(Folder(files_[0].path));
+    return true;
+  }
+
+  // A line of the journal's commit: a file this write made, by its identity.
+  bool Record(const char* kind, size_t index, const std::string& path) {
+    const auto id = IdOf(path);
+    if (!id) return false;
+    commit_ += std::string(kind) + " " + std::to_string(index) + " " +
+               std::to_string(static_cast<unsigned long long>(id->dev)) + " " +
+               std::to_string(static_cast<unsigned long long>(id->ino)) + "\n";
+    return true;
+  }
+
+  bool WriteNewFiles() {
+    for (; made_ < files_.size(); ++made_) {
+      std::string why;
+      const std::string fresh = NewName(files_[made_].path, stem_, made_);
+      if (!WriteNewFile(fresh, files_[made_].contents, &why) || !Record("new", made_, fresh)) {
+        unlink(fresh.c_str());  // A part written, if any.
+        return Abandon(files_[made_].path, why.empty() ? std::strerror(errno) : why);
+      }
+    }
+    return true;
+  }
+
+  // Hard links to the targets that exist, so that a rename failing half way
+  // can put the earlier ones back.
+  bool LinkOldFiles() {
+    for (; linked_ < files_.size(); ++linked_) {
+      if (!IdOf(files_[linked_].path)) continue;
+      const std::string old = OldName(files_[linked_].path, stem_, linked_);
+      if (link(files_[linked_].path.c_str(), old.c_str()) != 0 || !Record("old", linked_, old)) {
+        const std::string why = std::strerror(errno);
+        if (IdOf(old)) unlink(old.c_str());
+        return Abandon(files_[linked_].path, why);
+      }
+      had_old_[linked_] = true;
+    }
+    return true;
+  }
+
+  // The commit point: from here an interrupted write is completed, not
+  // undone. The new names are made durable first.
+  bool Commit() {
+    for (const std::string& folder : folders_) SyncFolder(folder);
+    commit_ += kJournalCommit;
+    if (!WriteAll(journal_fd_, commit_) || fsync(journal_fd_) != 0)
+      return Abandon(files_[0].path, std::strerror(errno));
+    return true;
+  }
+
+  // Undoes the renames before the i-th, marked first so that an undo cut
+  // short is finished the same way.
+  bool RollBack(size_t i, const std::string& why) {
+    const bool marked = WriteAll(journal_fd_, "rollback\n") && fsync(journal_fd_) == 0;
+    for (size_t j = 0; j < files_.size(); ++j) {
+      if (j < i && !had_old_[j]) unlink(files_[j].path.c_str());
+      if (j < i && had_old_[j])
+        rename(OldName(files_[j].path, stem_, j).c_str(), files_[j].path.c_str());
+      unlink(NewName(files_[j].path, stem_, j).c_str());
+      unlink(OldName(files_[j].path, stem_, j).c_str());
+    }
+    if (marked) unlink(journal_.c_str());  // Else the next write finishes the undo.
+    close(journal_fd_);
+    return Fail(files_[i].path, why);
+  }
+
+  bool RenameIntoPlace() {
+    for (size_t i = 0; i < files_.size(); ++i) {
+      if (rename(NewName(files_[i].path, stem_, i).c_str(), files_[i].path.c_str()) != 0)
+        return RollBack(i, std::strerror(errno));
+    }
+    for (size_t i = 0; i < files_.size(); ++i)
+      if (had_old_[i]) unlink(OldName(files_[i].path, stem_, i).c_str());
+    for (const std::string& folder : folders_) SyncFolder(folder);
+    unlink(journal_.c_str());
+    SyncFolder(Folder(files_[0].path));
+    close(journal_fd_);
+    return true;
+  }
+
+  const std::vector<OutputFile>& files_;
+  std::string* error_;
+  std::vector<std::string> targets_, folders_;
+  std::string journal_, stem_;
+  int journal_fd_ = -1;
+  size_t made_ = 0, linked_ = 0;  // New files written, targets looked at for backups.
+  std::vector<bool> had_old_;
+  std::string commit_;  // The lines that follow the targets, "commit" last.
+};
+
+}  // namespace
+
 bool WriteFilesAtomically(const std::vector<OutputFile>& files, std::string* error) {
   // Every target checked before anything is written.
   std::vector<std::string> paths;
   for (const OutputFile& file : files) paths.push_back(file.path);
   if (!CheckOutputTargets(paths, error)) return false;
   if (files.empty()) return true;
-  auto fail = [&](const std::string& path, const std::string& why) {
-    if (error) *error = "cannot write '" + path + "': " + why;
-    return false;
-  };
   SignalGuard guard;
-  std::vector<std::string> targets, folders;
-  for (const OutputFile& file : files) {
-    std::error_code ec;
-    const fs::path absolute = fs::absolute(file.path, ec);
-    targets.push_back(ec ? file.path : absolute.string());
-    if (std::find(folders.begin(), folders.end(), Folder(file.path)) == folders.end())
-      folders.push_back(Folder(file.path));
-  }
-  for (const std::string& folder : folders) FinishInterruptedWritesIn(folder);
-
-  // The journal, naming the targets, synced before any new file exists. It
-  // is locked before anything is written to it; another process may find it
-  // empty and unlocked in between and remove it, so it is made again then.
-  std::string journal;
-  int journal_fd = -1;
-  for (int attempt = 0; journal_fd < 0; ++attempt) {
-    journal = Folder(files[0].path) + "/.chromatag-XXXXXX" + kJournalSuffix;
-    journal_fd = mkostemps(journal.data(), static_cast<int>(sizeof(kJournalSuffix) - 1), O_CLOEXEC);
-    if (journal_fd < 0) return fail(files[0].path, std::strerror(errno));
-    struct stat st;
-    if (flock(journal_fd, LOCK_EX) != 0 || fstat(journal_fd, &st) != 0) {
-      const std::string why = std::strerror(errno);
-      unlink(journal.c_str());
-      close(journal_fd);
-      return fail(files[0].path, why);
-    }
-    if (st.st_nlink == 0) {
-      close(journal_fd);
-      journal_fd = -1;
-      if (attempt == 100) return fail(files[0].path, "its folder's journal kept being removed");
-    }
-  }
-  std::string stem = fs::path(journal).filename().string();
-  stem.resize(stem.size() - (sizeof(kJournalSuffix) - 1));
-  std::string listing = kJournalHeader;
-  for (const std::string& target : targets) listing += "target " + EscapeLine(target) + "\n";
-  size_t made = 0, linked = 0;  // New files written, targets looked at for backups.
-  std::vector<bool> had_old(files.size(), false);
-  // Removes what this write made and its journal: the targets untouched.
-  const auto abandon = [&](const std::string& path, const std::string& why) {
-    for (size_t i = 0; i < made; ++i) unlink(NewName(files[i].path, stem, i).c_str());
-    for (size_t i = 0; i < linked; ++i)
-      if (had_old[i]) unlink(OldName(files[i].path, stem, i).c_str());
-    unlink(journal.c_str());
-    close(journal_fd);
-    return fail(path, why);
-  };
-  if (!WriteAll(journal_fd, listing) || fsync(journal_fd) != 0)
-    return abandon(files[0].path, std::strerror(errno));
-  SyncFolder(Folder(files[0].path));
-  std::string commit;  // The lines that follow the targets, "commit" last.
-  const auto record = [&](const char* kind, size_t index, const std::string& path) {
-    const auto id = IdOf(path);
-    if (!id) return false;
-    commit += std::string(kind) + " " + std::to_string(index) + " " +
-              std::to_string(static_cast<unsigned long long>(id->dev)) + " " +
-              std::to_string(static_cast<unsigned long long>(id->ino)) + "\n";
-    return true;
-  };
-  for (; made < files.size(); ++made) {
-    std::string why;
-    const std::string fresh = NewName(files[made].path, stem, made);
-    if (!WriteNewFile(fresh, files[made].contents, &why) || !record("new", made, fresh)) {
-      unlink(fresh.c_str());  // A part written, if any.
-      return abandon(files[made].path, why.empty() ? std::strerror(errno) : why);
-    }
-  }
-  // Hard links to the targets that exist, so that a rename failing half way
-  // can put the earlier ones back.
-  for (; linked < files.size(); ++linked) {
-    if (!IdOf(files[linked].path)) continue;
-    const std::string old = OldName(files[linked].path, stem, linked);
-    if (link(files[linked].path.c_str(), old.c_str()) != 0 || !record("old", linked, old)) {
-      const std::string why = std::strerror(errno);
-      if (IdOf(old)) unlink(old.c_str());
-      return abandon(files[linked].path, why);
-    }
-    had_old[linked] = true;
-  }
-  // The commit point: from here an interrupted write is completed, not
-  // undone. The new names are made durable first.
-  for (const std::string& folder : folders) SyncFolder(folder);
-  commit += kJournalCommit;
-  if (!WriteAll(journal_fd, commit) || fsync(journal_fd) != 0)
-    return abandon(files[0].path, std::strerror(errno));
-  for (size_t i = 0; i < files.size(); ++i) {
-    if (rename(NewName(files[i].path, stem, i).c_str(), files[i].path.c_str()) == 0) continue;
-    const std::string why = std::strerror(errno);
-    // Undo, marked first so that an undo cut short is finished the same way.
-    const bool marked = WriteAll(journal_fd, "rollback\n") && fsync(journal_fd) == 0;
-    for (size_t j = 0; j < files.size(); ++j) {
-      if (j < i && !had_old[j]) unlink(files[j].path.c_str());
-      if (j < i && had_old[j])
-        rename(OldName(files[j].path, stem, j).c_str(), files[j].path.c_str());
-      unlink(NewName(files[j].path, stem, j).c_str());
-      unlink(OldName(files[j].path, stem, j).c_str());
-    }
-    if (marked) unlink(journal.c_str());  // Else the next write finishes the undo.
-    close(journal_fd);
-    return fail(files[i].path, why);
-  }
-  for (size_t i = 0; i < files.size(); ++i)
-    if (had_old[i]) unlink(OldName(files[i].path, stem, i).c_str());
-  for (const std::string& folder : folders) SyncFolder(folder);
-  unlink(journal.c_str());
-  SyncFolder(Folder(files[0].path));
-  close(journal_fd);
-  return true;
+  return AtomicWrite(files, error).Run();
 }
 
 }  // namespace chromatag

@@ -53,6 +53,78 @@ Json TagsJson(const std::vector<PlacedTag>& placed) {
   return tags;
 }
 
+// The files a sidecar lists: plain names beside it, one PDF or a file a page.
+void ParseFiles(const json& root, const std::string& folder, SheetRecord* record) {
+  for (const json& file : Member(root, "files")) {
+    // A plain file name beside the sidecar: a sidecar must not make verify
+    // read (and hash) ../../etc/passwd or any file outside its folder.
+    const std::string name = String(file, "path");
+    if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
+        name.find('\\') != std::string::npos) {
+      throw FieldError{"a file's \"path\" must be a file name beside the sidecar, not \"" + name +
+                       "\""};
+    }
+    record->files.push_back({folder + name, String(file, "sha256")});
+  }
+  const size_t expected_files = record->format == SheetFormat::kPdf ? 1 : record->num_pages;
+  if (record->files.size() != expected_files) {
+    throw FieldError{"\"files\" must list " + std::to_string(expected_files) + " file(s)"};
+  }
+}
+
+void ParseTags(const json& root, SheetRecord* record) {
+  std::string error;
+  for (const json& tag : Member(root, "tags")) {
+    PlacedTag placed;
+    placed.id = Integer(tag, "id", 0, 1 << 20);
+    if (!record->family->IsValidId(placed.id, &error)) throw FieldError{error};
+    placed.page = Integer(tag, "page", 1, 100000) - 1;
+    if (placed.page < 0 || placed.page >= record->num_pages) {
+      throw FieldError{"tag ID " + std::to_string(placed.id) + " is on a page that does not exist"};
+    }
+    placed.center_mm = Point(Member(tag, "center_mm"));
+    const json& corners = Member(tag, "corners_mm");
+    if (!corners.is_array() || corners.size() != 4) throw FieldError{"a tag needs 4 corners"};
+    for (int i = 0; i < 4; ++i) placed.corners_mm[i] = Point(corners[i]);
+    record->tags.push_back(placed);
+  }
+}
+
+// A board's grid and origin, checked against its tags.
+void ParseBoard(const json& root, SheetRecord* record) {
+  record->board_origin_mm = {0.0, record->page.height_mm};
+  if (root.contains("board")) {
+    const json& board = Member(root, "board");
+    BoardGrid grid;
+    grid.columns = Integer(board, "columns", 1, 100);
+    grid.rows = Integer(board, "rows", 1, 100);
+    grid.spacing_mm = Number(board, "spacing_mm");
+    record->board = grid;
+    record->board_origin_mm = Point(Member(board, "origin_mm"));
+    if (record->num_pages != 1 ||
+        record->tags.size() != static_cast<size_t>(grid.columns) * grid.rows)
+      throw FieldError{"a board is one page of columns x rows tags"};
+    if (!(grid.spacing_mm > 0)) throw FieldError{"a board's spacing_mm must be positive"};
+    // The tags on the grid and the origin at the bottom-left tag's corner,
+    // within the sidecar's 1 um rounding and, for PNG, half a pixel of
+    // snapping to whole pixels.
+    const double tolerance = 0.002 + (record->format == SheetFormat::kPng ? 12.7 / record->dpi : 0);
+    const double pitch = record->tag_size_mm + grid.spacing_mm;
+    const auto& first = record->tags[0].corners_mm[0];
+    for (size_t i = 0; i < record->tags.size(); ++i) {
+      const auto& corner = record->tags[i].corners_mm[0];
+      const double x = first[0] + static_cast<double>(i % grid.columns) * pitch;
+      const double y = first[1] + static_cast<double>(i / grid.columns) * pitch;
+      if (std::fabs(corner[0] - x) > tolerance || std::fabs(corner[1] - y) > tolerance)
+        throw FieldError{"the board's tags are not on its columns x rows grid"};
+    }
+    const auto& origin = record->tags[(grid.rows - 1) * grid.columns].corners_mm[3];
+    if (std::fabs(origin[0] - record->board_origin_mm[0]) > 0.002 ||
+        std::fabs(origin[1] - record->board_origin_mm[1]) > 0.002)
+      throw FieldError{"the board's origin_mm is not the bottom-left tag's bottom-left corner"};
+  }
+}
+
 SheetRecord Parse(const json& root, const std::string& folder) {
   if (String(root, "schema") != "chromatag-layout") {
     throw FieldError{"not a ChromaTag sidecar (schema must be \"chromatag-layout\")"};
@@ -81,66 +153,9 @@ SheetRecord Parse(const json& root, const std::string& folder) {
   if (!parsed) throw FieldError{error};
   record.palette = *parsed;
 
-  for (const json& file : Member(root, "files")) {
-    // A plain file name beside the sidecar: a sidecar must not make verify
-    // read (and hash) ../../etc/passwd or any file outside its folder.
-    const std::string name = String(file, "path");
-    if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
-        name.find('\\') != std::string::npos) {
-      throw FieldError{"a file's \"path\" must be a file name beside the sidecar, not \"" + name +
-                       "\""};
-    }
-    record.files.push_back({folder + name, String(file, "sha256")});
-  }
-  const size_t expected_files = record.format == SheetFormat::kPdf ? 1 : record.num_pages;
-  if (record.files.size() != expected_files) {
-    throw FieldError{"\"files\" must list " + std::to_string(expected_files) + " file(s)"};
-  }
-  for (const json& tag : Member(root, "tags")) {
-    PlacedTag placed;
-    placed.id = Integer(tag, "id", 0, 1 << 20);
-    if (!record.family->IsValidId(placed.id, &error)) throw FieldError{error};
-    placed.page = Integer(tag, "page", 1, 100000) - 1;
-    if (placed.page < 0 || placed.page >= record.num_pages) {
-      throw FieldError{"tag ID " + std::to_string(placed.id) + " is on a page that does not exist"};
-    }
-    placed.center_mm = Point(Member(tag, "center_mm"));
-    const json& corners = Member(tag, "corners_mm");
-    if (!corners.is_array() || corners.size() != 4) throw FieldError{"a tag needs 4 corners"};
-    for (int i = 0; i < 4; ++i) placed.corners_mm[i] = Point(corners[i]);
-    record.tags.push_back(placed);
-  }
-  record.board_origin_mm = {0.0, record.page.height_mm};
-  if (root.contains("board")) {
-    const json& board = Member(root, "board");
-    BoardGrid grid;
-    grid.columns = Integer(board, "columns", 1, 100);
-    grid.rows = Integer(board, "rows", 1, 100);
-    grid.spacing_mm = Number(board, "spacing_mm");
-    record.board = grid;
-    record.board_origin_mm = Point(Member(board, "origin_mm"));
-    if (record.num_pages != 1 ||
-        record.tags.size() != static_cast<size_t>(grid.columns) * grid.rows)
-      throw FieldError{"a board is one page of columns x rows tags"};
-    if (!(grid.spacing_mm > 0)) throw FieldError{"a board's spacing_mm must be positive"};
-    // The tags on the grid and the origin at the bottom-left tag's corner,
-    // within the sidecar's 1 um rounding and, for PNG, half a pixel of
-    // snapping to whole pixels.
-    const double tolerance = 0.002 + (record.format == SheetFormat::kPng ? 12.7 / record.dpi : 0);
-    const double pitch = record.tag_size_mm + grid.spacing_mm;
-    const auto& first = record.tags[0].corners_mm[0];
-    for (size_t i = 0; i < record.tags.size(); ++i) {
-      const auto& corner = record.tags[i].corners_mm[0];
-      const double x = first[0] + static_cast<double>(i % grid.columns) * pitch;
-      const double y = first[1] + static_cast<double>(i / grid.columns) * pitch;
-      if (std::fabs(corner[0] - x) > tolerance || std::fabs(corner[1] - y) > tolerance)
-        throw FieldError{"the board's tags are not on its columns x rows grid"};
-    }
-    const auto& origin = record.tags[(grid.rows - 1) * grid.columns].corners_mm[3];
-    if (std::fabs(origin[0] - record.board_origin_mm[0]) > 0.002 ||
-        std::fabs(origin[1] - record.board_origin_mm[1]) > 0.002)
-      throw FieldError{"the board's origin_mm is not the bottom-left tag's bottom-left corner"};
-  }
+  ParseFiles(root, folder, &record);
+  ParseTags(root, &record);
+  ParseBoard(root, &record);
   return record;
 }
 
