@@ -203,9 +203,9 @@ PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du
   const int count = grid.samples * grid.samples;
   int k = 0;
   if (image.kernels().add_grid_points && image.OffsetsFit32()) {
-    k = image.kernels().add_grid_points(image, grid, count, &sums);
+    k = image.kernels().add_grid_points(image.frame(), grid, count, &sums);
   }
-  for (; k < count; ++k) AddGridPoint(image, grid, k, &sums);
+  for (; k < count; ++k) AddGridPoint(image.frame(), grid, k, &sums);
   return sums;
 }
 

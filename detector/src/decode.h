@@ -16,6 +16,7 @@
 #include "chromatag/families/decoder.h"
 #include "chromatag/families/family.h"
 #include "image_view.h"
+#include "kernels/kernels.h"
 #include "refine_corners.h"
 
 namespace chromatag::internal {
@@ -45,10 +46,8 @@ std::vector<Code> OrientedCodes(const TagFamily& family);
 // pixels: the ones nearest to centre + s du + t dv, s and t evenly from -1 to
 // 1 (samples from 2 to 8). SumCellGrid sums their R, G and B and counts them,
 // points outside the frame skipped; eight points at a time by the view's
-// vector kernel where it has one, with the same sums.
-struct PixelSums {
-  int r = 0, g = 0, b = 0, n = 0;
-};
+// vector kernel where it has one, with the same sums (PixelSums:
+// kernels/kernels.h).
 PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du, cv::Point2d dv,
                       int samples);
 

@@ -16,10 +16,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "decode.h"
-#include "image_view.h"
 #include "kernels/scalar.h"
-#include "refine_corners.h"
 
 namespace chromatag::internal {
 namespace {
@@ -199,14 +196,15 @@ CHROMATAG_AVX2 int ScanRowCoarseAvx2(const RowSampler& s, int32_t* coarse, int* 
 
 // Same arithmetic as ImageView::SampleLineWith, in the same order and
 // without fused multiply-adds, so that both paths give the same floats.
-CHROMATAG_AVX2 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray,
-                                  float x, float y, float dx, float dy, int n, float* out) {
+CHROMATAG_AVX2 int SampleLineAvx2(const PixelFrame& frame, bool gray, float x, float y, float dx,
+                                  float dy, int n, float* out) {
   if (n < 8) return 0;
-  const __m128i red_shift = _mm_cvtsi32_si128(8 * r_offset);
+  const uint8_t* data = frame.data;
+  const __m128i red_shift = _mm_cvtsi32_si128(8 * frame.r_offset);
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 vx = _mm256_set1_ps(x), vy = _mm256_set1_ps(y);
   const __m256 vdx = _mm256_set1_ps(dx), vdy = _mm256_set1_ps(dy);
-  const __m256i vstep = _mm256_set1_epi32(static_cast<int>(step));
+  const __m256i vstep = _mm256_set1_epi32(static_cast<int>(frame.step));
   int i = 0;
   for (; i + 8 <= n; i += 8) {
     const __m256 fi = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(i), lane));
@@ -219,9 +217,12 @@ CHROMATAG_AVX2 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset
 
 // Same arithmetic as ImageView::FirstNotClearlyAbove's loop (RoundToInt of
 // x + k dx without fused multiply-adds), eight steps at a time.
-CHROMATAG_AVX2 int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height,
-                                            int r_offset, const int8_t* table, float x, float y,
-                                            float dx, float dy, int first, int last, float above) {
+CHROMATAG_AVX2 int FirstNotClearlyAboveAvx2(const PixelFrame& frame, const int8_t* table, float x,
+                                            float y, float dx, float dy, int first, int last,
+                                            float above) {
+  const uint8_t* data = frame.data;
+  const size_t step = frame.step;
+  const int width = frame.width, height = frame.height, r_offset = frame.r_offset;
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 vx = _mm256_set1_ps(x), vy = _mm256_set1_ps(y);
   const __m256 vdx = _mm256_set1_ps(dx), vdy = _mm256_set1_ps(dy);
@@ -285,10 +286,9 @@ CHROMATAG_AVX2 inline __m256 LinearGray8(__m256 gray, const float* table) {
 // EdgePoint. On the camera set, side refinement took about a third less time
 // than with EdgePoint profile by profile: the per-profile bookkeeping, the
 // sampling and the two level reads are shared across the lanes.
-CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWeights& channel,
-                                        int polarity, const ProfileSpec* spec, int count,
-                                        float min_contrast, ProfileEdge* out, bool linear) {
-  const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
+CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const PixelFrame& frame, bool gray, int polarity,
+                                        const ProfileSpec* spec, int count, float min_contrast,
+                                        ProfileEdge* out, bool linear) {
   // Per lane: the profile's first sample, its length and half-length. Lanes
   // not in the vector path read a safe pixel and are ignored.
   alignas(32) float start_x[8], start_y[8], step_x[8], step_y[8];
@@ -314,8 +314,8 @@ CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWei
     const float last_x = x + static_cast<float>(n - 1) * ox;
     const float last_y = y + static_cast<float>(n - 1) * oy;
     // Where ImageView::SampleLine fails, so does EdgePoint.
-    if (!image.SegmentInside(x, y, last_x, last_y)) continue;
-    if (!image.VectorReadsInside(x, y, last_x, last_y)) {
+    if (!frame.SegmentInside(x, y, last_x, last_y)) continue;
+    if (!frame.VectorReadsInside(x, y, last_x, last_y)) {
       left_over |= 1u << l;
       continue;
     }
@@ -330,8 +330,8 @@ CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWei
   }
   if (longest == 0) return left_over;
 
-  const __m256i step = _mm256_set1_epi32(static_cast<int>(image.step()));
-  const __m128i red_shift = _mm_cvtsi32_si128(8 * image.r_offset());
+  const __m256i step = _mm256_set1_epi32(static_cast<int>(frame.step));
+  const __m128i red_shift = _mm_cvtsi32_si128(8 * frame.r_offset);
   const __m256 vx = _mm256_load_ps(start_x), vy = _mm256_load_ps(start_y);
   const __m256 vox = _mm256_load_ps(step_x), voy = _mm256_load_ps(step_y);
   const __m256i vlength = _mm256_load_si256(reinterpret_cast<const __m256i*>(length));
@@ -342,7 +342,7 @@ CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWei
     // Past a lane's own end, its first sample is read again (and ignored).
     const __m256 px = _mm256_blendv_ps(vx, _mm256_add_ps(vx, _mm256_mul_ps(fk, vox)), inside);
     const __m256 py = _mm256_blendv_ps(vy, _mm256_add_ps(vy, _mm256_mul_ps(fk, voy)), inside);
-    profile[k] = BilinearEdgeChannel8(image.data(), step, px, py, gray, red_shift);
+    profile[k] = BilinearEdgeChannel8(frame.data, step, px, py, gray, red_shift);
     if (linear) profile[k] = LinearGray8(profile[k], LinearGrayTable());
   }
 
@@ -380,11 +380,10 @@ CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWei
     // Where ImageView::Sample fails, so does EdgePoint; a level whose vector
     // read would pass the frame's end (its lower right pixel is the frame's
     // last) is read by Sample itself.
-    if (!image.CanSample(ix, iy) || !image.CanSample(ux, uy)) continue;
-    if (!image.VectorReadsInside(ix, iy, ix, iy) || !image.VectorReadsInside(ux, uy, ux, uy)) {
-      float inside = 0, outside = 0;
-      image.Sample(ix, iy, channel, &inside);
-      image.Sample(ux, uy, channel, &outside);
+    if (!frame.CanSample(ix, iy) || !frame.CanSample(ux, uy)) continue;
+    if (!frame.VectorReadsInside(ix, iy, ix, iy) || !frame.VectorReadsInside(ux, uy, ux, uy)) {
+      const float inside = SampleEdgeChannel(frame, gray, ix, iy);
+      const float outside = SampleEdgeChannel(frame, gray, ux, uy);
       if (std::abs(outside - inside) < min_contrast) continue;
       mid[l] =
           linear ? 0.5f * (LinearGray(inside) + LinearGray(outside)) : 0.5f * (inside + outside);
@@ -395,9 +394,9 @@ CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWei
     read_levels[l] = true;
   }
   alignas(32) float inside[8], outside[8];
-  _mm256_store_ps(inside, BilinearEdgeChannel8(image.data(), step, _mm256_load_ps(in_x),
+  _mm256_store_ps(inside, BilinearEdgeChannel8(frame.data, step, _mm256_load_ps(in_x),
                                                _mm256_load_ps(in_y), gray, red_shift));
-  _mm256_store_ps(outside, BilinearEdgeChannel8(image.data(), step, _mm256_load_ps(out_x),
+  _mm256_store_ps(outside, BilinearEdgeChannel8(frame.data, step, _mm256_load_ps(out_x),
                                                 _mm256_load_ps(out_y), gray, red_shift));
   for (int l = 0; l < 8; ++l) {
     if (!read_levels[l] || std::abs(outside[l] - inside[l]) < min_contrast) continue;
@@ -475,18 +474,18 @@ CHROMATAG_AVX2 inline __m256i RoundDoublesToInt8(__m256d lo, __m256d hi) {
 // frame test, so the same sums. The frame's last pixel (a 32-bit read there
 // would pass its end) is left to AddGridPoint. The frame's byte offsets fit
 // in 32 bits.
-CHROMATAG_AVX2 int AddGridPointsAvx2(const ImageView& image, const CellGrid& grid, int count,
+CHROMATAG_AVX2 int AddGridPointsAvx2(const PixelFrame& frame, const CellGrid& grid, int count,
                                      PixelSums* sums) {
   const __m256d cx = _mm256_set1_pd(grid.centre.x), cy = _mm256_set1_pd(grid.centre.y);
   const __m256d dux = _mm256_set1_pd(grid.du.x), duy = _mm256_set1_pd(grid.du.y);
   const __m256d dvx = _mm256_set1_pd(grid.dv.x), dvy = _mm256_set1_pd(grid.dv.y);
   const __m256i zero = _mm256_setzero_si256(), byte = _mm256_set1_epi32(0xFF);
-  const __m256i last_x = _mm256_set1_epi32(image.width() - 1),
-                last_y = _mm256_set1_epi32(image.height() - 1);
-  const __m256i step = _mm256_set1_epi32(static_cast<int>(image.step()));
-  const __m128i r_shift = _mm_cvtsi32_si128(8 * image.r_offset()),
-                b_shift = _mm_cvtsi32_si128(8 * image.b_offset());
-  const int* base = reinterpret_cast<const int*>(image.data());
+  const __m256i last_x = _mm256_set1_epi32(frame.width - 1),
+                last_y = _mm256_set1_epi32(frame.height - 1);
+  const __m256i step = _mm256_set1_epi32(static_cast<int>(frame.step));
+  const __m128i r_shift = _mm_cvtsi32_si128(8 * frame.r_offset),
+                b_shift = _mm_cvtsi32_si128(8 * frame.b_offset);
+  const int* base = reinterpret_cast<const int*>(frame.data);
   __m256i r = zero, g = zero, b = zero;
   int k = 0;
   alignas(32) double s[8], t[8];
@@ -511,7 +510,7 @@ CHROMATAG_AVX2 int AddGridPointsAvx2(const ImageView& image, const CellGrid& gri
       const unsigned lanes =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(at_last)));
       for (int l = 0; l < 8; ++l) {
-        if (lanes >> l & 1u) AddGridPoint(image, grid, k + l, sums);
+        if (lanes >> l & 1u) AddGridPoint(frame, grid, k + l, sums);
       }
     }
     const __m256i read =
