@@ -1008,11 +1008,12 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
   return false;
 }
 
-bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
-                     const std::vector<FamilyDecoder>& families, SideFitBuffers* buffers,
-                     Candidate* candidate, Detection* detection, RejectReason* why) {
+bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
+                     const StageSwitches& switches, const std::vector<FamilyDecoder>& families,
+                     SideFitBuffers* buffers, Candidate* candidate, Detection* detection,
+                     RejectReason* why) {
   if (Decode(image, options, families, *candidate, buffers, detection, why)) return true;
-  if (*why != RejectReason::kNoFamilyFits || !refine_sides ||
+  if (*why != RejectReason::kNoFamilyFits || !switches.refine_corners ||
       !RefineInnerQuads(image, buffers, candidate))
     return false;
   RejectReason again;

@@ -18,6 +18,7 @@
 #include "image_view.h"
 #include "kernels/kernels.h"
 #include "refine_corners.h"
+#include "stage_switches.h"
 
 namespace chromatag::internal {
 
@@ -57,11 +58,13 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
 
 // Decode for a candidate whose inner quads are still rough (from the scans or
 // the polygons; only the outer one has its sub-pixel sides): where they fit
-// no family's proportions, RefineInnerQuads (if `refine_sides`) and Decode
-// once more. The first reason stands if that fails too.
-bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
-                     const std::vector<FamilyDecoder>& families, SideFitBuffers* buffers,
-                     Candidate* candidate, Detection* detection, RejectReason* why);
+// no family's proportions, RefineInnerQuads (unless the benchmarks turned
+// StageSwitches::refine_corners off) and Decode once more. The first reason
+// stands if that fails too.
+bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
+                     const StageSwitches& switches, const std::vector<FamilyDecoder>& families,
+                     SideFitBuffers* buffers, Candidate* candidate, Detection* detection,
+                     RejectReason* why);
 
 }  // namespace chromatag::internal
 

@@ -341,7 +341,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       // The fast path's time goes to the stages it stands in for; what it
       // abandons is not a rejection, since the slow path takes it up.
       auto decode = [&](RejectReason* reason) {
-        return internal::DecodeCandidate(view, options, switches.refine_corners, impl_->families,
+        return internal::DecodeCandidate(view, options, switches, impl_->families,
                                          &scratch.side_fit, &candidate, &detection, reason);
       };
       auto fast_path = [&] {
@@ -354,8 +354,8 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
                   }) &&
             timed(Stage::kPolyToQuad,
                   [&] {
-                    return internal::NestedAndRefined(view, switches.refine_corners,
-                                                      &scratch.side_fit, &candidate, &ignored);
+                    return internal::NestedAndRefined(view, switches, &scratch.side_fit, &candidate,
+                                                      &ignored);
                   }) &&
             timed(Stage::kDecode, [&] { return decode(&ignored); });
         if (found) ++summary.fast_path_detections;
@@ -369,9 +369,8 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
                          }) &&
                run_stage(Stage::kPolyToQuad,
                          [&] {
-                           return internal::PolyToQuad(view, switches.refine_corners,
-                                                       &scratch.quad_fit, &scratch.side_fit,
-                                                       &candidate, &why);
+                           return internal::PolyToQuad(view, switches, &scratch.quad_fit,
+                                                       &scratch.side_fit, &candidate, &why);
                          }) &&
                run_stage(Stage::kDecode, [&] { return decode(&why); });
       };
