@@ -440,6 +440,23 @@ bool Reject(const Centring& centring, RejectReason reason, Candidate* candidate,
   return false;
 }
 
+// A candidate from a seed at `centre`, nothing found yet.
+void StartCandidate(cv::Point2f centre, Candidate* candidate) {
+  candidate->centre = centre;
+  candidate->enclosed = false;
+  candidate->light = TagLight();
+  for (auto& ring : candidate->points) ring.clear();
+}
+
+// The converged centre, its ReferenceRed and the red/green border around
+// it, into the candidate (enclosed by green).
+void SettleCentre(const Centring& centring, Candidate* candidate) {
+  candidate->centre = centring.centre;
+  candidate->reference_red = centring.reference_red;
+  candidate->enclosed = true;
+  candidate->red_border = centring.border;
+}
+
 // Red things that are not tags span many of FindADiff's rows, and each row
 // seeds them again: a seed inside a region already rejected in this frame
 // would be rejected again.
@@ -533,10 +550,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
                  std::vector<RejectedRegion>* rejected, RejectReason* why) {
   Centring centring;
   centring.centre = cv::Point2f(static_cast<float>(seed.x), static_cast<float>(seed.y));
-  candidate->centre = centring.centre;
-  candidate->enclosed = false;
-  candidate->light = TagLight();
-  for (auto& ring : candidate->points) ring.clear();
+  StartCandidate(centring.centre, candidate);
   if (InRejectedRegion(rejected, centring.centre)) {
     *why = RejectReason::kInRejectedRegion;
     return false;
@@ -576,10 +590,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       return reject(pass_why);
   }
   if (!converged) return reject(RejectReason::kNoConvergence);
-  candidate->centre = centring.centre;
-  candidate->reference_red = centring.reference_red;
-  candidate->enclosed = true;
-  candidate->red_border = centring.border;
+  SettleCentre(centring, candidate);
   std::array<cv::Point, 4> greens;
   if (!FinalScans(image, options, buffers, candidate, &greens))
     return reject(RejectReason::kRingScan);
