@@ -379,43 +379,38 @@ double ShadesOfGrid(const TagFamily& family, Code pattern, const PayloadGrid& gr
   return black;
 }
 
-// The payload's cells as equations in the four shades' levels under blur
-// share `k`: b(cell) = (1 - 4k) level(own) + k sum level(neighbours),
-// linear in the four levels once the black ring's is known. Adds them to
-// the normal equations (ata, atb: 4 x 4) and keeps each, coefficients
-// rows[j] and value rhs[j], for the residuals; returns their number.
-int BlurEquations(float k, int d, const PayloadGrid& grid, const GridShades& shade, double black,
-                  cv::Matx44d* ata, cv::Vec4d* atb, cv::Vec4d* rows, double* rhs) {
-  const int w = d + 2;
-  int n = 0;
-  for (int row = 0; row < d; ++row) {
-    for (int col = 0; col < d; ++col) {
-      const int i = (row + 1) * w + col + 1;
-      cv::Vec4d a(0, 0, 0, 0);
-      double known = 0;
-      a[shade[i]] += 1.0 - 4.0 * k;
-      for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
-        if (shade[neighbour] == 4)
-          known += k * black;
-        else
-          a[shade[neighbour]] += k;
-      }
-      const double y = grid[i].shade - known;
-      *ata += a * a.t();
-      *atb += y * a;
-      rows[n] = a;
-      rhs[n++] = y;
-    }
+// Adds to *best what the four shades' levels `level` make of the cells'
+// equations (coefficients rows[j], values rhs[j], j < n) at one blur share:
+// the worst cell's and the root mean square misfit over the smaller gap
+// between a colour's two shades (without the reds' gap with `merge_reds`),
+// and the misfit in shade units. A share whose levels put a colour's shades
+// out of their order adds only the last.
+void KeepShareFit(const cv::Vec4d* rows, const double* rhs, int n, const cv::Vec4d& level,
+                  bool merge_reds, BlurFit* best) {
+  double worst = 0, sse = 0;
+  for (int j = 0; j < n; ++j) {
+    const double r = rows[j].dot(level) - rhs[j];
+    worst = std::max(worst, std::abs(r));
+    sse += r * r;
   }
-  return n;
+  best->abs_rms = std::min(best->abs_rms, std::sqrt(sse / n));
+  // Red-1 lies above red-0, green-1 below green-0 (spec section 3).
+  const double red_gap = merge_reds ? std::numeric_limits<double>::infinity() : level[1] - level[0];
+  const double gap = std::min(red_gap, level[2] - level[3]);
+  if (!(gap > 0)) return;
+  best->worst = std::min(best->worst, worst / gap);
+  if (std::sqrt(sse / n) / gap < best->rms) {
+    best->rms = std::sqrt(sse / n) / gap;
+    best->gap_balance = gap / std::max(level[1] - level[0], level[2] - level[3]);
+  }
 }
 
 // With `merge_reds`, both reds are fitted as one level (a print whose reds
 // print alike) and only the greens' gap is asked for.
 BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& grid,
                      bool merge_reds = false) {
-  const int d = family.payload_width();
-  if (d + 2 > kMaxBlurGrid) return {};
+  const int d = family.payload_width(), w = d + 2;
+  if (w > kMaxBlurGrid) return {};
   GridShades shade;
   const double black = ShadesOfGrid(family, pattern, grid, merge_reds, &shade);
   BlurFit best;
@@ -423,29 +418,34 @@ BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& g
   std::array<double, kMaxBlurGrid * kMaxBlurGrid> rhs;
   for (float k : kBlurShares) {
     if (k > grid.max_blur_share + kBlurShares[1]) break;
+    // b(cell) = (1 - 4k) level(own) + k sum level(neighbours): linear in the
+    // four levels once the black ring's is known. Normal equations, 4 x 4.
     cv::Matx44d ata = cv::Matx44d::zeros();
     cv::Vec4d atb(0, 0, 0, 0);
-    const int n = BlurEquations(k, d, grid, shade, black, &ata, &atb, rows.data(), rhs.data());
+    int n = 0;
+    for (int row = 0; row < d; ++row) {
+      for (int col = 0; col < d; ++col) {
+        const int i = (row + 1) * w + col + 1;
+        cv::Vec4d a(0, 0, 0, 0);
+        double known = 0;
+        a[shade[i]] += 1.0 - 4.0 * k;
+        for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
+          if (shade[neighbour] == 4)
+            known += k * black;
+          else
+            a[shade[neighbour]] += k;
+        }
+        const double y = grid[i].shade - known;
+        ata += a * a.t();
+        atb += y * a;
+        rows[n] = a;
+        rhs[n++] = y;
+      }
+    }
     if (merge_reds) ata(1, 1) = 1.0;  // Red-1's level, unused, solves to 0.
     // Singular (a shade missing from the pattern): zero levels, no gap.
     const cv::Vec4d level = ata.solve(atb, cv::DECOMP_CHOLESKY);
-    double worst = 0, sse = 0;
-    for (int j = 0; j < n; ++j) {
-      const double r = rows[j].dot(level) - rhs[j];
-      worst = std::max(worst, std::abs(r));
-      sse += r * r;
-    }
-    best.abs_rms = std::min(best.abs_rms, std::sqrt(sse / n));
-    // Red-1 lies above red-0, green-1 below green-0 (spec section 3).
-    const double red_gap =
-        merge_reds ? std::numeric_limits<double>::infinity() : level[1] - level[0];
-    const double gap = std::min(red_gap, level[2] - level[3]);
-    if (!(gap > 0)) continue;
-    best.worst = std::min(best.worst, worst / gap);
-    if (std::sqrt(sse / n) / gap < best.rms) {
-      best.rms = std::sqrt(sse / n) / gap;
-      best.gap_balance = gap / std::max(level[1] - level[0], level[2] - level[3]);
-    }
+    KeepShareFit(rows.data(), rhs.data(), n, level, merge_reds, &best);
   }
   return best;
 }
