@@ -159,10 +159,12 @@ int Board::Find(const std::string& family, int id) const {
   return -1;
 }
 
-bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& board,
-                       const CameraIntrinsics& camera, BoardPose* pose, std::string* error) {
-  if (!camera.IsValid(error) || !board.IsValid(error)) return false;
-  const cv::Matx33d k = CameraMatrix(camera);
+namespace {
+
+// The detections of the board's tags, each with its corners in the tag's,
+// the board's and the (undistorted) image's frame.
+std::vector<Match> MatchBoardTags(const std::vector<Detection>& detections, const Board& board,
+                                  const CameraIntrinsics& camera) {
   std::vector<Match> matches;
   for (size_t d = 0; d < detections.size(); ++d) {
     const Detection& detection = detections[d];
@@ -184,15 +186,14 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
     match.threshold_px = std::max(kMinInlierPx, kInlierShareOfSide * side);
     matches.push_back(std::move(match));
   }
-  if (matches.empty()) {
-    if (error) {
-      *error = "none of the board's " + std::to_string(board.tags.size()) +
-               " tags is among the detections";
-    }
-    return false;
-  }
+  return matches;
+}
 
-  // Every tag's distinct planar solutions, carried to the board frame.
+// Every tag's distinct planar solutions, carried to the board frame, best
+// (cheapest) first. Stable: among equally good proposals the first
+// detection's wins, run after run.
+std::vector<Proposal> ProposePoses(const std::vector<Match>& matches, const Board& board,
+                                   const cv::Matx33d& k) {
   std::vector<Proposal> proposals;
   for (const Match& match : matches) {
     const BoardTag& tag = board.tags[match.tag];
@@ -211,25 +212,62 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
       proposals.push_back(proposal);
     }
   }
-  // Stable: among equally good proposals the first detection's wins, run
-  // after run.
   std::stable_sort(proposals.begin(), proposals.end(),
                    [](const Proposal& a, const Proposal& b) { return a.cost < b.cost; });
-  std::vector<PoseFit> fits;
-  std::vector<std::vector<int>> agreeing;
-  // The best proposal, then the best one whose rotation differs from where
-  // the first settled (the other planar solution): the pose and its rival.
+  return proposals;
+}
+
+// The best proposal refitted, then the best one whose rotation differs from
+// where the first settled (the other planar solution): the pose and its
+// rival, each with the matches that agree with it.
+void PoseAndRival(const std::vector<Proposal>& proposals, const std::vector<Match>& matches,
+                  const cv::Matx33d& k, std::vector<PoseFit>* fits,
+                  std::vector<std::vector<int>>* agreeing) {
   for (const Proposal& proposal : proposals) {
-    if (!fits.empty() &&
-        internal::AngleBetween(fits[0].rotation, proposal.pose.rotation) < kRivalRadians)
+    if (!fits->empty() &&
+        internal::AngleBetween((*fits)[0].rotation, proposal.pose.rotation) < kRivalRadians)
       continue;
     PoseFit fit = proposal.pose;
     std::vector<int> used = Refit(matches, k, &fit);
     if (used.empty() || !std::isfinite(fit.rms_px)) continue;
-    fits.push_back(fit);
-    agreeing.push_back(std::move(used));
-    if (fits.size() == 2) break;
+    fits->push_back(fit);
+    agreeing->push_back(std::move(used));
+    if (fits->size() == 2) break;
   }
+}
+
+// The tags the pose used and the detections that disagree with it.
+void SetTagsUsed(const std::vector<Match>& matches, const std::vector<int>& agreeing,
+                 BoardPose* pose) {
+  std::set<int> used;
+  std::vector<bool> agrees(matches.size(), false);
+  for (int i : agreeing) {
+    used.insert(matches[i].tag);
+    agrees[i] = true;
+  }
+  pose->tags_used.assign(used.begin(), used.end());
+  pose->detections_rejected.clear();
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (!agrees[i]) pose->detections_rejected.push_back(matches[i].detection);
+}
+
+}  // namespace
+
+bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& board,
+                       const CameraIntrinsics& camera, BoardPose* pose, std::string* error) {
+  if (!camera.IsValid(error) || !board.IsValid(error)) return false;
+  const cv::Matx33d k = CameraMatrix(camera);
+  const std::vector<Match> matches = MatchBoardTags(detections, board, camera);
+  if (matches.empty()) {
+    if (error) {
+      *error = "none of the board's " + std::to_string(board.tags.size()) +
+               " tags is among the detections";
+    }
+    return false;
+  }
+  std::vector<PoseFit> fits;
+  std::vector<std::vector<int>> agreeing;
+  PoseAndRival(ProposePoses(matches, board, k), matches, k, &fits, &agreeing);
   if (fits.empty()) {
     if (error) *error = "no pose puts the board's tags in front of the camera";
     return false;
@@ -256,16 +294,7 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
         other.rms_px > 0 && agreeing[1 - best].size() == agreeing[best].size())
       pose->ambiguity = std::min(1.0, fit.rms_px / other.rms_px);
   }
-  std::set<int> used;
-  std::vector<bool> agrees(matches.size(), false);
-  for (int i : agreeing[best]) {
-    used.insert(matches[i].tag);
-    agrees[i] = true;
-  }
-  pose->tags_used.assign(used.begin(), used.end());
-  pose->detections_rejected.clear();
-  for (size_t i = 0; i < matches.size(); ++i)
-    if (!agrees[i]) pose->detections_rejected.push_back(matches[i].detection);
+  SetTagsUsed(matches, agreeing[best], pose);
   return true;
 }
 

@@ -203,9 +203,9 @@ PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du
   const int count = grid.samples * grid.samples;
   int k = 0;
   if (image.kernels().add_grid_points && image.OffsetsFit32()) {
-    k = image.kernels().add_grid_points(image, grid, count, &sums);
+    k = image.kernels().add_grid_points(image.frame(), grid, count, &sums);
   }
-  for (; k < count; ++k) AddGridPoint(image, grid, k, &sums);
+  for (; k < count; ++k) AddGridPoint(image.frame(), grid, k, &sums);
   return sums;
 }
 
@@ -350,16 +350,16 @@ struct BlurFit {
   double abs_rms = std::numeric_limits<double>::infinity();
 };
 
-// With `merge_reds`, both reds are fitted as one level (a print whose reds
-// print alike) and only the greens' gap is asked for.
-BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& grid,
-                     bool merge_reds = false) {
-  constexpr int kMaxGrid = 10;  // Payloads of up to 8 x 8 cells (36h11 has 6).
+constexpr int kMaxBlurGrid = 10;  // Payloads of up to 8 x 8 cells (36h11 has 6).
+using GridShades = std::array<int, kMaxBlurGrid * kMaxBlurGrid>;
+
+// The shade `pattern` gives each cell of the grid (d + 2 across, the black
+// ring included): 0 red-0, 1 red-1, 2 green-0, 3 green-1, 4 black; with
+// `merge_reds` both reds are 0. Returns the black ring's mean shade value.
+double ShadesOfGrid(const TagFamily& family, Code pattern, const PayloadGrid& grid, bool merge_reds,
+                    GridShades* shade) {
   const int d = family.payload_width(), w = d + 2;
-  if (w > kMaxGrid) return {};
-  // Shade of each grid cell: 0 red-0, 1 red-1, 2 green-0, 3 green-1, 4 black.
-  std::array<int, kMaxGrid * kMaxGrid> shade;
-  shade.fill(4);
+  shade->fill(4);
   double black = 0;
   int ring = 0;
   for (int row = -1; row <= d; ++row) {
@@ -372,13 +372,50 @@ BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& g
       }
       const bool bit = (pattern >> (d * d - 1 - (row * d + col))) & 1u;
       const bool red = family.CellColorAt(row, col) == CellColor::kRed;
-      shade[i] = red ? (bit && !merge_reds ? 1 : 0) : (bit ? 3 : 2);
+      (*shade)[i] = red ? (bit && !merge_reds ? 1 : 0) : (bit ? 3 : 2);
     }
   }
   black /= ring;
+  return black;
+}
+
+// Adds to *best what the four shades' levels `level` make of the cells'
+// equations (coefficients rows[j], values rhs[j], j < n) at one blur share:
+// the worst cell's and the root mean square misfit over the smaller gap
+// between a colour's two shades (without the reds' gap with `merge_reds`),
+// and the misfit in shade units. A share whose levels put a colour's shades
+// out of their order adds only the last.
+void KeepShareFit(const cv::Vec4d* rows, const double* rhs, int n, const cv::Vec4d& level,
+                  bool merge_reds, BlurFit* best) {
+  double worst = 0, sse = 0;
+  for (int j = 0; j < n; ++j) {
+    const double r = rows[j].dot(level) - rhs[j];
+    worst = std::max(worst, std::abs(r));
+    sse += r * r;
+  }
+  best->abs_rms = std::min(best->abs_rms, std::sqrt(sse / n));
+  // Red-1 lies above red-0, green-1 below green-0 (spec section 3).
+  const double red_gap = merge_reds ? std::numeric_limits<double>::infinity() : level[1] - level[0];
+  const double gap = std::min(red_gap, level[2] - level[3]);
+  if (!(gap > 0)) return;
+  best->worst = std::min(best->worst, worst / gap);
+  if (std::sqrt(sse / n) / gap < best->rms) {
+    best->rms = std::sqrt(sse / n) / gap;
+    best->gap_balance = gap / std::max(level[1] - level[0], level[2] - level[3]);
+  }
+}
+
+// With `merge_reds`, both reds are fitted as one level (a print whose reds
+// print alike) and only the greens' gap is asked for.
+BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& grid,
+                     bool merge_reds = false) {
+  const int d = family.payload_width(), w = d + 2;
+  if (w > kMaxBlurGrid) return {};
+  GridShades shade;
+  const double black = ShadesOfGrid(family, pattern, grid, merge_reds, &shade);
   BlurFit best;
-  std::array<cv::Vec4d, kMaxGrid * kMaxGrid> rows;
-  std::array<double, kMaxGrid * kMaxGrid> rhs;
+  std::array<cv::Vec4d, kMaxBlurGrid * kMaxBlurGrid> rows;
+  std::array<double, kMaxBlurGrid * kMaxBlurGrid> rhs;
   for (float k : kBlurShares) {
     if (k > grid.max_blur_share + kBlurShares[1]) break;
     // b(cell) = (1 - 4k) level(own) + k sum level(neighbours): linear in the
@@ -408,23 +445,7 @@ BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& g
     if (merge_reds) ata(1, 1) = 1.0;  // Red-1's level, unused, solves to 0.
     // Singular (a shade missing from the pattern): zero levels, no gap.
     const cv::Vec4d level = ata.solve(atb, cv::DECOMP_CHOLESKY);
-    double worst = 0, sse = 0;
-    for (int j = 0; j < n; ++j) {
-      const double r = rows[j].dot(level) - rhs[j];
-      worst = std::max(worst, std::abs(r));
-      sse += r * r;
-    }
-    best.abs_rms = std::min(best.abs_rms, std::sqrt(sse / n));
-    // Red-1 lies above red-0, green-1 below green-0 (spec section 3).
-    const double red_gap =
-        merge_reds ? std::numeric_limits<double>::infinity() : level[1] - level[0];
-    const double gap = std::min(red_gap, level[2] - level[3]);
-    if (!(gap > 0)) continue;
-    best.worst = std::min(best.worst, worst / gap);
-    if (std::sqrt(sse / n) / gap < best.rms) {
-      best.rms = std::sqrt(sse / n) / gap;
-      best.gap_balance = gap / std::max(level[1] - level[0], level[2] - level[3]);
-    }
+    KeepShareFit(rows.data(), rhs.data(), n, level, merge_reds, &best);
   }
   return best;
 }
@@ -805,142 +826,166 @@ bool SoftDecode(const DetectorOptions& options, const FamilyDecoder& entry, Code
          ColourSplitRead(entry, observed, grid, read_bits, close_codes, match);
 }
 
-bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
-              const Candidate& candidate, const cv::Matx33d& image_from_tag, double ring_misfit,
-              SideFitBuffers* buffers, Detection* detection, RejectReason* why) {
-  const TagFamily& family = *entry.family;
-  const int d = family.payload_width();
-  const int cells = family.black_square_cells();
-  // Grid pixels one apart across the sampled middle of the cell.
-  const double cell_px = std::sqrt(QuadArea(candidate.quads[kBlackWhite])) / cells;
-  // Clamped in double: a degenerate quad's area can be anything.
-  const int samples = static_cast<int>(
-      std::clamp<double>(2 * kCellSampleReach * cell_px + 1, kMinCellSamples, kMaxCellSamples));
-  // The payload and, read only when needed, the black ring around it.
-  const int w = d + 2;
+// A candidate's cells as DecodeAs reads them for one family: the payload
+// and, read only when needed, the black ring around it (PayloadGrid).
+struct CellReader {
+  CellReader(const ImageView& view, const cv::Matx33d& from_tag, int square_cells,
+             int payload_width)
+      : image(view), image_from_tag(from_tag), cells(square_cells), d(payload_width) {}
+
+  const ImageView& image;
+  const cv::Matx33d& image_from_tag;
+  int cells = 0;  // Across the black square.
+  int d = 0;      // Across the payload.
   PayloadGrid grid;
-  grid.cells.resize(w * w);
-  grid.max_blur_share = MaxBlurShare(cell_px);
-  std::vector<float> b(d * d);
-  float min_red_a = 1e30f, max_green_a = -1e30f;
-  for (int row = 0; row < d; ++row) {
-    for (int col = 0; col < d; ++col) {
-      const CellSample c = ReadCell(image, image_from_tag, cells, row, col, samples);
-      grid[(row + 1) * w + col + 1] = c;
-      b[row * d + col] = c.shade;
-      if (family.CellColorAt(row, col) == CellColor::kRed)
-        min_red_a = std::min(min_red_a, c.a);
-      else
-        max_green_a = std::max(max_green_a, c.a);
-    }
-  }
-  // Every red cell must be clearly redder than every green one.
-  if (min_red_a - max_green_a < 0.5f * static_cast<float>(options.adiff_thresh)) {
-    *why = RejectReason::kWeakChroma;
-    return false;
-  }
-  CodeMatch match;
-  double margin = 0;
-  Code observed = 0;
-  bool decoded = DecodeShades(options, entry, b, &match, &margin, why, &observed);
-  const double read_margin = margin;
-  // The black ring around the payload, read with `n` x `n` samples a cell.
   bool ring_read = false;
-  auto read_ring = [&](int n) {
+
+  // The black ring around the payload, read with `n` x `n` samples a cell.
+  void ReadRing(int n) {
     ring_read = true;
+    const int w = d + 2;
     for (int i = 0; i < w; ++i) {
       for (int row : {-1, d})
         grid[(row + 1) * w + i] = ReadCell(image, image_from_tag, cells, row, i - 1, n);
       for (int col : {-1, d})
         grid[i * w + col + 1] = ReadCell(image, image_from_tag, cells, i - 1, col, n);
     }
-  };
-  const bool close_codes = family.min_hamming() - entry.decoder->radius() < kFarCodeBits;
-  if (close_codes) {
-    // A read without the margin gate (every other check stands) when the
-    // margin was too low; then the blur model decides (kBlurShares).
-    const bool low_margin = !decoded && *why == RejectReason::kLowMargin;
-    if (low_margin) {
-      DetectorOptions ungated = options;
-      ungated.min_decision_margin = 0.0;
-      RejectReason ignored;
-      decoded = DecodeShades(ungated, entry, b, &match, &margin, &ignored, &observed);
-    }
-    // With no swapped print within kMaxSwappedRivalBits of the read and the
-    // margin passed, the blur model has nothing to decide: skip it.
-    const std::vector<Code> rivals = decoded ? SwappedRivals(entry, observed) : std::vector<Code>{};
-    if (decoded && (low_margin || !rivals.empty())) {
-      // The blur model uses only the ring's mean: few samples a cell do.
-      read_ring(kMinCellSamples);
-      const Code code = family.Rotate(family.CodeOf(match.id), match.rotation);
-      const BlurFit fit = FitBlurModel(family, code, grid);
-      const BlurFit swapped = FitSwappedPrints(family, rivals, grid);
-      const double misfit = fit.worst, swapped_misfit = swapped.worst;
-      // An exact read whose code explains the cells clearly better over all
-      // of them than any swapped print does is no tie, whatever its worst cell.
-      const bool clear_in_rms =
-          match.hamming == 0 && swapped.abs_rms >= kMinSwappedRmsRatio * fit.abs_rms;
-      // A corrected read has bits the code does not explain: a swapped
-      // print that comes near it in fit is the likelier source.
-      if ((swapped_misfit < kMinSwappedTieRatio * misfit && !clear_in_rms) ||
-          (match.hamming > 0 && swapped_misfit < kMinSwappedRivalRatio * misfit)) {
-        *why = RejectReason::kSwappedPrint;
-        return false;
-      }
-      if (low_margin &&
-          (!(misfit <= kMaxCellMisfit) || swapped_misfit < kMinSwappedRivalRatio * misfit ||
-           (match.hamming > 0 &&
-            margin < kMinCorrectedRescueMargin * options.min_decision_margin))) {
-        *why = RejectReason::kLowMargin;
-        decoded = false;
-      }
-    }
-    // Refused otherwise than as a swapped print (which has returned): the
-    // soft read, its margin the hard read's.
-    if (!decoded) {
-      if (!ring_read) read_ring(kMinCellSamples);
-      decoded = SoftDecode(options, entry, observed, grid, ring_misfit, &match);
-      margin = read_margin;
-    }
   }
-  if (!decoded) {
-    // Blur, demosaicing and JPEG's chroma mix each cell with its neighbours;
-    // small cells lose their shade to them. Read again with the neighbours'
-    // share taken out; the first reason stands if that fails too. Only where
-    // every read stays kFarCodeBits from any other code (36h11): sharpening
-    // moves cells across the split, and a 16h5 tag printed with its shades
-    // swapped then read as another ID exactly (DetectorConditionsTest).
-    if (close_codes) return false;
-    read_ring(samples);
-    for (float k : kCrosstalk) {
-      RejectReason ignored;
-      if (DecodeShades(options, entry, Sharpened(grid, d, k), &match, &margin, &ignored)) {
-        decoded = true;
-        break;
-      }
-    }
-    if (!decoded) {
-      decoded = SoftDecode(options, entry, observed, grid, ring_misfit, &match);
-      margin = read_margin;
-    }
-    if (!decoded) return false;
+  // The ring as the blur model uses it (only its mean: few samples a
+  // cell do), unless it has been read.
+  void ReadRingOnce() {
+    if (!ring_read) ReadRing(kMinCellSamples);
   }
-  if (match.hamming > 0) {
-    if (!ring_read) read_ring(kMinCellSamples);
-    if (AlikeRedsRivalFitsBetter(entry, family.Rotate(family.CodeOf(match.id), match.rotation),
-                                 observed, grid, close_codes)) {
-      *why = RejectReason::kDoubtfulCorrection;
-      return false;
-    }
-  }
+};
 
+// Reads the payload's cells into the reader's grid and their shade values
+// into b[] (row by row). False unless every red cell is clearly redder than
+// every green one.
+bool ReadPayload(const DetectorOptions& options, const TagFamily& family, int samples,
+                 CellReader* reader, std::vector<float>* b) {
+  const int d = reader->d, w = d + 2;
+  float min_red_a = 1e30f, max_green_a = -1e30f;
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const CellSample c =
+          ReadCell(reader->image, reader->image_from_tag, reader->cells, row, col, samples);
+      reader->grid[(row + 1) * w + col + 1] = c;
+      (*b)[row * d + col] = c.shade;
+      if (family.CellColorAt(row, col) == CellColor::kRed)
+        min_red_a = std::min(min_red_a, c.a);
+      else
+        max_green_a = std::max(max_green_a, c.a);
+    }
+  }
+  return !(min_red_a - max_green_a < 0.5f * static_cast<float>(options.adiff_thresh));
+}
+
+// A read's state through DecodeAs's checks: the code matched, its margin,
+// the observed bits (before any correction) and the hard read's margin.
+struct ReadState {
+  CodeMatch match;
+  double margin = 0;
+  Code observed = 0;
+  double read_margin = 0;
+};
+
+// For a family of close codes (16h5): the hard read (`decoded`, or the
+// ungated one where only its margin failed) checked against the blur model
+// and its swapped prints (kBlurShares). False (and *why) when it is refused:
+// as a swapped print (*refused too), or for its margin.
+bool BlurModelAccepts(const DetectorOptions& options, const FamilyDecoder& entry,
+                      const std::vector<float>& b, bool decoded, CellReader* reader,
+                      ReadState* read, bool* refused, RejectReason* why) {
+  const TagFamily& family = *entry.family;
+  // A read without the margin gate (every other check stands) when the
+  // margin was too low; then the blur model decides.
+  const bool low_margin = !decoded && *why == RejectReason::kLowMargin;
+  if (low_margin) {
+    DetectorOptions ungated = options;
+    ungated.min_decision_margin = 0.0;
+    RejectReason ignored;
+    decoded =
+        DecodeShades(ungated, entry, b, &read->match, &read->margin, &ignored, &read->observed);
+  }
+  // With no swapped print within kMaxSwappedRivalBits of the read and the
+  // margin passed, the blur model has nothing to decide: skip it.
+  const std::vector<Code> rivals =
+      decoded ? SwappedRivals(entry, read->observed) : std::vector<Code>{};
+  if (!decoded || (!low_margin && rivals.empty())) return decoded;
+  reader->ReadRingOnce();
+  const CodeMatch& match = read->match;
+  const Code code = family.Rotate(family.CodeOf(match.id), match.rotation);
+  const BlurFit fit = FitBlurModel(family, code, reader->grid);
+  const BlurFit swapped = FitSwappedPrints(family, rivals, reader->grid);
+  const double misfit = fit.worst, swapped_misfit = swapped.worst;
+  // An exact read whose code explains the cells clearly better over all
+  // of them than any swapped print does is no tie, whatever its worst cell.
+  const bool clear_in_rms =
+      match.hamming == 0 && swapped.abs_rms >= kMinSwappedRmsRatio * fit.abs_rms;
+  // A corrected read has bits the code does not explain: a swapped
+  // print that comes near it in fit is the likelier source.
+  if ((swapped_misfit < kMinSwappedTieRatio * misfit && !clear_in_rms) ||
+      (match.hamming > 0 && swapped_misfit < kMinSwappedRivalRatio * misfit)) {
+    *why = RejectReason::kSwappedPrint;
+    *refused = true;
+    return false;
+  }
+  if (low_margin &&
+      (!(misfit <= kMaxCellMisfit) || swapped_misfit < kMinSwappedRivalRatio * misfit ||
+       (match.hamming > 0 &&
+        read->margin < kMinCorrectedRescueMargin * options.min_decision_margin))) {
+    *why = RejectReason::kLowMargin;
+    return false;
+  }
+  return true;
+}
+
+// The reads for a family of close codes (16h5): the hard read under the
+// blur model (BlurModelAccepts); one it refuses otherwise than as a swapped
+// print gets the soft read, its margin the hard read's.
+bool CloseCodeRead(const DetectorOptions& options, const FamilyDecoder& entry,
+                   const std::vector<float>& b, bool decoded, double ring_misfit,
+                   CellReader* reader, ReadState* read, RejectReason* why) {
+  bool refused = false;
+  if (BlurModelAccepts(options, entry, b, decoded, reader, read, &refused, why)) return true;
+  if (refused) return false;
+  reader->ReadRingOnce();
+  read->margin = read->read_margin;
+  return SoftDecode(options, entry, read->observed, reader->grid, ring_misfit, &read->match);
+}
+
+// The reads for a family of far codes (36h11) after the hard read failed.
+// Blur, demosaicing and JPEG's chroma mix each cell with its neighbours;
+// small cells lose their shade to them. Read again with the neighbours'
+// share taken out; then the soft read, its margin the hard read's. Only
+// where every read stays kFarCodeBits from any other code: sharpening moves
+// cells across the split, and a 16h5 tag printed with its shades swapped
+// then read as another ID exactly (DetectorConditionsTest).
+bool FarCodeRead(const DetectorOptions& options, const FamilyDecoder& entry, int samples,
+                 double ring_misfit, CellReader* reader, ReadState* read) {
+  reader->ReadRing(samples);
+  for (float k : kCrosstalk) {
+    RejectReason ignored;
+    if (DecodeShades(options, entry, Sharpened(reader->grid, reader->d, k), &read->match,
+                     &read->margin, &ignored))
+      return true;
+  }
+  read->margin = read->read_margin;
+  return SoftDecode(options, entry, read->observed, reader->grid, ring_misfit, &read->match);
+}
+
+// Fills *detection from a read: its code, margin and corners in the decoded
+// orientation.
+void FillDetection(const ImageView& image, const TagFamily& family, const Candidate& candidate,
+                   const ReadState& read, SideFitBuffers* buffers, Detection* detection) {
+  const int cells = family.black_square_cells();
   // The observation is the tag turned `rotation` quarter turns clockwise, so
   // the upright tag's top-left corner is the observed corner `rotation`.
-  const int k = match.rotation;
+  const int k = read.match.rotation;
   detection->family = &family;
-  detection->id = match.id;
-  detection->hamming = match.hamming;
-  detection->decision_margin = margin;
+  detection->id = read.match.id;
+  detection->hamming = read.match.hamming;
+  detection->decision_margin = read.margin;
   // The stages read the black square found with edges at the encoded
   // average (their thresholds were set on it); the reported corners are
   // moved to where the black ring's width says the edges lie (refine_corners.h,
@@ -959,6 +1004,46 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   // located on their own edges, 0.41, 1.10 and 99.5 %.
   detection->green_corners = InsetSquare(detection->image_from_tag, 1.0 / cells);
   detection->red_corners = InsetSquare(detection->image_from_tag, 2.0 / cells);
+}
+
+bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
+              const Candidate& candidate, const cv::Matx33d& image_from_tag, double ring_misfit,
+              SideFitBuffers* buffers, Detection* detection, RejectReason* why) {
+  const TagFamily& family = *entry.family;
+  const int d = family.payload_width();
+  const int cells = family.black_square_cells();
+  // Grid pixels one apart across the sampled middle of the cell.
+  const double cell_px = std::sqrt(QuadArea(candidate.quads[kBlackWhite])) / cells;
+  // Clamped in double: a degenerate quad's area can be anything.
+  const int samples = static_cast<int>(
+      std::clamp<double>(2 * kCellSampleReach * cell_px + 1, kMinCellSamples, kMaxCellSamples));
+  CellReader reader(image, image_from_tag, cells, d);
+  reader.grid.cells.resize((d + 2) * (d + 2));
+  reader.grid.max_blur_share = MaxBlurShare(cell_px);
+  std::vector<float> b(d * d);
+  if (!ReadPayload(options, family, samples, &reader, &b)) {
+    *why = RejectReason::kWeakChroma;
+    return false;
+  }
+  ReadState read;
+  bool decoded = DecodeShades(options, entry, b, &read.match, &read.margin, why, &read.observed);
+  read.read_margin = read.margin;
+  const bool close_codes = family.min_hamming() - entry.decoder->radius() < kFarCodeBits;
+  if (close_codes) {
+    decoded = CloseCodeRead(options, entry, b, decoded, ring_misfit, &reader, &read, why);
+  } else if (!decoded) {
+    decoded = FarCodeRead(options, entry, samples, ring_misfit, &reader, &read);
+  }
+  if (!decoded) return false;
+  if (read.match.hamming > 0) {
+    reader.ReadRingOnce();
+    const Code code = family.Rotate(family.CodeOf(read.match.id), read.match.rotation);
+    if (AlikeRedsRivalFitsBetter(entry, code, read.observed, reader.grid, close_codes)) {
+      *why = RejectReason::kDoubtfulCorrection;
+      return false;
+    }
+  }
+  FillDetection(image, family, candidate, read, buffers, detection);
   return true;
 }
 
@@ -1008,11 +1093,12 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
   return false;
 }
 
-bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
-                     const std::vector<FamilyDecoder>& families, SideFitBuffers* buffers,
-                     Candidate* candidate, Detection* detection, RejectReason* why) {
+bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
+                     const StageSwitches& switches, const std::vector<FamilyDecoder>& families,
+                     SideFitBuffers* buffers, Candidate* candidate, Detection* detection,
+                     RejectReason* why) {
   if (Decode(image, options, families, *candidate, buffers, detection, why)) return true;
-  if (*why != RejectReason::kNoFamilyFits || !refine_sides ||
+  if (*why != RejectReason::kNoFamilyFits || !switches.refine_corners ||
       !RefineInnerQuads(image, buffers, candidate))
     return false;
   RejectReason again;

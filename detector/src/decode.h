@@ -16,7 +16,9 @@
 #include "chromatag/families/decoder.h"
 #include "chromatag/families/family.h"
 #include "image_view.h"
+#include "kernels/kernels.h"
 #include "refine_corners.h"
+#include "stage_switches.h"
 
 namespace chromatag::internal {
 
@@ -45,10 +47,8 @@ std::vector<Code> OrientedCodes(const TagFamily& family);
 // pixels: the ones nearest to centre + s du + t dv, s and t evenly from -1 to
 // 1 (samples from 2 to 8). SumCellGrid sums their R, G and B and counts them,
 // points outside the frame skipped; eight points at a time by the view's
-// vector kernel where it has one, with the same sums.
-struct PixelSums {
-  int r = 0, g = 0, b = 0, n = 0;
-};
+// vector kernel where it has one, with the same sums (PixelSums:
+// kernels/kernels.h).
 PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du, cv::Point2d dv,
                       int samples);
 
@@ -58,11 +58,13 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
 
 // Decode for a candidate whose inner quads are still rough (from the scans or
 // the polygons; only the outer one has its sub-pixel sides): where they fit
-// no family's proportions, RefineInnerQuads (if `refine_sides`) and Decode
-// once more. The first reason stands if that fails too.
-bool DecodeCandidate(const ImageView& image, const DetectorOptions& options, bool refine_sides,
-                     const std::vector<FamilyDecoder>& families, SideFitBuffers* buffers,
-                     Candidate* candidate, Detection* detection, RejectReason* why);
+// no family's proportions, RefineInnerQuads (unless the benchmarks turned
+// StageSwitches::refine_corners off) and Decode once more. The first reason
+// stands if that fails too.
+bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
+                     const StageSwitches& switches, const std::vector<FamilyDecoder>& families,
+                     SideFitBuffers* buffers, Candidate* candidate, Detection* detection,
+                     RejectReason* why);
 
 }  // namespace chromatag::internal
 

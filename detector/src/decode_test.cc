@@ -11,6 +11,7 @@
 #include "decode.h"
 #include "geometry.h"
 #include "scratch.h"
+#include "stage_switches.h"
 
 namespace chromatag::internal {
 namespace {
@@ -202,6 +203,8 @@ TEST(DecodeTest, RingsOutOfProportionFitNoFamily) {
 TEST(DecodeTest, DecodeCandidateLocatesInnerRingsThatFitNoFamily) {
   Scratch scratch;
   const auto families = Families({"16h5", "36h11"});
+  StageSwitches no_sides;
+  no_sides.refine_corners = false;
   for (const FamilyDecoder& entry : families) {
     const int id = entry.family->kept_ids()[3];
     Candidate candidate;
@@ -217,10 +220,10 @@ TEST(DecodeTest, DecodeCandidateLocatesInnerRingsThatFitNoFamily) {
         Decode(view, DetectorOptions{}, families, candidate, &scratch.side_fit, &detection, &why));
     EXPECT_EQ(why, RejectReason::kNoFamilyFits) << entry.family->name();
     Candidate unrefined = candidate;
-    EXPECT_FALSE(DecodeCandidate(view, DetectorOptions{}, /*refine_sides=*/false, families,
-                                 &scratch.side_fit, &unrefined, &detection, &why));
+    EXPECT_FALSE(DecodeCandidate(view, DetectorOptions{}, no_sides, families, &scratch.side_fit,
+                                 &unrefined, &detection, &why));
     EXPECT_EQ(why, RejectReason::kNoFamilyFits);
-    ASSERT_TRUE(DecodeCandidate(view, DetectorOptions{}, /*refine_sides=*/true, families,
+    ASSERT_TRUE(DecodeCandidate(view, DetectorOptions{}, StageSwitches{}, families,
                                 &scratch.side_fit, &candidate, &detection, &why))
         << entry.family->name() << ": " << RejectReasonName(why);
     EXPECT_EQ(detection.family, entry.family.get());

@@ -295,6 +295,159 @@ DetectionResult Detector::Detect(const cv::Mat& image, PixelOrder order) const {
   return result;
 }
 
+namespace {
+
+// One frame's way through the stages from each seed (Algorithm 1, steps 2
+// to 5): what every stage is handed, and the summary its times and
+// rejections go to.
+class FrameStages {
+ public:
+  FrameStages(const internal::ImageView& view, const DetectorOptions& options,
+              const internal::StageSwitches& switches,
+              const std::vector<internal::FamilyDecoder>& families, internal::Scratch* scratch,
+              DetectionResult* result)
+      : view_(view),
+        options_(options),
+        switches_(switches),
+        families_(families),
+        scratch_(*scratch),
+        result_(*result),
+        summary_(result->summary) {}
+
+  // InitialScan, then the fast path (QuadsFromScans) or, for a candidate it
+  // cannot finish, the paper's way through BuildPolygon, PolyToQuad and
+  // Decode; GrowRegion for a candidate they lose. Whether a tag was found,
+  // into *detection.
+  bool FromSeed(cv::Point seed, internal::Seed kind, Detection* detection) {
+    return (Run(Stage::kInitialScan,
+                [&] {
+                  return internal::InitialScan(view_, options_, seed, kind, &scratch_.ring_scan,
+                                               &scratch_.candidate, &scratch_.rejected, &why_);
+                }) &&
+            (FastPath(detection) || SlowPath(detection))) ||
+           GrowLost(seed, detection);
+  }
+
+  // Reports `detection`, with its pose, unless it is a tag already accepted
+  // in this frame, found again from another seed (one outside its area,
+  // whose scans still led to it: under a cast the quiet zone or the card
+  // around it can seed).
+  void Accept(Detection* detection) {
+    if (InAcceptedArea(scratch_.areas, *detection)) return;
+    if (options_.camera && options_.tag_size > 0) {
+      const Clock::time_point start = Clock::now();
+      detection->has_pose =
+          EstimateTagPose(*detection, *options_.camera, options_.tag_size, &detection->pose);
+      summary_.pose_time_us += MicrosecondsSince(start);
+    }
+    scratch_.areas.push_back(AreaOf(*detection, detection->family->black_square_cells()));
+    result_.detections.push_back(std::move(*detection));
+  }
+
+ private:
+  // Runs one stage, adding its time; Run also counts a rejection.
+  template <typename Body>
+  bool Timed(Stage stage, Body&& body) {
+    const Clock::time_point start = Clock::now();
+    const bool passed = body();
+    summary_.stage_time_us[static_cast<int>(stage)] += MicrosecondsSince(start);
+    return passed;
+  }
+  template <typename Body>
+  bool Run(Stage stage, Body&& body) {
+    const bool passed = Timed(stage, body);
+    if (!passed) ++summary_.rejected[static_cast<int>(stage)];
+    return passed;
+  }
+
+  bool Decode(Detection* detection, RejectReason* reason) {
+    return internal::DecodeCandidate(view_, options_, switches_, families_, &scratch_.side_fit,
+                                     &scratch_.candidate, detection, reason);
+  }
+
+  // The fast path's time goes to the stages it stands in for; what it
+  // abandons is not a rejection, since the slow path takes it up.
+  bool FastPath(Detection* detection) {
+    if (!switches_.quads_from_scans || !switches_.refine_corners) return false;
+    internal::Candidate& candidate = scratch_.candidate;
+    RejectReason ignored;
+    const bool found =
+        Timed(Stage::kBuildPolygon,
+              [&] {
+                return internal::QuadsFromScans(view_, options_, &scratch_.ring_scan, &candidate);
+              }) &&
+        Timed(Stage::kPolyToQuad,
+              [&] {
+                return internal::NestedAndRefined(view_, switches_, &scratch_.side_fit, &candidate,
+                                                  &ignored);
+              }) &&
+        Timed(Stage::kDecode, [&] { return Decode(detection, &ignored); });
+    if (found) ++summary_.fast_path_detections;
+    return found;
+  }
+
+  bool SlowPath(Detection* detection) {
+    internal::Candidate& candidate = scratch_.candidate;
+    return Run(Stage::kBuildPolygon,
+               [&] {
+                 return internal::BuildPolygon(view_, options_, &scratch_.ring_scan,
+                                               &scratch_.polygon, &candidate, &why_);
+               }) &&
+           Run(Stage::kPolyToQuad,
+               [&] {
+                 return internal::PolyToQuad(view_, switches_, &scratch_.quad_fit,
+                                             &scratch_.side_fit, &candidate, &why_);
+               }) &&
+           Run(Stage::kDecode, [&] { return Decode(detection, &why_); });
+  }
+
+  // A candidate the stages lost: grown (GrowRegion) where that is worth it,
+  // else rejected. Whether growing found a tag.
+  bool GrowLost(cv::Point seed, Detection* detection) {
+    internal::Candidate& candidate = scratch_.candidate;
+    RejectedCandidate rejection;
+    if (options_.report_rejected) rejection = Rejection(candidate, seed, why_);
+    const bool after_scan = StageOf(why_) != Stage::kInitialScan;
+    if (switches_.grow_regions && internal::WorthGrowing(candidate, why_)) {
+      const bool grown = Run(Stage::kGrowRegion, [&] {
+        return internal::GrowRegion(view_, options_, families_, &scratch_.region,
+                                    &scratch_.quad_fit, &scratch_.side_fit, &candidate, detection,
+                                    &why_);
+      });
+      if (grown) return true;
+      rejection.grown = true;
+      rejection.grow_reason = why_;
+    }
+    // InitialScan remembers the regions it rejects; so are those the later
+    // stages reject, so that the seeds of later rows skip them.
+    if (candidate.enclosed && after_scan)
+      scratch_.rejected.push_back(internal::RejectedRegion::Around(candidate.red_border));
+    if (options_.report_rejected) result_.rejected.push_back(std::move(rejection));
+    return false;
+  }
+
+  const internal::ImageView& view_;
+  const DetectorOptions& options_;
+  const internal::StageSwitches& switches_;
+  const std::vector<internal::FamilyDecoder>& families_;
+  internal::Scratch& scratch_;
+  DetectionResult& result_;
+  DetectorSummary& summary_;
+  RejectReason why_ = RejectReason::kPaleRed;  // Why the last stage to fail failed.
+};
+
+// The frame's total time, and FindADiff's: what the other stages and the
+// poses did not take.
+void FinishTimes(Clock::time_point frame_start, DetectorSummary* summary) {
+  summary->total_time_us = MicrosecondsSince(frame_start);
+  double others = 0;
+  for (int s = 1; s < kNumStages; ++s) others += summary->stage_time_us[s];
+  summary->stage_time_us[0] =
+      std::max(0.0, summary->total_time_us - others - summary->pose_time_us);
+}
+
+}  // namespace
+
 void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* result) const {
   const Clock::time_point frame_start = Clock::now();
   result->detections.clear();
@@ -302,29 +455,17 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
   result->summary = DetectorSummary{};
   if (image.empty() || image.type() != CV_8UC3) return;
   const DetectorOptions& options = impl_->options;
-  const internal::StageSwitches& switches = impl_->switches;
   const internal::ImageView view(image, order, *impl_->table, *impl_->kernels);
   impl_->table->Prefetch(/*coarse=*/!internal::RowScanComputesA(view, options));
   const ScratchLease lease(&impl_->scratch_pool);
   internal::Scratch& scratch = *lease;
   scratch.areas.clear();
   scratch.rejected.clear();
+  FrameStages stages(view, options, impl_->switches, impl_->families, &scratch, result);
   DetectorSummary& summary = result->summary;
 
-  // Runs one stage, adding its time; run_stage also counts a rejection.
-  RejectReason why = RejectReason::kPaleRed;
-  auto timed = [&summary](Stage stage, auto&& body) {
-    const Clock::time_point start = Clock::now();
-    const bool passed = body();
-    summary.stage_time_us[static_cast<int>(stage)] += MicrosecondsSince(start);
-    return passed;
-  };
-  auto run_stage = [&summary, &timed](Stage stage, auto&& body) {
-    const bool passed = timed(stage, body);
-    if (!passed) ++summary.rejected[static_cast<int>(stage)];
-    return passed;
-  };
-
+  // Step 1 (FindADiff) along the sampled rows; the other steps from each
+  // seed it finds.
   const int num_rows = internal::NumSampledRows(view.height(), options);
   for (int row = 0; row < num_rows; ++row) {
     internal::RowCursor cursor = internal::SampledRow(view.height(), options, row);
@@ -334,93 +475,11 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
     while (internal::FindADiff(view, options, scratch.areas, &scratch.row_scan, &cursor, &seed,
                                &kind, &summary.rejected[static_cast<int>(Stage::kFindADiff)])) {
       ++summary.seeds;
-      internal::Candidate& candidate = scratch.candidate;
       Detection detection;
-      // After InitialScan, the fast path (QuadsFromScans) and, for a
-      // candidate it cannot finish, the paper's way through BuildPolygon.
-      // The fast path's time goes to the stages it stands in for; what it
-      // abandons is not a rejection, since the slow path takes it up.
-      auto decode = [&](RejectReason* reason) {
-        return internal::DecodeCandidate(view, options, switches.refine_corners, impl_->families,
-                                         &scratch.side_fit, &candidate, &detection, reason);
-      };
-      auto fast_path = [&] {
-        if (!switches.quads_from_scans || !switches.refine_corners) return false;
-        RejectReason ignored;
-        const bool found =
-            timed(Stage::kBuildPolygon,
-                  [&] {
-                    return internal::QuadsFromScans(view, options, &scratch.ring_scan, &candidate);
-                  }) &&
-            timed(Stage::kPolyToQuad,
-                  [&] {
-                    return internal::NestedAndRefined(view, switches.refine_corners,
-                                                      &scratch.side_fit, &candidate, &ignored);
-                  }) &&
-            timed(Stage::kDecode, [&] { return decode(&ignored); });
-        if (found) ++summary.fast_path_detections;
-        return found;
-      };
-      auto slow_path = [&] {
-        return run_stage(Stage::kBuildPolygon,
-                         [&] {
-                           return internal::BuildPolygon(view, options, &scratch.ring_scan,
-                                                         &scratch.polygon, &candidate, &why);
-                         }) &&
-               run_stage(Stage::kPolyToQuad,
-                         [&] {
-                           return internal::PolyToQuad(view, switches.refine_corners,
-                                                       &scratch.quad_fit, &scratch.side_fit,
-                                                       &candidate, &why);
-                         }) &&
-               run_stage(Stage::kDecode, [&] { return decode(&why); });
-      };
-      if (!run_stage(Stage::kInitialScan,
-                     [&] {
-                       return internal::InitialScan(view, options, seed, kind, &scratch.ring_scan,
-                                                    &candidate, &scratch.rejected, &why);
-                     }) ||
-          !(fast_path() || slow_path())) {
-        RejectedCandidate rejection;
-        if (options.report_rejected) rejection = Rejection(candidate, seed, why);
-        const bool after_scan = StageOf(why) != Stage::kInitialScan;
-        bool grown = false;
-        if (switches.grow_regions && internal::WorthGrowing(candidate, why)) {
-          grown = run_stage(Stage::kGrowRegion, [&] {
-            return internal::GrowRegion(view, options, impl_->families, &scratch.region,
-                                        &scratch.quad_fit, &scratch.side_fit, &candidate,
-                                        &detection, &why);
-          });
-          rejection.grown = true;
-          rejection.grow_reason = why;
-        }
-        if (!grown) {
-          // InitialScan remembers the regions it rejects; so are those the
-          // later stages reject, so that the seeds of later rows skip them.
-          if (candidate.enclosed && after_scan)
-            scratch.rejected.push_back(internal::RejectedRegion::Around(candidate.red_border));
-          if (options.report_rejected) result->rejected.push_back(std::move(rejection));
-          continue;
-        }
-      }
-      // A tag already accepted in this frame, found again from another seed
-      // (one outside its area, whose scans still led to it: under a cast the
-      // quiet zone or the card around it can seed): reported once.
-      if (InAcceptedArea(scratch.areas, detection)) continue;
-      if (options.camera && options.tag_size > 0) {
-        const Clock::time_point start = Clock::now();
-        detection.has_pose =
-            EstimateTagPose(detection, *options.camera, options.tag_size, &detection.pose);
-        summary.pose_time_us += MicrosecondsSince(start);
-      }
-      scratch.areas.push_back(AreaOf(detection, detection.family->black_square_cells()));
-      result->detections.push_back(std::move(detection));
+      if (stages.FromSeed(seed, kind, &detection)) stages.Accept(&detection);
     }
   }
-  summary.total_time_us = MicrosecondsSince(frame_start);
-  double others = 0;
-  for (int s = 1; s < kNumStages; ++s) others += summary.stage_time_us[s];
-  summary.stage_time_us[0] = std::max(0.0, summary.total_time_us - others - summary.pose_time_us);
+  FinishTimes(frame_start, &summary);
 }
 
 }  // namespace chromatag

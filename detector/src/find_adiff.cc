@@ -121,42 +121,71 @@ bool InSpans(const std::array<std::pair<int, int>, 64>& spans, int num_spans, in
 
 }  // namespace
 
-bool FindADiff(const ImageView& image, const DetectorOptions& options,
-               const std::vector<DetectedArea>& skip, RowScanBuffers* buffers, RowCursor* cursor,
-               cv::Point* seed, Seed* kind, int* prefilter_rejects) {
+namespace {
+
+// Samples the cursor's row (ScanRow) into the buffers and points the cursor
+// at its rises. The next sampled row goes into the caches while this one
+// is sampled: a frame from a camera or another thread is not in the
+// caches, and the jump of several rows defeats the hardware's stream
+// prefetch at each row's start.
+void SampleCursorRow(const ImageView& image, const DetectorOptions& options,
+                     RowScanBuffers* buffers, RowCursor* cursor) {
+  const int count = (image.width() + options.step - 1) / options.step;
+  if (buffers->a.size() < static_cast<size_t>(count)) {
+    buffers->a.resize(count);
+    buffers->rises.resize(count);
+  }
+  if (cursor->next_y >= 0) {
+    const char* next = reinterpret_cast<const char*>(image.Pixel(0, cursor->next_y));
+    const int bytes = 3 * image.width();
+    for (int offset = 0; offset < bytes; offset += 64) __builtin_prefetch(next + offset);
+  }
+  if (cursor->num_rows > 0 && RowScanComputesA(image, options)) {
+    // The coarse table, for the ring scans of this frame's seeds, spread
+    // over the sampled rows (Detect did not stream it).
+    const ColorTable& table = image.table();
+    const int per_row = (table.coarse_lines() + cursor->num_rows - 1) / cursor->num_rows;
+    table.PrefetchCoarseLines(cursor->row * per_row, per_row);
+  }
+  cursor->num_rises = ScanRow(image, options, cursor->y, buffers->a.data(), buffers->rises.data());
+  cursor->rises = buffers->rises.data();
+  cursor->next = 0;
+  cursor->sampled = true;
+}
+
+// The kind of seed sample i of the row (at x = i N) is by the exact a*
+// (SeedsAt): its rise from the sample before and, for the rise in two
+// steps, from the one two back, unless that lies in an accepted area
+// (`spans`).
+Seed SeedKindAt(const ImageView& image, const DetectorOptions& options, const uint8_t* row, int i,
+                const std::array<std::pair<int, int>, 64>& spans, int num_spans) {
+  constexpr float kNoSample = std::numeric_limits<float>::quiet_NaN();
   const ColorTable& table = image.table();
   const int step = options.step;
   const int r = image.r_offset(), b = image.b_offset();
+  const int x = i * step;
+  const uint8_t* p = row + 3 * x;
+  const uint8_t* q = p - 3 * step;
+  const bool has_two =
+      options.two_step_rises && i >= 2 && !(num_spans && InSpans(spans, num_spans, x - 2 * step));
+  const float two_before =
+      has_two ? table.A(q[r - 3 * step], q[1 - 3 * step], q[b - 3 * step]) : kNoSample;
+  // L* only where the rise in two steps needs it.
+  const LabF lab = two_before < TwoStepGreenA(options) ? table.Lab(p[r], p[1], p[b])
+                                                       : LabF{0.f, table.A(p[r], p[1], p[b]), 0.f};
+  return SeedsAt(options, lab, table.A(q[r], q[1], q[b]), two_before);
+}
+
+}  // namespace
+
+bool FindADiff(const ImageView& image, const DetectorOptions& options,
+               const std::vector<DetectedArea>& skip, RowScanBuffers* buffers, RowCursor* cursor,
+               cv::Point* seed, Seed* kind, int* prefilter_rejects) {
+  if (!cursor->sampled) SampleCursorRow(image, options, buffers, cursor);
+  if (cursor->next >= cursor->num_rises) return false;
+  const int step = options.step;
   const int y = cursor->y;
   const uint8_t* row = image.Pixel(0, y);
-  if (!cursor->sampled) {
-    const int count = (image.width() + step - 1) / step;
-    if (buffers->a.size() < static_cast<size_t>(count)) {
-      buffers->a.resize(count);
-      buffers->rises.resize(count);
-    }
-    // The next sampled row, into the caches while this one is sampled: a
-    // frame from a camera or another thread is not in the caches, and the
-    // jump of several rows defeats the hardware's stream prefetch at each
-    // row's start.
-    if (cursor->next_y >= 0) {
-      const char* next = reinterpret_cast<const char*>(image.Pixel(0, cursor->next_y));
-      const int bytes = 3 * image.width();
-      for (int offset = 0; offset < bytes; offset += 64) __builtin_prefetch(next + offset);
-    }
-    if (cursor->num_rows > 0 && RowScanComputesA(image, options)) {
-      // The coarse table, for the ring scans of this frame's seeds, spread
-      // over the sampled rows (Detect did not stream it).
-      const int per_row = (table.coarse_lines() + cursor->num_rows - 1) / cursor->num_rows;
-      table.PrefetchCoarseLines(cursor->row * per_row, per_row);
-    }
-    cursor->num_rises = ScanRow(image, options, y, buffers->a.data(), buffers->rises.data());
-    cursor->rises = buffers->rises.data();
-    cursor->next = 0;
-    cursor->sampled = true;
-  }
-  if (cursor->next >= cursor->num_rises) return false;
-  constexpr float kNoSample = std::numeric_limits<float>::quiet_NaN();
   std::array<std::pair<int, int>, 64> spans;
   const int num_spans = skip.empty() ? 0 : RowSpans(skip, y, &spans);
   while (cursor->next < cursor->num_rises) {
@@ -168,19 +197,7 @@ bool FindADiff(const ImageView& image, const DetectorOptions& options,
     if (num_spans && (InSpans(spans, num_spans, x) || InSpans(spans, num_spans, x - step))) {
       continue;
     }
-    const uint8_t* p = row + 3 * x;
-    const uint8_t* q = p - 3 * step;
-    // The sample two back, for the rise in two steps (SeedsAt); none past an
-    // accepted area either.
-    const bool has_two =
-        options.two_step_rises && i >= 2 && !(num_spans && InSpans(spans, num_spans, x - 2 * step));
-    const float two_before =
-        has_two ? table.A(q[r - 3 * step], q[1 - 3 * step], q[b - 3 * step]) : kNoSample;
-    // L* only where the rise in two steps needs it.
-    const LabF lab = two_before < TwoStepGreenA(options)
-                         ? table.Lab(p[r], p[1], p[b])
-                         : LabF{0.f, table.A(p[r], p[1], p[b]), 0.f};
-    *kind = SeedsAt(options, lab, table.A(q[r], q[1], q[b]), two_before);
+    *kind = SeedKindAt(image, options, row, i, spans, num_spans);
     if (*kind != Seed::kNone) {
       *seed = cv::Point(x, y);
       return true;

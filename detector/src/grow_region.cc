@@ -245,6 +245,79 @@ bool WorthGrowing(const Candidate& candidate, RejectReason why) {
   return candidate.enclosed && why >= RejectReason::kRingScan;
 }
 
+namespace {
+
+// The grid GrowRegion grows on: the window around the scans' red/green
+// border points pushed outwards (kWindowReach), inside the frame, with
+// kGridStepsPerRedHalfWidth steps across the red's half-width. False when
+// it is too small to grow in.
+bool WindowAround(const ImageView& image, const Candidate& candidate, Grid* grid) {
+  const cv::Point2f c = candidate.centre;
+  float min_x = 1e30f, min_y = 1e30f, max_x = -1e30f, max_y = -1e30f, half_width = 0.f;
+  for (const cv::Point2f& b : candidate.red_border) {
+    const cv::Point2f p = c + kWindowReach * (b - c);
+    min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
+    half_width += 0.125f * static_cast<float>(cv::norm(b - c));
+  }
+  grid->step = std::max(1, static_cast<int>(half_width / kGridStepsPerRedHalfWidth));
+  // Bounded to the frame as floats before the casts.
+  auto inside = [](float v, int size) {
+    return static_cast<int>(std::clamp(v, -1.f, static_cast<float>(size)));
+  };
+  grid->x0 = std::max(0, inside(min_x, image.width()) - kWindowMarginPx);
+  grid->y0 = std::max(0, inside(min_y, image.height()) - kWindowMarginPx);
+  const int x1 = std::min(image.width() - 1, inside(max_x, image.width()) + kWindowMarginPx);
+  const int y1 = std::min(image.height() - 1, inside(max_y, image.height()) + kWindowMarginPx);
+  grid->width = (x1 - grid->x0) / grid->step + 1;
+  grid->height = (y1 - grid->y0) / grid->step + 1;
+  return grid->width >= 3 && grid->height >= 3;
+}
+
+// The black square's outline: everything darker than its quiet zone (the
+// red, the green and the black ring alike, whatever the light), grown on
+// the grid from the centre; no larger than `max_area` (px^2) around the
+// red, past which the region has leaked. False when it leaks or is open.
+bool GrowBlackSquare(const ImageView& image, const Candidate& candidate, const Grid& grid,
+                     float chroma_l, float white_l, double max_area, RegionBuffers* buffers,
+                     std::vector<cv::Point2f>* outline) {
+  const cv::Point2f c = candidate.centre;
+  const float threshold = chroma_l + kDarkFraction * (white_l - chroma_l);
+  // L* < threshold, tested as Y < threshold_y (the same answer for every
+  // colour): the fill below tests up to a thousand cells.
+  const int32_t threshold_y = image.table().YForL(threshold);
+  const cv::Point start(RoundToInt((c.x - grid.x0) / grid.step),
+                        RoundToInt((c.y - grid.y0) / grid.step));
+  const int max_cells = static_cast<int>(max_area / (grid.step * grid.step)) + 16;
+  // The same bound along each scan direction first, which costs a few dozen
+  // pixels instead of the thousands a leaking region fills before it is
+  // caught: most candidates that get here and are not tags leak.
+  return BoundedAlongRays(image, candidate, threshold_y, grid.step, std::sqrt(kMaxAreaRatio),
+                          kBlurAllowancePx) &&
+         Grow(
+             grid, start, max_cells, [&](cv::Point p) { return image.Y(p.x, p.y) < threshold_y; },
+             buffers, outline);
+}
+
+// The black square's quad from its outline: four sides, an area between
+// kMinAreaRatio times the red's (`red_area`) and `max_area`, then moved onto
+// its black/white edge. False when it is no such quad.
+bool OuterQuadOf(const ImageView& image, const Grid& grid, double red_area, double max_area,
+                 RegionBuffers* region_buffers, QuadFitBuffers* fit_buffers,
+                 SideFitBuffers* side_buffers, std::vector<cv::Point2f>* outline, Quad* outer) {
+  RowEnds(grid, region_buffers, outline);
+  if (!FitQuad(*outline, fit_buffers, outer)) return false;
+  if (QuadArea(*outer) < kMinAreaRatio * red_area || QuadArea(*outer) > max_area) return false;
+  const double cell = std::sqrt(QuadArea(*outer)) / 8.0;  // Either family: refined next.
+  return RefineQuad(image,
+                    {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, grid.step + 1.5, 1.0},
+                    side_buffers, outer) &&
+         RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, 1.5}, side_buffers,
+                    outer);
+}
+
+}  // namespace
+
 bool GrowRegion(const ImageView& image, const DetectorOptions& options,
                 const std::vector<FamilyDecoder>& families, RegionBuffers* region_buffers,
                 QuadFitBuffers* fit_buffers, SideFitBuffers* side_buffers, Candidate* candidate,
@@ -253,65 +326,22 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
   if (!candidate->enclosed) return false;
   float chroma_l = 0.f, white_l = 0.f;
   if (!RingLevels(image, *candidate, &chroma_l, &white_l)) return false;
-
-  // The window: the scans' red/green border points pushed outwards.
-  const cv::Point2f c = candidate->centre;
-  float min_x = 1e30f, min_y = 1e30f, max_x = -1e30f, max_y = -1e30f, half_width = 0.f;
-  for (const cv::Point2f& b : candidate->red_border) {
-    const cv::Point2f p = c + kWindowReach * (b - c);
-    min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
-    min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
-    half_width += 0.125f * static_cast<float>(cv::norm(b - c));
-  }
   Grid grid;
-  grid.step = std::max(1, static_cast<int>(half_width / kGridStepsPerRedHalfWidth));
-  // Bounded to the frame as floats before the casts.
-  auto inside = [](float v, int size) {
-    return static_cast<int>(std::clamp(v, -1.f, static_cast<float>(size)));
-  };
-  grid.x0 = std::max(0, inside(min_x, image.width()) - kWindowMarginPx);
-  grid.y0 = std::max(0, inside(min_y, image.height()) - kWindowMarginPx);
-  const int x1 = std::min(image.width() - 1, inside(max_x, image.width()) + kWindowMarginPx);
-  const int y1 = std::min(image.height() - 1, inside(max_y, image.height()) + kWindowMarginPx);
-  grid.width = (x1 - grid.x0) / grid.step + 1;
-  grid.height = (y1 - grid.y0) / grid.step + 1;
-  if (grid.width < 3 || grid.height < 3) return false;
+  if (!WindowAround(image, *candidate, &grid)) return false;
 
-  // The black square is everything darker than its quiet zone: the red, the
-  // green and the black ring alike, whatever the light.
   *why = RejectReason::kSquareOpen;
-  const float threshold = chroma_l + kDarkFraction * (white_l - chroma_l);
-  // L* < threshold, tested as Y < threshold_y (the same answer for every
-  // colour): the fill below tests up to a thousand cells.
-  const int32_t threshold_y = image.table().YForL(threshold);
-  const cv::Point start(RoundToInt((c.x - grid.x0) / grid.step),
-                        RoundToInt((c.y - grid.y0) / grid.step));
   std::vector<cv::Point2f>& outline = candidate->points[kBlackWhite];
   // A region larger than any tag's black square around this red has leaked.
   const double red_area = PolygonArea({candidate->red_border.begin(), candidate->red_border.end()});
   const double widened = std::pow(std::sqrt(red_area) + 2 * kBlurAllowancePx, 2);
-  const int max_cells = static_cast<int>(kMaxAreaRatio * widened / (grid.step * grid.step)) + 16;
-  // The same bound along each scan direction first, which costs a few dozen
-  // pixels instead of the thousands a leaking region fills before it is
-  // caught: most candidates that get here and are not tags leak.
-  if (!BoundedAlongRays(image, *candidate, threshold_y, grid.step, std::sqrt(kMaxAreaRatio),
-                        kBlurAllowancePx) ||
-      !Grow(
-          grid, start, max_cells, [&](cv::Point p) { return image.Y(p.x, p.y) < threshold_y; },
-          region_buffers, &outline))
+  if (!GrowBlackSquare(image, *candidate, grid, chroma_l, white_l, kMaxAreaRatio * widened,
+                       region_buffers, &outline))
     return false;
 
   *why = RejectReason::kSquareNotQuad;
   Quad outer;
-  RowEnds(grid, region_buffers, &outline);
-  if (!FitQuad(outline, fit_buffers, &outer)) return false;
-  if (QuadArea(outer) < kMinAreaRatio * red_area || QuadArea(outer) > kMaxAreaRatio * widened)
-    return false;
-  const double cell = std::sqrt(QuadArea(outer)) / 8.0;  // Either family: refined next.
-  if (!RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, grid.step + 1.5, 1.0},
-                  side_buffers, &outer) ||
-      !RefineQuad(image, {kGray, kRisesOutwards, kMinGrayContrast, cell, 20, 1.5}, side_buffers,
-                  &outer))
+  if (!OuterQuadOf(image, grid, red_area, kMaxAreaRatio * widened, region_buffers, fit_buffers,
+                   side_buffers, &outline, &outer))
     return false;
   candidate->quads[kBlackWhite] = outer;
 

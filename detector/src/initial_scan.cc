@@ -188,84 +188,136 @@ bool NextRedRun(const ImageView& image, const DetectorOptions& options, cv::Poin
   return false;
 }
 
+// One scan of a centring pass: from the pass's centre along `direction`,
+// with its ReferenceRed and thresholds (CentringPass), and the borders the
+// pass has found so far (`done`: their directions, as bits).
+struct PassScan {
+  cv::Point2f centre, direction;
+  float reference_red, red_thresh, min_drop, max_green_a;
+  const std::array<cv::Point2f, 8>* border;
+  unsigned done;
+};
+
+// The red's peak: its a* and place (*peak_at), sampled half way from the
+// centre to each border found so far, the centre's own a* (ReferenceRed)
+// to start from.
+float PeakRed(const ImageView& image, const PassScan& scan, cv::Point* peak_at) {
+  float peak_red = scan.reference_red;
+  *peak_at = cv::Point(RoundToInt(scan.centre.x), RoundToInt(scan.centre.y));
+  for (int j = 0; j < 8; ++j) {
+    if (!(scan.done >> j & 1u)) continue;
+    const cv::Point2f q = 0.5f * (scan.centre + (*scan.border)[j]);
+    const cv::Point at(RoundToInt(q.x), RoundToInt(q.y));
+    const float a = image.A(at.x, at.y);
+    if (a > peak_red) {
+      peak_red = a;
+      *peak_at = at;
+    }
+  }
+  return peak_red;
+}
+
+// What a run past the red threshold turned out to be (JudgeRun).
+enum class RunVerdict { kGreen, kDip, kRejected };
+
+// Whether the run a scan ended on (its lowest a* `deepest_a`, its last
+// pixel at step k) is a tag's green past the red. Past the border lies a
+// tag's green: far less red than its red, and green. Most red things that
+// are not tags (bricks, skin, wood, a red sign on a wall) meet grey, white
+// or black here and are dropped after one scan instead of eight per pass.
+// Where only a cast or dim light could make this a tag's green, one ring
+// scan finds the candidate's white and the colours are judged in that
+// light, once (*in_own_light). A red paler than kMinTagRedA is judged in
+// its own light too, as is a drop that is a tag's only from the red's peak
+// (kPeakCheckDrop). kDip: neither, the scan may go on past it;
+// kRejected (and *why): the colours failed in the candidate's own light.
+RunVerdict JudgeRun(const ImageView& image, const DetectorOptions& options, const PassScan& scan,
+                    float deepest_a, int k, RingScanBuffers* buffers, bool* in_own_light,
+                    RejectReason* why) {
+  const float drop = scan.reference_red - deepest_a;
+  bool green = GreenPastRed(scan.reference_red, deepest_a, scan.min_drop, scan.max_green_a);
+  bool by_peak = false;
+  cv::Point peak_at;
+  if (!green && scan.done != 0 && drop >= kPeakCheckDrop * scan.min_drop &&
+      drop >= kRedDipDepth * scan.red_thresh) {
+    const float peak_red = PeakRed(image, scan, &peak_at);
+    green = by_peak = GreenPastRed(peak_red, deepest_a, scan.min_drop, scan.max_green_a);
+  }
+  if (green && !by_peak && scan.reference_red >= static_cast<float>(kMinTagRedA))
+    return RunVerdict::kGreen;
+  if (!green && !(options.cast_seeds && GreenPastRedInACast(scan.reference_red, deepest_a,
+                                                            scan.min_drop, scan.max_green_a)))
+    return RunVerdict::kDip;
+  if (!*in_own_light) {
+    const int skip = std::max(0, k - 2 * options.border_run);
+    // A drop judged from the red's peak has its red judged there too.
+    const cv::Point red_at =
+        by_peak ? peak_at : cv::Point(RoundToInt(scan.centre.x), RoundToInt(scan.centre.y));
+    *in_own_light = ColoursInProbeLight(image, options, scan.centre, red_at, scan.direction, skip,
+                                        k + kProbeSlack - skip, scan.reference_red, buffers);
+  }
+  if (*in_own_light) return RunVerdict::kGreen;
+  *why = green && !by_peak ? RejectReason::kPaleRed : RejectReason::kNotGreen;
+  return RunVerdict::kRejected;
+}
+
+// A centring pass's scan along one direction, from step *k on, to the
+// red/green border: the end of the first run past the red threshold that
+// is a tag's green (JudgeRun), left on *k. A run that stays within
+// kRedDipDepth thresholds of the red is a dip inside it, not a border: the
+// sensor noise of a dim frame (a* from 15 to 29 across one red cell at
+// L* 21) makes runs of M pixels below the threshold. The scan goes on past
+// at most kMaxRedDips of them. False (and *why) otherwise.
+bool ScanToGreen(const ImageView& image, const DetectorOptions& options, const PassScan& scan,
+                 int reach, RingScanBuffers* buffers, bool* in_own_light, int* k,
+                 RejectReason* why) {
+  for (int dips = 0;; ++dips) {
+    float deepest_a = 0;
+    if (!NextRedRun(image, options, scan.centre, scan.direction, scan.reference_red,
+                    scan.red_thresh, reach, k, &deepest_a, why)) {
+      return false;
+    }
+    switch (JudgeRun(image, options, scan, deepest_a, *k, buffers, in_own_light, why)) {
+      case RunVerdict::kGreen:
+        return true;
+      case RunVerdict::kRejected:
+        return false;
+      case RunVerdict::kDip:
+        break;
+    }
+    if (dips == kMaxRedDips || scan.reference_red - deepest_a >= kRedDipDepth * scan.red_thresh) {
+      *why = RejectReason::kNotGreen;
+      return false;
+    }
+    ++*k;
+  }
+}
+
 // Step 1: the red/green border in the eight directions from `centre`, into
 // `border`. False (and *why) when a scan leaves the frame or reach, or finds
 // no tag green past the red.
 bool CentringPass(const ImageView& image, const DetectorOptions& options, cv::Point2f centre,
                   float reference_red, int reach, RingScanBuffers* buffers, bool* in_own_light,
                   std::array<cv::Point2f, 8>* border, RejectReason* why) {
-  const float red_thresh = RedGreenThresh(options, reference_red);
-  const float min_drop = kMinGreenDropFraction * static_cast<float>(options.adiff_thresh);
-  const float max_green_a = static_cast<float>(options.max_green_a);
-  unsigned done = 0;  // The directions scanned, as bits.
+  PassScan scan{centre,
+                cv::Point2f(),
+                reference_red,
+                RedGreenThresh(options, reference_red),
+                kMinGreenDropFraction * static_cast<float>(options.adiff_thresh),
+                static_cast<float>(options.max_green_a),
+                border,
+                0};
   for (int i : kCentringOrder) {
     // Red -> green only: the a* drop of the full scan, without the rings.
-    const cv::Point2f direction = kScanDirections[i];
+    scan.direction = kScanDirections[i];
     int k = 1;
-    for (int dips = 0;; ++dips) {
-      float deepest_a = 0;
-      if (!NextRedRun(image, options, centre, direction, reference_red, red_thresh, reach, &k,
-                      &deepest_a, why)) {
-        return false;
-      }
-      // Past the border lies a tag's green: far less red than its red, and
-      // green. Most red things that are not tags (bricks, skin, wood, a red
-      // sign on a wall) meet grey, white or black here and are dropped after
-      // one scan instead of eight per pass. Where only a cast or dim light
-      // could make this a tag's green, one ring scan finds the candidate's
-      // white and the colours are judged in that light, once.
-      // A red paler than kMinTagRedA is judged in its own light too, as is a
-      // drop that is a tag's only from the red's peak (kPeakCheckDrop).
-      bool green = GreenPastRed(reference_red, deepest_a, min_drop, max_green_a);
-      bool by_peak = false;
-      cv::Point peak_at;
-      if (!green && done != 0 && reference_red - deepest_a >= kPeakCheckDrop * min_drop &&
-          reference_red - deepest_a >= kRedDipDepth * red_thresh) {
-        // The red's peak, half way to each border found so far.
-        float peak_red = reference_red;
-        peak_at = cv::Point(RoundToInt(centre.x), RoundToInt(centre.y));
-        for (int j = 0; j < 8; ++j) {
-          if (!(done >> j & 1u)) continue;
-          const cv::Point2f q = 0.5f * (centre + (*border)[j]);
-          const cv::Point at(RoundToInt(q.x), RoundToInt(q.y));
-          const float a = image.A(at.x, at.y);
-          if (a > peak_red) {
-            peak_red = a;
-            peak_at = at;
-          }
-        }
-        green = by_peak = GreenPastRed(peak_red, deepest_a, min_drop, max_green_a);
-      }
-      if (green && !by_peak && reference_red >= static_cast<float>(kMinTagRedA)) break;
-      if (green || (options.cast_seeds &&
-                    GreenPastRedInACast(reference_red, deepest_a, min_drop, max_green_a))) {
-        if (!*in_own_light) {
-          const int skip = std::max(0, k - 2 * options.border_run);
-          // A drop judged from the red's peak has its red judged there too.
-          const cv::Point red_at =
-              by_peak ? peak_at : cv::Point(RoundToInt(centre.x), RoundToInt(centre.y));
-          *in_own_light = ColoursInProbeLight(image, options, centre, red_at, direction, skip,
-                                              k + kProbeSlack - skip, reference_red, buffers);
-        }
-        if (*in_own_light) break;
-        *why = green && !by_peak ? RejectReason::kPaleRed : RejectReason::kNotGreen;
-        return false;
-      }
-      // A run that stays within kRedDipDepth thresholds of the red is a dip
-      // inside it, not a border: the sensor noise of a dim frame (a* from 15
-      // to 29 across one red cell at L* 21) makes runs of M pixels below the
-      // threshold. The scan goes on past it.
-      if (dips == kMaxRedDips || reference_red - deepest_a >= kRedDipDepth * red_thresh) {
-        *why = RejectReason::kNotGreen;
-        return false;
-      }
-      ++k;
-    }
-    (*border)[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * direction;
+    if (!ScanToGreen(image, options, scan, reach, buffers, in_own_light, &k, why)) return false;
+    (*border)[i] = centre + (static_cast<float>(k - options.border_run) + 0.5f) * scan.direction;
     // Once the opposite scan is in: the red's width across the centre.
-    done |= 1u << i;
+    scan.done |= 1u << i;
     const int opposite = (i + 4) % 8;
-    if ((done >> opposite & 1u) && cv::norm((*border)[i] - (*border)[opposite]) < kMinRedSpanPx) {
+    if ((scan.done >> opposite & 1u) &&
+        cv::norm((*border)[i] - (*border)[opposite]) < kMinRedSpanPx) {
       *why = RejectReason::kRedTooSmall;
       return false;
     }
@@ -358,130 +410,194 @@ void ForgetRegionsAbove(float y, std::vector<RejectedRegion>* regions) {
                  regions->end());
 }
 
-bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed, Seed kind,
-                 RingScanBuffers* buffers, Candidate* candidate,
-                 std::vector<RejectedRegion>* rejected, RejectReason* why) {
-  cv::Point2f centre(static_cast<float>(seed.x), static_cast<float>(seed.y));
+namespace {
+
+// InitialScan's candidate as it is centred: the centre and ReferenceRed as
+// they move, the red/green border last found around it, and the region
+// that border would reject (RejectedRegion::Around), once there is one.
+struct Centring {
+  cv::Point2f centre;
+  float reference_red = 0;
+  std::array<cv::Point2f, 8> border;
+  RejectedRegion region;
+  bool have_region = false;
+};
+
+// Rejects the candidate for `reason`: leaves the last centre and red/green
+// border in it, for DetectionResult::rejected, and remembers its region.
+// Returns false.
+bool Reject(const Centring& centring, RejectReason reason, Candidate* candidate,
+            std::vector<RejectedRegion>* rejected, RejectReason* why) {
+  if (rejected && centring.have_region) rejected->push_back(centring.region);
+  candidate->centre = centring.centre;
+  candidate->reference_red = centring.reference_red;
+  if (centring.have_region) {
+    candidate->points[kRedGreen].assign(centring.border.begin(), centring.border.end());
+    candidate->enclosed = true;
+    candidate->red_border = centring.border;
+  }
+  *why = reason;
+  return false;
+}
+
+// A candidate from a seed at `centre`, nothing found yet.
+void StartCandidate(cv::Point2f centre, Candidate* candidate) {
   candidate->centre = centre;
   candidate->enclosed = false;
   candidate->light = TagLight();
   for (auto& ring : candidate->points) ring.clear();
-  // Red things that are not tags span many of FindADiff's rows, and each row
-  // seeds them again: a seed inside a region already rejected in this frame
-  // would be rejected again.
-  if (rejected) {
-    for (const RejectedRegion& region : *rejected) {
-      if (region.Contains(centre)) {
-        *why = RejectReason::kInRejectedRegion;
+}
+
+// The converged centre, its ReferenceRed and the red/green border around
+// it, into the candidate (enclosed by green).
+void SettleCentre(const Centring& centring, Candidate* candidate) {
+  candidate->centre = centring.centre;
+  candidate->reference_red = centring.reference_red;
+  candidate->enclosed = true;
+  candidate->red_border = centring.border;
+}
+
+// Red things that are not tags span many of FindADiff's rows, and each row
+// seeds them again: a seed inside a region already rejected in this frame
+// would be rejected again.
+bool InRejectedRegion(const std::vector<RejectedRegion>* rejected, cv::Point2f seed) {
+  if (!rejected) return false;
+  for (const RejectedRegion& region : *rejected) {
+    if (region.Contains(seed)) return true;
+  }
+  return false;
+}
+
+// Step 1, once: re-centres on the centroid of the polygon of red/green
+// border points CentringPass finds in eight directions, the centre's a*
+// the next ReferenceRed; *converged when the centre moved less than
+// kConvergedPx. After the first pass the centre lies well inside the red
+// region, and a tag shows all three rings from there in each axis direction
+// (the final scans ask the same of the converged centre, in all four). Red
+// things that are not tags (sweets, paint, skin next to something green)
+// rarely do, and are dropped there instead of after several more passes of
+// eight scans. False (and *why) when the candidate is not a tag's.
+bool Recentre(const ImageView& image, const DetectorOptions& options, int reach, bool first_pass,
+              RingScanBuffers* buffers, bool* in_own_light, Centring* centring, bool* converged,
+              RejectReason* why) {
+  const float red_thresh = RedGreenThresh(options, centring->reference_red);
+  if (!CentringPass(image, options, centring->centre, centring->reference_red, reach, buffers,
+                    in_own_light, &centring->border, why))
+    return false;
+  centring->region = RejectedRegion::Around(centring->border);
+  centring->have_region = true;
+  const cv::Point2f next = PolygonCentroid(centring->border);
+  if (!(std::isfinite(next.x) && std::isfinite(next.y))) {
+    *why = RejectReason::kNoRedGreenBorder;
+    return false;
+  }
+  *converged = std::abs(next.x - centring->centre.x) < kConvergedPx &&
+               std::abs(next.y - centring->centre.y) < kConvergedPx;
+  centring->centre = next;
+  // The clamping overload: the centroid of a nearly flat polygon can be
+  // anywhere.
+  const int cx = RoundToInt(static_cast<double>(next.x));
+  const int cy = RoundToInt(static_cast<double>(next.y));
+  if (!image.Contains(cx, cy)) {
+    *why = RejectReason::kCentreNotRed;
+    return false;
+  }
+  const float centre_red = image.MeanA3x3(cx, cy);
+  // The centre of a tag is red: if re-centring left the red, this is not one.
+  if (centre_red < centring->reference_red - red_thresh) {
+    *why = RejectReason::kCentreNotRed;
+    return false;
+  }
+  centring->reference_red = centre_red;
+  if (first_pass && !*converged) {
+    for (int i : kEarlyRingDirections) {
+      RingHits hits;
+      if (!ScanRings(image, options, next, kScanDirections[i], centring->reference_red, buffers,
+                     &hits)) {
+        *why = RejectReason::kRingScan;
         return false;
       }
     }
   }
+  return true;
+}
+
+// Step 2: the three rings in the four axis directions from the converged
+// centre seed the candidate's polygons, and its light (the quiet zone's
+// whites); greens[] gets where each scan found the green ring.
+bool FinalScans(const ImageView& image, const DetectorOptions& options, RingScanBuffers* buffers,
+                Candidate* candidate, std::array<cv::Point, 4>* greens) {
+  candidate->scan_directions.clear();
+  for (int i = 0; i < 8; i += 2) {
+    const cv::Point2f direction = kScanDirections[i];
+    RingHits hits;
+    if (!ScanRings(image, options, candidate->centre, direction, candidate->reference_red, buffers,
+                   &hits))
+      return false;
+    for (int ring = 0; ring < kNumRings; ++ring)
+      candidate->points[ring].push_back(hits.border[ring]);
+    candidate->scan_directions.push_back(direction);
+    candidate->light.AddWhite(image, hits.white_at);
+    (*greens)[i / 2] = hits.green_at;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed, Seed kind,
+                 RingScanBuffers* buffers, Candidate* candidate,
+                 std::vector<RejectedRegion>* rejected, RejectReason* why) {
+  Centring centring;
+  centring.centre = cv::Point2f(static_cast<float>(seed.x), static_cast<float>(seed.y));
+  StartCandidate(centring.centre, candidate);
+  if (InRejectedRegion(rejected, centring.centre)) {
+    *why = RejectReason::kInRejectedRegion;
+    return false;
+  }
   // The seed may sit on the blurred edge of the red; the reddest of it and
   // its neighbourhood is the better ReferenceRed.
-  float reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
-  RejectedRegion region;
-  bool have_region = false;
-  std::array<cv::Point2f, 8> border;
-  // Leaves the last centre and red/green border in the candidate, for
-  // DetectionResult::rejected.
+  centring.reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
   auto reject = [&](RejectReason reason) {
-    if (rejected && have_region) rejected->push_back(region);
-    candidate->centre = centre;
-    candidate->reference_red = reference_red;
-    if (have_region) {
-      candidate->points[kRedGreen].assign(border.begin(), border.end());
-      candidate->enclosed = true;
-      candidate->red_border = border;
-    }
-    *why = reason;
-    return false;
+    return Reject(centring, reason, candidate, rejected, why);
   };
   // A tag's red half-width is under half the frame unless the tag is larger
   // than the frame.
   const int reach = std::max(image.width(), image.height()) / 2;
-  if (reference_red < (options.cast_seeds ? kMinSeedRedA : static_cast<float>(kMinTagRedA)))
+  if (centring.reference_red <
+      (options.cast_seeds ? kMinSeedRedA : static_cast<float>(kMinTagRedA)))
     return reject(RejectReason::kPaleRed);
   // A seed that only a cast or dim light could make a tag's, or a red paler
   // than kMinTagRedA, must show a tag's colours in its own light first: one
   // ring scan back along the row, where the rise came from (the seed lies
   // at the red's edge, so the rings follow within a few cells).
   bool in_own_light = false;
-  if (kind == Seed::kInACast || reference_red < static_cast<float>(kMinTagRedA)) {
-    if (!ColoursInProbeLight(image, options, centre, seed, kScanDirections[4], 0,
-                             2 * options.step + kProbeSlack, reference_red, buffers)) {
+  if (kind == Seed::kInACast || centring.reference_red < static_cast<float>(kMinTagRedA)) {
+    if (!ColoursInProbeLight(image, options, centring.centre, seed, kScanDirections[4], 0,
+                             2 * options.step + kProbeSlack, centring.reference_red, buffers)) {
       return reject(RejectReason::kPaleRed);
     }
     in_own_light = true;
   }
-
-  // Step 1, repeated: re-centre on the centroid of the polygon of red/green
-  // border points found in eight directions. The paper averages the four axis scans, but
-  // on a strongly sheared view (tilt and rotation together) that iteration
+  // Step 1, repeated. The paper averages the four axis scans, but on a
+  // strongly sheared view (tilt and rotation together) that iteration
   // oscillates instead of converging; the centroid does not.
   bool converged = false;
   for (int iteration = 0; iteration < kMaxCentreIterations && !converged; ++iteration) {
-    const float red_thresh = RedGreenThresh(options, reference_red);
     RejectReason pass_why;
-    if (!CentringPass(image, options, centre, reference_red, reach, buffers, &in_own_light, &border,
-                      &pass_why))
+    if (!Recentre(image, options, reach, iteration == 0, buffers, &in_own_light, &centring,
+                  &converged, &pass_why))
       return reject(pass_why);
-    region = RejectedRegion::Around(border);
-    have_region = true;
-    const cv::Point2f next = PolygonCentroid(border);
-    if (!(std::isfinite(next.x) && std::isfinite(next.y)))
-      return reject(RejectReason::kNoRedGreenBorder);
-    converged =
-        std::abs(next.x - centre.x) < kConvergedPx && std::abs(next.y - centre.y) < kConvergedPx;
-    centre = next;
-    // The clamping overload: the centroid of a nearly flat polygon can be
-    // anywhere.
-    const int cx = RoundToInt(static_cast<double>(centre.x));
-    const int cy = RoundToInt(static_cast<double>(centre.y));
-    if (!image.Contains(cx, cy)) return reject(RejectReason::kCentreNotRed);
-    const float centre_red = image.MeanA3x3(cx, cy);
-    // The centre of a tag is red: if re-centring left the red, this is not one.
-    if (centre_red < reference_red - red_thresh) return reject(RejectReason::kCentreNotRed);
-    reference_red = centre_red;
-    // After the first pass the centre lies well inside the red region, and a
-    // tag shows all three rings from there in each axis direction (the final
-    // scans below ask the same of the converged centre, in all four). Red
-    // things that are not tags (sweets, paint, skin next to something green)
-    // rarely do, and are dropped here instead of after several more passes of
-    // eight scans.
-    if (iteration == 0 && !converged) {
-      for (int i : kEarlyRingDirections) {
-        RingHits hits;
-        if (!ScanRings(image, options, centre, kScanDirections[i], reference_red, buffers, &hits))
-          return reject(RejectReason::kRingScan);
-      }
-    }
   }
   if (!converged) return reject(RejectReason::kNoConvergence);
-
-  candidate->centre = centre;
-  candidate->reference_red = reference_red;
-  candidate->enclosed = true;
-  candidate->red_border = border;
-  // Step 2: the three rings in the four axis directions from the converged
-  // centre seed the candidate's polygons.
-  candidate->scan_directions.clear();
+  SettleCentre(centring, candidate);
   std::array<cv::Point, 4> greens;
-  for (int i = 0; i < 8; i += 2) {
-    const cv::Point2f direction = kScanDirections[i];
-    RingHits hits;
-    if (!ScanRings(image, options, centre, direction, reference_red, buffers, &hits))
-      return reject(RejectReason::kRingScan);
-    for (int ring = 0; ring < kNumRings; ++ring)
-      candidate->points[ring].push_back(hits.border[ring]);
-    candidate->scan_directions.push_back(direction);
-    candidate->light.AddWhite(image, hits.white_at);
-    greens[i / 2] = hits.green_at;
-  }
+  if (!FinalScans(image, options, buffers, candidate, &greens))
+    return reject(RejectReason::kRingScan);
   if (!RingProportionsFit(*candidate)) return reject(RejectReason::kRingProportions);
   // Step 3: the red and the green in the candidate's own light.
   RejectReason colours_why;
-  if (!ColoursInOwnLight(image, options, centre, greens, &candidate->light, &colours_why))
+  if (!ColoursInOwnLight(image, options, centring.centre, greens, &candidate->light, &colours_why))
     return reject(colours_why);
   return true;
 }

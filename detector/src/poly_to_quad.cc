@@ -123,7 +123,7 @@ bool FitQuad(const std::vector<cv::Point2f>& points, QuadFitBuffers* buffers, Qu
   return QuadFromSides(sides, quad) && IsConvexClockwise(*quad);
 }
 
-bool PolyToQuad(const ImageView& image, bool refine_sides, QuadFitBuffers* fit_buffers,
+bool PolyToQuad(const ImageView& image, const StageSwitches& switches, QuadFitBuffers* fit_buffers,
                 SideFitBuffers* side_buffers, Candidate* candidate, RejectReason* why) {
   for (int ring = 0; ring < kNumRings; ++ring) {
     if (!FitQuad(candidate->points[ring], fit_buffers, &candidate->quads[ring])) {
@@ -131,11 +131,11 @@ bool PolyToQuad(const ImageView& image, bool refine_sides, QuadFitBuffers* fit_b
       return false;
     }
   }
-  return NestedAndRefined(image, refine_sides, side_buffers, candidate, why);
+  return NestedAndRefined(image, switches, side_buffers, candidate, why);
 }
 
-bool NestedAndRefined(const ImageView& image, bool refine_sides, SideFitBuffers* buffers,
-                      Candidate* candidate, RejectReason* why) {
+bool NestedAndRefined(const ImageView& image, const StageSwitches& switches,
+                      SideFitBuffers* buffers, Candidate* candidate, RejectReason* why) {
   // Nested, each ring smaller than the one outside it.
   const double outer = QuadArea(candidate->quads[kBlackWhite]);
   const double green = QuadArea(candidate->quads[kGreenBlack]);
@@ -144,7 +144,7 @@ bool NestedAndRefined(const ImageView& image, bool refine_sides, SideFitBuffers*
     *why = RejectReason::kNotNested;
     return false;
   }
-  if (refine_sides && !RefineOuterQuad(image, buffers, candidate)) {
+  if (switches.refine_corners && !RefineOuterQuad(image, buffers, candidate)) {
     *why = RejectReason::kRefineFailed;
     return false;
   }

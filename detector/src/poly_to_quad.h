@@ -13,6 +13,7 @@
 #include "geometry.h"
 #include "image_view.h"
 #include "refine_corners.h"
+#include "stage_switches.h"
 
 namespace chromatag::internal {
 
@@ -32,13 +33,14 @@ struct QuadFitBuffers {
 // they do not make a convex quad.
 bool FitQuad(const std::vector<cv::Point2f>& points, QuadFitBuffers* buffers, Quad* quad);
 
-bool PolyToQuad(const ImageView& image, bool refine_sides, QuadFitBuffers* fit_buffers,
+bool PolyToQuad(const ImageView& image, const StageSwitches& switches, QuadFitBuffers* fit_buffers,
                 SideFitBuffers* side_buffers, Candidate* candidate, RejectReason* why);
 
 // PolyToQuad's second half: false (and *why) unless the three quads are
-// nested, each inside the next; then, if `refine_sides`, RefineOuterQuad.
-bool NestedAndRefined(const ImageView& image, bool refine_sides, SideFitBuffers* buffers,
-                      Candidate* candidate, RejectReason* why);
+// nested, each inside the next; then RefineOuterQuad (unless the benchmarks
+// turned StageSwitches::refine_corners off).
+bool NestedAndRefined(const ImageView& image, const StageSwitches& switches,
+                      SideFitBuffers* buffers, Candidate* candidate, RejectReason* why);
 
 }  // namespace chromatag::internal
 

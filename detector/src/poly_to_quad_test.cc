@@ -9,6 +9,7 @@
 #include "poly_to_quad.h"
 #include "refine_corners.h"
 #include "scratch.h"
+#include "stage_switches.h"
 #include "stage_test_support.h"
 
 namespace chromatag::internal {
@@ -50,8 +51,8 @@ TEST(PolyToQuadTest, FindsTheDrawnCornersOfEachRing) {
   Candidate candidate;
   ASSERT_TRUE(ScanAndBuildPolygon(view, seed, &candidate));
   RejectReason why;
-  ASSERT_TRUE(PolyToQuad(view, /*refine_sides=*/true, &scratch.quad_fit, &scratch.side_fit,
-                         &candidate, &why))
+  ASSERT_TRUE(
+      PolyToQuad(view, StageSwitches{}, &scratch.quad_fit, &scratch.side_fit, &candidate, &why))
       << "PolyToQuad rejected: " << RejectReasonName(why);
   auto expect_near = [&](int ring, double limit, const char* when) {
     const Quad& fitted = candidate.quads[ring];

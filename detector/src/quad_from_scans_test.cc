@@ -8,6 +8,7 @@
 #include "quad_from_scans.h"
 #include "refine_corners.h"
 #include "scratch.h"
+#include "stage_switches.h"
 #include "stage_test_support.h"
 
 namespace chromatag::internal {
@@ -67,7 +68,7 @@ TEST(QuadsFromScansTest, GivesEachRingsDrawnQuadAtAnyTurn) {
       EXPECT_LT(MaxCornerDistance(candidate.quads[ring], truth[ring]), 1.5)
           << degrees << " degrees, ring " << ring;
     }
-    ASSERT_TRUE(NestedAndRefined(view, /*refine_sides=*/true, &scratch.side_fit, &candidate, &why))
+    ASSERT_TRUE(NestedAndRefined(view, StageSwitches{}, &scratch.side_fit, &candidate, &why))
         << degrees << " degrees: " << RejectReasonName(why);
     EXPECT_LT(MaxCornerDistance(candidate.quads[kBlackWhite], truth[kBlackWhite]), 0.25)
         << degrees << " degrees, after the outer sub-pixel sides";

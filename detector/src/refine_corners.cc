@@ -150,8 +150,8 @@ void EdgePoints(const ImageView& image, const ChannelWeights& channel, int polar
     for (; done < count; done += 8) {
       // The profiles the kernel leaves over, one by one.
       unsigned left_over =
-          kernels.edge_points8(image, channel, polarity, spec + done, std::min(8, count - done),
-                               min_contrast, out + done, linear);
+          kernels.edge_points8(image.frame(), gray, polarity, spec + done,
+                               std::min(8, count - done), min_contrast, out + done, linear);
       for (; left_over; left_over &= left_over - 1) {
         const int l = done + __builtin_ctz(left_over);
         out[l].found =

@@ -11,6 +11,7 @@
 #include "candidate.h"
 #include "geometry.h"
 #include "image_view.h"
+#include "kernels/kernels.h"
 
 namespace chromatag::internal {
 
@@ -53,24 +54,8 @@ struct SideSearch {
   Halfway halfway = Halfway::kEncoded;
 };
 
-// One profile across a side (refine_corners.cc): centred on `middle`,
-// searched `half` pixels either way along `outward` (the side's outward unit
-// normal), the two levels read `level_offset` either side of the steepest
-// change.
-// A profile's samples lie kProfileStep pixels apart, at most
-// kMaxProfileSteps either side of its middle (4 px).
-inline constexpr float kProfileStep = 0.5f;
-inline constexpr int kMaxProfileSteps = 8;
-struct ProfileSpec {
-  cv::Point2d middle;
-  cv::Point2d outward;
-  double half = 0;
-  double level_offset = 0;
-};
-struct ProfileEdge {
-  cv::Point2d edge;
-  bool found = false;
-};
+// The profiles across a side and the edge points on them are the edge
+// kernel's (kernels/kernels.h: ProfileSpec, ProfileEdge, kProfileStep).
 
 // RefineQuad's buffers: the profiles across the four sides and their edge
 // points, one side's points found, and its line's residuals (FitLine).

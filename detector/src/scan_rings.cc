@@ -68,18 +68,19 @@ struct Crossing {
   int steps = 0;  // Steps from the start to `resume`.
 };
 
+// The pixel `k` steps from `start` along `direction`.
+inline cv::Point StepPixel(cv::Point2f start, cv::Point2f direction, int k) {
+  return cv::Point(RoundToInt(start.x + k * direction.x), RoundToInt(start.y + k * direction.y));
+}
+
+// ScanBorder's walk: from step 1 on, to the last pixel (*end) of the first
+// `run` successive ones beyond `thresh` from `reference`. Each pixel's
+// value is read once, into values[k] for step k (the run's pixels are
+// looked at again, for the deepest one and the halfway level). False when
+// the walk leaves the frame or passes max_steps first.
 template <Border border>
-bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction, float reference,
-                float thresh, int run, int max_steps, RingScanBuffers* buffers,
-                Crossing* crossing) {
-  auto pixel = [&](int k) {
-    return cv::Point(RoundToInt(start.x + k * direction.x), RoundToInt(start.y + k * direction.y));
-  };
-  // Each pixel's value is read once: values[k] for step k (the run's pixels
-  // are looked at again below, for the deepest one and the halfway level).
-  std::vector<float>& values = buffers->values;
-  const size_t needed = static_cast<size_t>(max_steps) + kMaxPlateauSteps + 2;
-  if (values.size() < needed) values.resize(needed);
+bool FindRun(const ImageView& image, cv::Point2f start, cv::Point2f direction, float reference,
+             float thresh, int run, int max_steps, float* values, int* end) {
   int consecutive = 0;
   int k = 1;
   // Red -> green: a pixel whose coarse a* is clearly above the threshold is
@@ -97,7 +98,7 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
         if (k > max_steps) break;
       }
     }
-    const cv::Point p = pixel(k);
+    const cv::Point p = StepPixel(start, direction, k);
     if (!image.Contains(p.x, p.y)) return false;
     if constexpr (border == Border::kRedToGreen) {
       if (static_cast<float>(image.CoarseA(p.x, p.y)) > clearly_inside) {
@@ -114,65 +115,114 @@ bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction
       consecutive = 0;
     }
   }
-  if (k > max_steps) return false;
-  // The next ring's reference is the run's pixel deepest into it (the
-  // greenest, darkest or lightest): on rings thinner than M pixels the run
-  // reaches into the ring after, and its last pixel would be the wrong colour.
+  *end = k;
+  return k <= max_steps;
+}
+
+// The next ring's reference: the step of the run's pixel (the run ends at
+// step k) deepest into it (the greenest, darkest or lightest), its depth
+// into *deepest_depth. On rings thinner than M pixels the run reaches into
+// the ring after, and its last pixel would be the wrong colour. On a
+// blurred edge the run ends part way down the slope; it is followed on to
+// the plateau (values[] read on), so that the next ring's reference (and
+// the halfway level) is the ring's colour and not a blend. Stops where the
+// value turns back (the ring after, on thin rings) or stays level.
+template <Border border>
+int DeepestStep(const ImageView& image, cv::Point2f start, cv::Point2f direction, float reference,
+                int run, int k, float* values, float* deepest_depth) {
   int deepest = k - run + 1;
-  float deepest_depth = -1e30f;
+  *deepest_depth = -1e30f;
   for (int j = k - run + 1; j <= k; ++j) {
     const float depth = Depth<border>(reference, values[j]);
-    if (depth > deepest_depth) {
-      deepest_depth = depth;
+    if (depth > *deepest_depth) {
+      *deepest_depth = depth;
       deepest = j;
     }
   }
-  // On a blurred edge the run ends part way down the slope; follow it on to
-  // the plateau, so that the next ring's reference (and the halfway level
-  // below) is the ring's colour and not a blend. Stops where the value turns
-  // back (the ring after, on thin rings) or stays level.
   for (int j = k + 1, level = 0; j <= k + kMaxPlateauSteps && level < 2; ++j) {
-    const cv::Point p = pixel(j);
+    const cv::Point p = StepPixel(start, direction, j);
     if (!image.Contains(p.x, p.y)) break;
     values[j] = ValueAt<border>(image, p.x, p.y);
     const float depth = Depth<border>(reference, values[j]);
-    if (depth > deepest_depth + kPlateauTolerance) {
-      deepest_depth = depth;
+    if (depth > *deepest_depth + kPlateauTolerance) {
+      *deepest_depth = depth;
       deepest = j;
       level = 0;
     } else {
       ++level;
     }
   }
-  const cv::Point end = pixel(deepest);
-  crossing->value_after = values[deepest];
-  crossing->resume = cv::Point2f(static_cast<float>(end.x), static_cast<float>(end.y));
-  crossing->steps = deepest;
-  // The border is where the depth passes half the reference pixel's depth,
-  // interpolated between the two pixels around it.
+  return deepest;
+}
+
+// The border: where the depth passes half the deepest pixel's
+// (`deepest_depth`, at step `deepest`), interpolated between the two pixels
+// around it; from the step before the run (ending at step k), the
+// reference itself if it was not read. The deepest pixel where none passes.
+template <Border border>
+cv::Point2f HalfwayCrossing(const ImageView& image, cv::Point2f start, cv::Point2f direction,
+                            float reference, int run, int k, int deepest, float deepest_depth,
+                            const float* values) {
   const float half = 0.5f * deepest_depth;
   float previous_depth = 0.f;  // The reference itself, at the step before the run.
-  cv::Point previous = pixel(k - run);
+  cv::Point previous = StepPixel(start, direction, k - run);
   if (k - run >= 1 && !std::isnan(values[k - run])) {
     previous_depth = Depth<border>(reference, values[k - run]);
   } else if (image.Contains(previous.x, previous.y)) {
     previous_depth = Depth<border>(reference, ValueAt<border>(image, previous.x, previous.y));
   }
   for (int j = k - run + 1; j <= deepest; ++j) {
-    const cv::Point p = pixel(j);
+    const cv::Point p = StepPixel(start, direction, j);
     const float depth = Depth<border>(reference, values[j]);
     if (depth >= half) {
       const float span = depth - previous_depth;
       const float t = span > 1e-6f ? std::clamp((half - previous_depth) / span, 0.f, 1.f) : 0.5f;
-      crossing->at =
-          cv::Point2f(previous.x + t * (p.x - previous.x), previous.y + t * (p.y - previous.y));
-      return true;
+      return cv::Point2f(previous.x + t * (p.x - previous.x), previous.y + t * (p.y - previous.y));
     }
     previous = p;
     previous_depth = depth;
   }
-  crossing->at = crossing->resume;
+  const cv::Point end = StepPixel(start, direction, deepest);
+  return cv::Point2f(static_cast<float>(end.x), static_cast<float>(end.y));
+}
+
+// One border along a scan (the paper's scan primitive): the run of `run`
+// pixels past `thresh`, the next ring's reference pixel and the sub-pixel
+// border before it. False when the scan leaves the frame or max_steps.
+template <Border border>
+bool ScanBorder(const ImageView& image, cv::Point2f start, cv::Point2f direction, float reference,
+                float thresh, int run, int max_steps, RingScanBuffers* buffers,
+                Crossing* crossing) {
+  std::vector<float>& values = buffers->values;
+  const size_t needed = static_cast<size_t>(max_steps) + kMaxPlateauSteps + 2;
+  if (values.size() < needed) values.resize(needed);
+  int k = 0;
+  if (!FindRun<border>(image, start, direction, reference, thresh, run, max_steps, values.data(),
+                       &k))
+    return false;
+  float deepest_depth = 0;
+  const int deepest = DeepestStep<border>(image, start, direction, reference, run, k, values.data(),
+                                          &deepest_depth);
+  const cv::Point end = StepPixel(start, direction, deepest);
+  crossing->value_after = values[deepest];
+  crossing->resume = cv::Point2f(static_cast<float>(end.x), static_cast<float>(end.y));
+  crossing->steps = deepest;
+  crossing->at = HalfwayCrossing<border>(image, start, direction, reference, run, k, deepest,
+                                         deepest_depth, values.data());
   return true;
+}
+
+// The three borders of a scan, and the colours of the green ring and the
+// quiet zone where they are their own: the middle of the green ring, and
+// half the black ring's width into the quiet zone (at least one cell
+// wide), clear of blurred edges.
+void SetHits(const Crossing& red_green, const Crossing& green_black, const Crossing& black_white,
+             RingHits* hits) {
+  hits->border = {red_green.at, green_black.at, black_white.at};
+  const cv::Point2f green_middle = 0.5f * (red_green.at + green_black.at);
+  const cv::Point2f into_white = black_white.at + 0.5f * (black_white.at - green_black.at);
+  hits->green_at = cv::Point(RoundToInt(green_middle.x), RoundToInt(green_middle.y));
+  hits->white_at = cv::Point(RoundToInt(into_white.x), RoundToInt(into_white.y));
 }
 
 }  // namespace
@@ -228,14 +278,7 @@ bool ScanRings(const ImageView& image, const DetectorOptions& options, cv::Point
   }
   // The quiet zone is the lightest part of a tag.
   if (black_white.value_after < green_l + thresh) return false;
-  hits->border = {red_green.at, green_black.at, black_white.at};
-  // The colours of the green ring and the quiet zone where they are their
-  // own: the middle of the green ring, and half the black ring's width into
-  // the quiet zone (at least one cell wide), clear of blurred edges.
-  const cv::Point2f green_middle = 0.5f * (red_green.at + green_black.at);
-  const cv::Point2f into_white = black_white.at + 0.5f * (black_white.at - green_black.at);
-  hits->green_at = cv::Point(RoundToInt(green_middle.x), RoundToInt(green_middle.y));
-  hits->white_at = cv::Point(RoundToInt(into_white.x), RoundToInt(into_white.y));
+  SetHits(red_green, green_black, black_white, hits);
   return true;
 }
 

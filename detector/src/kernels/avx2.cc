@@ -16,10 +16,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "decode.h"
-#include "image_view.h"
 #include "kernels/scalar.h"
-#include "refine_corners.h"
 
 namespace chromatag::internal {
 namespace {
@@ -122,60 +119,61 @@ CHROMATAG_AVX2 inline __m256 BilinearEdgeChannel8(const uint8_t* data, __m256i s
   return _mm256_add_ps(top, _mm256_mul_ps(_mm256_sub_ps(bottom, top), ty));
 }
 
-}  // namespace
-
-// Eight samples per step: a gather of each sample's 3 bytes (as a 32-bit word;
-// the fourth byte is ignored), the table index from shifts and masks, a
-// gather from the coarse table (padded for the 32-bit reads); then eight
-// differences per compare. Compiled for AVX2 alone and called only when the
-// CPU has it.
-CHROMATAG_AVX2 int ScanRowCoarseAvx2(const RowSampler& s, int32_t* coarse, int* rises) {
-  // A word read at a sample reaches one byte past its pixel: the row's last
-  // sample is left to the scalar loop.
-  const int vector_count = s.count - 1;
-  const __m256i offsets = _mm256_mullo_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
-                                             _mm256_set1_epi32(s.pixel_step));
-  const CoarseALookup lookup = MakeCoarseALookup(s.r, s.table);
+// N = 4 (samples 12 bytes apart): the words of the eight samples from
+// `bytes` on, two samples in each 16-byte load, picked into 32-bit lanes by
+// byte shuffles (cheaper than a gather). Lanes hold samples 0 1 4 5 |
+// 2 3 6 7: the caller puts them in order after the table lookup.
+CHROMATAG_AVX2 inline __m256i PickSamples12(const uint8_t* bytes) {
   const __m256i pick_low =
       _mm256_setr_epi8(0, 1, 2, -1, 12, 13, 14, -1, -1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 2, -1, 12,
                        13, 14, -1, -1, -1, -1, -1, -1, -1, -1, -1);
   const __m256i pick_high =
       _mm256_setr_epi8(-1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 2, -1, 12, 13, 14, -1, -1, -1, -1, -1,
                        -1, -1, -1, -1, 0, 1, 2, -1, 12, 13, 14, -1);
+  const __m256i first =
+      _mm256_set_m128i(_mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 24)),
+                       _mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes)));
+  const __m256i second =
+      _mm256_set_m128i(_mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 72)),
+                       _mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 48)));
+  return _mm256_or_si256(_mm256_shuffle_epi8(first, pick_low),
+                         _mm256_shuffle_epi8(second, pick_high));
+}
+
+// coarse[0 .. returned): the row's coarse a*, eight samples per step: each
+// sample's 3 bytes as a 32-bit word (the fourth byte ignored), the table
+// index from shifts and masks, a gather from the coarse table (padded for
+// the 32-bit reads). A word read at a sample reaches one byte past its
+// pixel: the row's last sample is left to the scalar loop.
+CHROMATAG_AVX2 inline int CoarseRowAvx2(const RowSampler& s, int32_t* coarse) {
+  const int vector_count = s.count - 1;
+  const __m256i offsets = _mm256_mullo_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+                                             _mm256_set1_epi32(s.pixel_step));
+  const CoarseALookup lookup = MakeCoarseALookup(s.r, s.table);
   const __m256i in_order = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
   int i = 0;
   for (; i + 8 <= vector_count; i += 8) {
-    const int* base =
-        reinterpret_cast<const int*>(s.row + static_cast<ptrdiff_t>(i) * s.pixel_step);
-    __m256i words;
-    if (s.pixel_step == 12) {
-      // N = 4: two samples in each 16-byte load, picked into 32-bit lanes
-      // by byte shuffles (cheaper than a gather); lanes hold samples
-      // 0 1 4 5 | 2 3 6 7 and are put in order after the table lookup.
-      const uint8_t* bytes = reinterpret_cast<const uint8_t*>(base);
-      const __m256i first =
-          _mm256_set_m128i(_mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 24)),
-                           _mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes)));
-      const __m256i second =
-          _mm256_set_m128i(_mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 72)),
-                           _mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 48)));
-      words = _mm256_or_si256(_mm256_shuffle_epi8(first, pick_low),
-                              _mm256_shuffle_epi8(second, pick_high));
-    } else {
-      words = _mm256_i32gather_epi32(base, offsets, 1);
-    }
+    const uint8_t* bytes = s.row + static_cast<ptrdiff_t>(i) * s.pixel_step;
+    const __m256i words = s.pixel_step == 12 ? PickSamples12(bytes)
+                                             : _mm256_i32gather_epi32(
+                                                   reinterpret_cast<const int*>(bytes), offsets, 1);
     __m256i a = CoarseA8(lookup, words);
     if (s.pixel_step == 12) a = _mm256_permutevar8x32_epi32(a, in_order);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(coarse + i), a);
   }
-  CoarseRowScalar(s, i, coarse);
-  // Sample 1 has no sample two before it: the scalar test.
-  int n = RisesScalar(s, 1, std::min(2, s.count), coarse, rises, 0);
+  return i;
+}
+
+// CoarseRiseAt for the samples from *first on, eight at a time: appends
+// those that may seed to rises[n ..] and returns the new count; *first
+// ends on the first sample not tested. Each sample needs the two before it.
+CHROMATAG_AVX2 inline int RisesAvx2(const RowSampler& s, const int32_t* coarse, int* first,
+                                    int* rises, int n) {
   const __m256i threshold = _mm256_set1_epi32(s.threshold);
   const __m256i step_thresh = _mm256_set1_epi32(s.step_thresh);
   const __m256i green_limit = _mm256_set1_epi32(s.green_limit);
   const __m256i red_floor = _mm256_set1_epi32(s.red_floor);
-  int j = 2;
+  int j = *first;
   for (; j + 8 <= s.count; j += 8) {
     const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(coarse + j));
     const __m256i before = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(coarse + j - 1));
@@ -194,19 +192,35 @@ CHROMATAG_AVX2 int ScanRowCoarseAvx2(const RowSampler& s, int32_t* coarse, int* 
       mask &= mask - 1;
     }
   }
+  *first = j;
+  return n;
+}
+
+}  // namespace
+
+// The coarse a* eight samples at a time (CoarseRowAvx2), then eight
+// differences per compare (RisesAvx2). Compiled for AVX2 alone and called
+// only when the CPU has it.
+CHROMATAG_AVX2 int ScanRowCoarseAvx2(const RowSampler& s, int32_t* coarse, int* rises) {
+  CoarseRowScalar(s, CoarseRowAvx2(s, coarse), coarse);
+  // Sample 1 has no sample two before it: the scalar test.
+  int n = RisesScalar(s, 1, std::min(2, s.count), coarse, rises, 0);
+  int j = 2;
+  n = RisesAvx2(s, coarse, &j, rises, n);
   return RisesScalar(s, j, s.count, coarse, rises, n);
 }
 
 // Same arithmetic as ImageView::SampleLineWith, in the same order and
 // without fused multiply-adds, so that both paths give the same floats.
-CHROMATAG_AVX2 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray,
-                                  float x, float y, float dx, float dy, int n, float* out) {
+CHROMATAG_AVX2 int SampleLineAvx2(const PixelFrame& frame, bool gray, float x, float y, float dx,
+                                  float dy, int n, float* out) {
   if (n < 8) return 0;
-  const __m128i red_shift = _mm_cvtsi32_si128(8 * r_offset);
+  const uint8_t* data = frame.data;
+  const __m128i red_shift = _mm_cvtsi32_si128(8 * frame.r_offset);
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 vx = _mm256_set1_ps(x), vy = _mm256_set1_ps(y);
   const __m256 vdx = _mm256_set1_ps(dx), vdy = _mm256_set1_ps(dy);
-  const __m256i vstep = _mm256_set1_epi32(static_cast<int>(step));
+  const __m256i vstep = _mm256_set1_epi32(static_cast<int>(frame.step));
   int i = 0;
   for (; i + 8 <= n; i += 8) {
     const __m256 fi = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(i), lane));
@@ -219,9 +233,12 @@ CHROMATAG_AVX2 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset
 
 // Same arithmetic as ImageView::FirstNotClearlyAbove's loop (RoundToInt of
 // x + k dx without fused multiply-adds), eight steps at a time.
-CHROMATAG_AVX2 int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height,
-                                            int r_offset, const int8_t* table, float x, float y,
-                                            float dx, float dy, int first, int last, float above) {
+CHROMATAG_AVX2 int FirstNotClearlyAboveAvx2(const PixelFrame& frame, const int8_t* table, float x,
+                                            float y, float dx, float dy, int first, int last,
+                                            float above) {
+  const uint8_t* data = frame.data;
+  const size_t step = frame.step;
+  const int width = frame.width, height = frame.height, r_offset = frame.r_offset;
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 vx = _mm256_set1_ps(x), vy = _mm256_set1_ps(y);
   const __m256 vdx = _mm256_set1_ps(dx), vdy = _mm256_set1_ps(dy);
@@ -276,31 +293,47 @@ CHROMATAG_AVX2 inline __m256 LinearGray8(__m256 gray, const float* table) {
   return _mm256_add_ps(low, _mm256_mul_ps(t, _mm256_sub_ps(high, low)));
 }
 
-}  // namespace
+// For NearestCrossings8: where a lane crosses (`crosses`) at `at` nearer
+// its centre than its best so far, in double, that crossing becomes its
+// best. Lanes 0-3 are in best[0], 4-7 in best[1].
+CHROMATAG_AVX2 inline void KeepNearerCrossings(__m256 at, __m256 crosses,
+                                               const __m256d* centre_half, __m256d abs_mask,
+                                               __m256d* best, __m256d* best_distance) {
+  const __m128 at_half[2] = {_mm256_castps256_ps128(at), _mm256_extractf128_ps(at, 1)};
+  const __m128i crosses_half[2] = {_mm256_castsi256_si128(_mm256_castps_si256(crosses)),
+                                   _mm256_extracti128_si256(_mm256_castps_si256(crosses), 1)};
+  for (int h = 0; h < 2; ++h) {
+    const __m256d at_d = _mm256_cvtps_pd(at_half[h]);
+    const __m256d distance = _mm256_and_pd(_mm256_sub_pd(at_d, centre_half[h]), abs_mask);
+    const __m256d nearer =
+        _mm256_and_pd(_mm256_castsi256_pd(_mm256_cvtepi32_epi64(crosses_half[h])),
+                      _mm256_cmp_pd(distance, best_distance[h], _CMP_LT_OQ));
+    best[h] = _mm256_blendv_pd(best[h], at_d, nearer);
+    best_distance[h] = _mm256_blendv_pd(best_distance[h], distance, nearer);
+  }
+}
 
-// EdgePoint for up to eight profiles at once, one per lane (each with its
-// own position, direction and window): the same floats, comparisons and
-// choices as EdgePoint for each, so the same edge points. Profiles whose
-// reads would pass the frame's last byte are left to the caller's
-// EdgePoint. On the camera set, side refinement took about a third less time
-// than with EdgePoint profile by profile: the per-profile bookkeeping, the
-// sampling and the two level reads are shared across the lanes.
-CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWeights& channel,
-                                        int polarity, const ProfileSpec* spec, int count,
-                                        float min_contrast, ProfileEdge* out, bool linear) {
-  const bool gray = channel.r == 1 && channel.g == 1 && channel.b == 1;
-  // Per lane: the profile's first sample, its length and half-length. Lanes
-  // not in the vector path read a safe pixel and are ignored.
+// EdgePoints8Avx2's profiles, one per lane: the first sample, the step
+// between samples, the number of samples and of steps either side of the
+// middle. Lanes not in the vector path read a safe pixel and are ignored.
+struct ProfileLanes {
   alignas(32) float start_x[8], start_y[8], step_x[8], step_y[8];
   alignas(32) int length[8], steps[8];
   bool in_vector[8];
+  int longest = 0;  // The most samples of any lane.
+};
+
+// The lanes of spec[0 .. count), as EdgePoint lays out each profile; out[]
+// not found. Returns the profiles left to the caller's EdgePoint: those
+// whose vector reads would pass the frame's last byte.
+CHROMATAG_AVX2 inline unsigned SetUpProfileLanes(const PixelFrame& frame, const ProfileSpec* spec,
+                                                 int count, ProfileEdge* out, ProfileLanes* lanes) {
   unsigned left_over = 0;
-  int longest = 0;
   for (int l = 0; l < 8; ++l) {
-    in_vector[l] = false;
-    start_x[l] = start_y[l] = 1.f;
-    step_x[l] = step_y[l] = 0.f;
-    length[l] = steps[l] = 0;
+    lanes->in_vector[l] = false;
+    lanes->start_x[l] = lanes->start_y[l] = 1.f;
+    lanes->step_x[l] = lanes->step_y[l] = 0.f;
+    lanes->length[l] = lanes->steps[l] = 0;
     if (l >= count) continue;
     out[l].found = false;
     const float ox = static_cast<float>(spec[l].outward.x) * kProfileStep,
@@ -314,39 +347,48 @@ CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWei
     const float last_x = x + static_cast<float>(n - 1) * ox;
     const float last_y = y + static_cast<float>(n - 1) * oy;
     // Where ImageView::SampleLine fails, so does EdgePoint.
-    if (!image.SegmentInside(x, y, last_x, last_y)) continue;
-    if (!image.VectorReadsInside(x, y, last_x, last_y)) {
+    if (!frame.SegmentInside(x, y, last_x, last_y)) continue;
+    if (!frame.VectorReadsInside(x, y, last_x, last_y)) {
       left_over |= 1u << l;
       continue;
     }
-    in_vector[l] = true;
-    start_x[l] = x;
-    start_y[l] = y;
-    step_x[l] = ox;
-    step_y[l] = oy;
-    length[l] = n;
-    steps[l] = s;
-    longest = std::max(longest, n);
+    lanes->in_vector[l] = true;
+    lanes->start_x[l] = x;
+    lanes->start_y[l] = y;
+    lanes->step_x[l] = ox;
+    lanes->step_y[l] = oy;
+    lanes->length[l] = n;
+    lanes->steps[l] = s;
+    lanes->longest = std::max(lanes->longest, n);
   }
-  if (longest == 0) return left_over;
+  return left_over;
+}
 
-  const __m256i step = _mm256_set1_epi32(static_cast<int>(image.step()));
-  const __m128i red_shift = _mm_cvtsi32_si128(8 * image.r_offset());
-  const __m256 vx = _mm256_load_ps(start_x), vy = _mm256_load_ps(start_y);
-  const __m256 vox = _mm256_load_ps(step_x), voy = _mm256_load_ps(step_y);
-  const __m256i vlength = _mm256_load_si256(reinterpret_cast<const __m256i*>(length));
-  __m256 profile[2 * kMaxProfileSteps + 1];
-  for (int k = 0; k < longest; ++k) {
+// profile[k], k < lanes.longest: each lane's sample k of the edge channel
+// (in linear light if `linear`). Past a lane's own end, its first sample is
+// read again (and ignored).
+CHROMATAG_AVX2 inline void SampleProfiles8(const PixelFrame& frame, bool gray, bool linear,
+                                           const ProfileLanes& lanes, __m256i vlength,
+                                           __m256* profile) {
+  const __m256i step = _mm256_set1_epi32(static_cast<int>(frame.step));
+  const __m128i red_shift = _mm_cvtsi32_si128(8 * frame.r_offset);
+  const __m256 vx = _mm256_load_ps(lanes.start_x), vy = _mm256_load_ps(lanes.start_y);
+  const __m256 vox = _mm256_load_ps(lanes.step_x), voy = _mm256_load_ps(lanes.step_y);
+  for (int k = 0; k < lanes.longest; ++k) {
     const __m256 fk = _mm256_set1_ps(static_cast<float>(k));
     const __m256 inside = BelowLength(vlength, k);
-    // Past a lane's own end, its first sample is read again (and ignored).
     const __m256 px = _mm256_blendv_ps(vx, _mm256_add_ps(vx, _mm256_mul_ps(fk, vox)), inside);
     const __m256 py = _mm256_blendv_ps(vy, _mm256_add_ps(vy, _mm256_mul_ps(fk, voy)), inside);
-    profile[k] = BilinearEdgeChannel8(image.data(), step, px, py, gray, red_shift);
+    profile[k] = BilinearEdgeChannel8(frame.data, step, px, py, gray, red_shift);
     if (linear) profile[k] = LinearGray8(profile[k], LinearGrayTable());
   }
+}
 
-  // The steepest change the right way round; the first of equals.
+// Each lane's steepest change the `polarity` way round (the first of
+// equals) into change_lane[], and the sample it is centred on into
+// steepest_lane[].
+CHROMATAG_AVX2 inline void SteepestChanges8(const __m256* profile, int longest, __m256i vlength,
+                                            int polarity, float* change_lane, int* steepest_lane) {
   const __m256 vpolarity = _mm256_set1_ps(static_cast<float>(polarity));
   __m256 steepest_change = _mm256_set1_ps(-1.f);
   __m256 steepest = _mm256_castsi256_ps(_mm256_set1_epi32(1));
@@ -357,73 +399,111 @@ CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWei
     steepest_change = _mm256_blendv_ps(steepest_change, change, steeper);
     steepest = _mm256_blendv_ps(steepest, _mm256_castsi256_ps(_mm256_set1_epi32(i)), steeper);
   }
-  alignas(32) float change_lane[8];
-  alignas(32) int steepest_lane[8];
   _mm256_store_ps(change_lane, steepest_change);
   _mm256_store_si256(reinterpret_cast<__m256i*>(steepest_lane), _mm256_castps_si256(steepest));
+}
 
-  // The two levels, half a cell either side of the steepest change.
-  alignas(32) float in_x[8], in_y[8], out_x[8], out_y[8], mid[8];
+// Each lane's halfway level between the two levels read half a cell either
+// side of its steepest change, and that change's place on the profile (in
+// pixels from the middle): where has_mid[l], the lane's levels were read and
+// differ by at least the contrast asked for.
+struct LevelLanes {
+  alignas(32) float mid[8];
   alignas(32) double centre[8];
-  bool read_levels[8], has_mid[8];
+  bool has_mid[8];
+};
+
+// The halfway level of two levels read (encoded), in linear light if asked.
+inline float HalfwayLevel(float inside, float outside, bool linear) {
+  return linear ? 0.5f * (LinearGray(inside) + LinearGray(outside)) : 0.5f * (inside + outside);
+}
+
+// Where each lane reads its two levels (in_x[l] ...), for the lanes whose
+// steepest change rose the right way; *read gets the lanes that are read
+// eight at a time. A level whose vector read would pass the frame's end
+// (its lower right pixel is the frame's last) is read here, one by one.
+struct LevelPoints {
+  alignas(32) float in_x[8], in_y[8], out_x[8], out_y[8];
+  bool read[8];
+};
+CHROMATAG_AVX2 inline void PlaceLevels8(const PixelFrame& frame, bool gray, bool linear,
+                                        const ProfileSpec* spec, const ProfileLanes& lanes,
+                                        const float* change_lane, const int* steepest_lane,
+                                        float min_contrast, LevelPoints* points,
+                                        LevelLanes* levels) {
   for (int l = 0; l < 8; ++l) {
-    read_levels[l] = has_mid[l] = false;
-    in_x[l] = in_y[l] = out_x[l] = out_y[l] = 1.f;
-    mid[l] = 0.f;
-    centre[l] = 0.0;
-    if (!in_vector[l] || !(change_lane[l] > 0.f)) continue;
-    centre[l] = (steepest_lane[l] - steps[l]) * kProfileStep;
-    const cv::Point2d in = spec[l].middle + (centre[l] - spec[l].level_offset) * spec[l].outward;
-    const cv::Point2d out = spec[l].middle + (centre[l] + spec[l].level_offset) * spec[l].outward;
+    levels->has_mid[l] = points->read[l] = false;
+    points->in_x[l] = points->in_y[l] = points->out_x[l] = points->out_y[l] = 1.f;
+    levels->mid[l] = 0.f;
+    levels->centre[l] = 0.0;
+    if (!lanes.in_vector[l] || !(change_lane[l] > 0.f)) continue;
+    const double centre = (steepest_lane[l] - lanes.steps[l]) * kProfileStep;
+    levels->centre[l] = centre;
+    const cv::Point2d in = spec[l].middle + (centre - spec[l].level_offset) * spec[l].outward;
+    const cv::Point2d out = spec[l].middle + (centre + spec[l].level_offset) * spec[l].outward;
     const float ix = static_cast<float>(in.x), iy = static_cast<float>(in.y);
     const float ux = static_cast<float>(out.x), uy = static_cast<float>(out.y);
-    // Where ImageView::Sample fails, so does EdgePoint; a level whose vector
-    // read would pass the frame's end (its lower right pixel is the frame's
-    // last) is read by Sample itself.
-    if (!image.CanSample(ix, iy) || !image.CanSample(ux, uy)) continue;
-    if (!image.VectorReadsInside(ix, iy, ix, iy) || !image.VectorReadsInside(ux, uy, ux, uy)) {
-      float inside = 0, outside = 0;
-      image.Sample(ix, iy, channel, &inside);
-      image.Sample(ux, uy, channel, &outside);
+    // Where ImageView::Sample fails, so does EdgePoint.
+    if (!frame.CanSample(ix, iy) || !frame.CanSample(ux, uy)) continue;
+    if (!frame.VectorReadsInside(ix, iy, ix, iy) || !frame.VectorReadsInside(ux, uy, ux, uy)) {
+      const float inside = SampleEdgeChannel(frame, gray, ix, iy);
+      const float outside = SampleEdgeChannel(frame, gray, ux, uy);
       if (std::abs(outside - inside) < min_contrast) continue;
-      mid[l] =
-          linear ? 0.5f * (LinearGray(inside) + LinearGray(outside)) : 0.5f * (inside + outside);
-      has_mid[l] = true;
+      levels->mid[l] = HalfwayLevel(inside, outside, linear);
+      levels->has_mid[l] = true;
       continue;
     }
-    in_x[l] = ix, in_y[l] = iy, out_x[l] = ux, out_y[l] = uy;
-    read_levels[l] = true;
+    points->in_x[l] = ix, points->in_y[l] = iy, points->out_x[l] = ux, points->out_y[l] = uy;
+    points->read[l] = true;
   }
-  alignas(32) float inside[8], outside[8];
-  _mm256_store_ps(inside, BilinearEdgeChannel8(image.data(), step, _mm256_load_ps(in_x),
-                                               _mm256_load_ps(in_y), gray, red_shift));
-  _mm256_store_ps(outside, BilinearEdgeChannel8(image.data(), step, _mm256_load_ps(out_x),
-                                                _mm256_load_ps(out_y), gray, red_shift));
-  for (int l = 0; l < 8; ++l) {
-    if (!read_levels[l] || std::abs(outside[l] - inside[l]) < min_contrast) continue;
-    mid[l] = linear ? 0.5f * (LinearGray(inside[l]) + LinearGray(outside[l]))
-                    : 0.5f * (inside[l] + outside[l]);
-    has_mid[l] = true;
-  }
+}
 
-  // The crossing of the halfway level nearest the steepest change, compared
-  // in double as EdgePoint does; lanes without a level pair never cross.
-  const __m256 vmid = _mm256_load_ps(mid);
+// The two levels of every lane, the halfway level between them
+// (LevelLanes).
+CHROMATAG_AVX2 inline void HalfwayLevels8(const PixelFrame& frame, bool gray, bool linear,
+                                          const ProfileSpec* spec, const ProfileLanes& lanes,
+                                          const float* change_lane, const int* steepest_lane,
+                                          float min_contrast, LevelLanes* levels) {
+  LevelPoints points;
+  PlaceLevels8(frame, gray, linear, spec, lanes, change_lane, steepest_lane, min_contrast, &points,
+               levels);
+  const __m256i step = _mm256_set1_epi32(static_cast<int>(frame.step));
+  const __m128i red_shift = _mm_cvtsi32_si128(8 * frame.r_offset);
+  alignas(32) float inside[8], outside[8];
+  _mm256_store_ps(inside, BilinearEdgeChannel8(frame.data, step, _mm256_load_ps(points.in_x),
+                                               _mm256_load_ps(points.in_y), gray, red_shift));
+  _mm256_store_ps(outside, BilinearEdgeChannel8(frame.data, step, _mm256_load_ps(points.out_x),
+                                                _mm256_load_ps(points.out_y), gray, red_shift));
+  for (int l = 0; l < 8; ++l) {
+    if (!points.read[l] || std::abs(outside[l] - inside[l]) < min_contrast) continue;
+    levels->mid[l] = HalfwayLevel(inside[l], outside[l], linear);
+    levels->has_mid[l] = true;
+  }
+}
+
+// Each lane's crossing of its halfway level nearest its steepest change,
+// in pixels from the middle, compared in double as EdgePoint does, into
+// best_lane[]; above 1e299 where it has none (lanes without a level pair
+// never cross).
+CHROMATAG_AVX2 inline void NearestCrossings8(const __m256* profile, const ProfileLanes& lanes,
+                                             __m256i vlength, const LevelLanes& levels,
+                                             double* best_lane) {
+  const __m256 vmid = _mm256_load_ps(levels.mid);
   const __m256 vsteps =
-      _mm256_cvtepi32_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(steps)));
+      _mm256_cvtepi32_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(lanes.steps)));
   const __m256 vprofile_step = _mm256_set1_ps(kProfileStep);
   alignas(32) int may_cross[8];
-  for (int l = 0; l < 8; ++l) may_cross[l] = has_mid[l] ? -1 : 0;
+  for (int l = 0; l < 8; ++l) may_cross[l] = levels.has_mid[l] ? -1 : 0;
   const __m256 vmay_cross =
       _mm256_castsi256_ps(_mm256_load_si256(reinterpret_cast<const __m256i*>(may_cross)));
   const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFFLL));
-  __m256d centre_half[2] = {_mm256_load_pd(centre), _mm256_load_pd(centre + 4)};
+  const __m256d centre_half[2] = {_mm256_load_pd(levels.centre), _mm256_load_pd(levels.centre + 4)};
   __m256d best[2], best_distance[2];
   for (int h = 0; h < 2; ++h) {
     best[h] = _mm256_set1_pd(1e300);
     best_distance[h] = _mm256_and_pd(_mm256_sub_pd(best[h], centre_half[h]), abs_mask);
   }
-  for (int i = 1; i < longest; ++i) {
+  for (int i = 1; i < lanes.longest; ++i) {
     const __m256 previous = profile[i - 1], v = profile[i];
     const __m256 straddles =
         _mm256_cmp_ps(_mm256_mul_ps(_mm256_sub_ps(previous, vmid), _mm256_sub_ps(v, vmid)),
@@ -437,24 +517,40 @@ CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWei
                       vprofile_step),
         _mm256_div_ps(_mm256_mul_ps(vprofile_step, _mm256_sub_ps(vmid, previous)),
                       _mm256_sub_ps(v, previous)));
-    const __m128 at_half[2] = {_mm256_castps256_ps128(at), _mm256_extractf128_ps(at, 1)};
-    const __m128i crosses_half[2] = {_mm256_castsi256_si128(_mm256_castps_si256(crosses)),
-                                     _mm256_extracti128_si256(_mm256_castps_si256(crosses), 1)};
-    for (int h = 0; h < 2; ++h) {
-      const __m256d at_d = _mm256_cvtps_pd(at_half[h]);
-      const __m256d distance = _mm256_and_pd(_mm256_sub_pd(at_d, centre_half[h]), abs_mask);
-      const __m256d nearer =
-          _mm256_and_pd(_mm256_castsi256_pd(_mm256_cvtepi32_epi64(crosses_half[h])),
-                        _mm256_cmp_pd(distance, best_distance[h], _CMP_LT_OQ));
-      best[h] = _mm256_blendv_pd(best[h], at_d, nearer);
-      best_distance[h] = _mm256_blendv_pd(best_distance[h], distance, nearer);
-    }
+    KeepNearerCrossings(at, crosses, centre_half, abs_mask, best, best_distance);
   }
-  alignas(32) double best_lane[8];
   _mm256_store_pd(best_lane, best[0]);
   _mm256_store_pd(best_lane + 4, best[1]);
+}
+
+}  // namespace
+
+// EdgePoint for up to eight profiles at once, one per lane (each with its
+// own position, direction and window): the same floats, comparisons and
+// choices as EdgePoint for each, so the same edge points. Profiles whose
+// reads would pass the frame's last byte are left to the caller's
+// EdgePoint. On the camera set, side refinement took about a third less time
+// than with EdgePoint profile by profile: the per-profile bookkeeping, the
+// sampling and the two level reads are shared across the lanes.
+CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const PixelFrame& frame, bool gray, int polarity,
+                                        const ProfileSpec* spec, int count, float min_contrast,
+                                        ProfileEdge* out, bool linear) {
+  ProfileLanes lanes;
+  const unsigned left_over = SetUpProfileLanes(frame, spec, count, out, &lanes);
+  if (lanes.longest == 0) return left_over;
+  const __m256i vlength = _mm256_load_si256(reinterpret_cast<const __m256i*>(lanes.length));
+  __m256 profile[2 * kMaxProfileSteps + 1];
+  SampleProfiles8(frame, gray, linear, lanes, vlength, profile);
+  alignas(32) float change_lane[8];
+  alignas(32) int steepest_lane[8];
+  SteepestChanges8(profile, lanes.longest, vlength, polarity, change_lane, steepest_lane);
+  LevelLanes levels;
+  HalfwayLevels8(frame, gray, linear, spec, lanes, change_lane, steepest_lane, min_contrast,
+                 &levels);
+  alignas(32) double best_lane[8];
+  NearestCrossings8(profile, lanes, vlength, levels, best_lane);
   for (int l = 0; l < 8; ++l) {
-    if (!has_mid[l] || best_lane[l] > 1e299) continue;
+    if (!levels.has_mid[l] || best_lane[l] > 1e299) continue;
     out[l].found = true;
     out[l].edge = spec[l].middle + best_lane[l] * spec[l].outward;
   }
@@ -468,6 +564,47 @@ CHROMATAG_AVX2 inline __m256i RoundDoublesToInt8(__m256d lo, __m256d hi) {
   return RoundToInt8(_mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo)));
 }
 
+// A cell grid's centre and axes in every lane.
+struct GridVectors {
+  __m256d cx, cy, dux, duy, dvx, dvy;
+};
+CHROMATAG_AVX2 inline GridVectors MakeGridVectors(const CellGrid& grid) {
+  return {_mm256_set1_pd(grid.centre.x), _mm256_set1_pd(grid.centre.y), _mm256_set1_pd(grid.du.x),
+          _mm256_set1_pd(grid.du.y),     _mm256_set1_pd(grid.dv.x),     _mm256_set1_pd(grid.dv.y)};
+}
+
+// The pixels of the grid's points k .. k + 7: AddGridPoint's coordinates in
+// the same double arithmetic, rounded as it rounds.
+CHROMATAG_AVX2 inline void GridPixels8(const CellGrid& grid, const GridVectors& v, int k,
+                                       __m256i* px, __m256i* py) {
+  alignas(32) double s[8], t[8];
+  for (int l = 0; l < 8; ++l) {
+    s[l] = grid.spread[(k + l) % grid.samples];
+    t[l] = grid.spread[(k + l) / grid.samples];
+  }
+  __m256d x[2], y[2];
+  for (int h = 0; h < 2; ++h) {
+    const __m256d sv = _mm256_load_pd(s + 4 * h), tv = _mm256_load_pd(t + 4 * h);
+    x[h] = _mm256_add_pd(_mm256_add_pd(v.cx, _mm256_mul_pd(sv, v.dux)), _mm256_mul_pd(tv, v.dvx));
+    y[h] = _mm256_add_pd(_mm256_add_pd(v.cy, _mm256_mul_pd(sv, v.duy)), _mm256_mul_pd(tv, v.dvy));
+  }
+  *px = RoundDoublesToInt8(x[0], x[1]);
+  *py = RoundDoublesToInt8(y[0], y[1]);
+}
+
+// The lanes' sums of R, G and B, added to *sums.
+CHROMATAG_AVX2 inline void AddLaneSums(__m256i r, __m256i g, __m256i b, PixelSums* sums) {
+  alignas(32) int lanes[3][8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[0]), r);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[1]), g);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[2]), b);
+  for (int l = 0; l < 8; ++l) {
+    sums->r += lanes[0][l];
+    sums->g += lanes[1][l];
+    sums->b += lanes[2][l];
+  }
+}
+
 }  // namespace
 
 // AddGridPoint for the points [0, returned), eight at a time: the same
@@ -475,33 +612,21 @@ CHROMATAG_AVX2 inline __m256i RoundDoublesToInt8(__m256d lo, __m256d hi) {
 // frame test, so the same sums. The frame's last pixel (a 32-bit read there
 // would pass its end) is left to AddGridPoint. The frame's byte offsets fit
 // in 32 bits.
-CHROMATAG_AVX2 int AddGridPointsAvx2(const ImageView& image, const CellGrid& grid, int count,
+CHROMATAG_AVX2 int AddGridPointsAvx2(const PixelFrame& frame, const CellGrid& grid, int count,
                                      PixelSums* sums) {
-  const __m256d cx = _mm256_set1_pd(grid.centre.x), cy = _mm256_set1_pd(grid.centre.y);
-  const __m256d dux = _mm256_set1_pd(grid.du.x), duy = _mm256_set1_pd(grid.du.y);
-  const __m256d dvx = _mm256_set1_pd(grid.dv.x), dvy = _mm256_set1_pd(grid.dv.y);
+  const GridVectors axes = MakeGridVectors(grid);
   const __m256i zero = _mm256_setzero_si256(), byte = _mm256_set1_epi32(0xFF);
-  const __m256i last_x = _mm256_set1_epi32(image.width() - 1),
-                last_y = _mm256_set1_epi32(image.height() - 1);
-  const __m256i step = _mm256_set1_epi32(static_cast<int>(image.step()));
-  const __m128i r_shift = _mm_cvtsi32_si128(8 * image.r_offset()),
-                b_shift = _mm_cvtsi32_si128(8 * image.b_offset());
-  const int* base = reinterpret_cast<const int*>(image.data());
+  const __m256i last_x = _mm256_set1_epi32(frame.width - 1),
+                last_y = _mm256_set1_epi32(frame.height - 1);
+  const __m256i step = _mm256_set1_epi32(static_cast<int>(frame.step));
+  const __m128i r_shift = _mm_cvtsi32_si128(8 * frame.r_offset),
+                b_shift = _mm_cvtsi32_si128(8 * frame.b_offset);
+  const int* base = reinterpret_cast<const int*>(frame.data);
   __m256i r = zero, g = zero, b = zero;
   int k = 0;
-  alignas(32) double s[8], t[8];
   for (; k + 8 <= count; k += 8) {
-    for (int l = 0; l < 8; ++l) {
-      s[l] = grid.spread[(k + l) % grid.samples];
-      t[l] = grid.spread[(k + l) / grid.samples];
-    }
-    __m256d x[2], y[2];
-    for (int h = 0; h < 2; ++h) {
-      const __m256d sv = _mm256_load_pd(s + 4 * h), tv = _mm256_load_pd(t + 4 * h);
-      x[h] = _mm256_add_pd(_mm256_add_pd(cx, _mm256_mul_pd(sv, dux)), _mm256_mul_pd(tv, dvx));
-      y[h] = _mm256_add_pd(_mm256_add_pd(cy, _mm256_mul_pd(sv, duy)), _mm256_mul_pd(tv, dvy));
-    }
-    const __m256i px = RoundDoublesToInt8(x[0], x[1]), py = RoundDoublesToInt8(y[0], y[1]);
+    __m256i px, py;
+    GridPixels8(grid, axes, k, &px, &py);
     const __m256i outside = _mm256_or_si256(
         _mm256_or_si256(_mm256_cmpgt_epi32(zero, px), _mm256_cmpgt_epi32(zero, py)),
         _mm256_or_si256(_mm256_cmpgt_epi32(px, last_x), _mm256_cmpgt_epi32(py, last_y)));
@@ -511,7 +636,7 @@ CHROMATAG_AVX2 int AddGridPointsAvx2(const ImageView& image, const CellGrid& gri
       const unsigned lanes =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(at_last)));
       for (int l = 0; l < 8; ++l) {
-        if (lanes >> l & 1u) AddGridPoint(image, grid, k + l, sums);
+        if (lanes >> l & 1u) AddGridPoint(frame, grid, k + l, sums);
       }
     }
     const __m256i read =
@@ -525,15 +650,7 @@ CHROMATAG_AVX2 int AddGridPointsAvx2(const ImageView& image, const CellGrid& gri
     sums->n +=
         __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(read))));
   }
-  alignas(32) int lanes[3][8];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[0]), r);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[1]), g);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes[2]), b);
-  for (int l = 0; l < 8; ++l) {
-    sums->r += lanes[0][l];
-    sums->g += lanes[1][l];
-    sums->b += lanes[2][l];
-  }
+  AddLaneSums(r, g, b, sums);
   return k;
 }
 

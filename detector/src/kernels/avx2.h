@@ -13,15 +13,15 @@
 namespace chromatag::internal {
 
 CHROMATAG_AVX2 int ScanRowCoarseAvx2(const RowSampler& s, int32_t* coarse, int* rises);
-CHROMATAG_AVX2 int FirstNotClearlyAboveAvx2(const uint8_t* data, size_t step, int width, int height,
-                                            int r_offset, const int8_t* table, float x, float y,
-                                            float dx, float dy, int first, int last, float above);
-CHROMATAG_AVX2 int SampleLineAvx2(const uint8_t* data, size_t step, int r_offset, bool gray,
-                                  float x, float y, float dx, float dy, int n, float* out);
-CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const ImageView& image, const ChannelWeights& channel,
-                                        int polarity, const ProfileSpec* spec, int count,
-                                        float min_contrast, ProfileEdge* out, bool linear);
-CHROMATAG_AVX2 int AddGridPointsAvx2(const ImageView& image, const CellGrid& grid, int count,
+CHROMATAG_AVX2 int FirstNotClearlyAboveAvx2(const PixelFrame& frame, const int8_t* table, float x,
+                                            float y, float dx, float dy, int first, int last,
+                                            float above);
+CHROMATAG_AVX2 int SampleLineAvx2(const PixelFrame& frame, bool gray, float x, float y, float dx,
+                                  float dy, int n, float* out);
+CHROMATAG_AVX2 unsigned EdgePoints8Avx2(const PixelFrame& frame, bool gray, int polarity,
+                                        const ProfileSpec* spec, int count, float min_contrast,
+                                        ProfileEdge* out, bool linear);
+CHROMATAG_AVX2 int AddGridPointsAvx2(const PixelFrame& frame, const CellGrid& grid, int count,
                                      PixelSums* sums);
 
 }  // namespace chromatag::internal

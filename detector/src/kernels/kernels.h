@@ -7,6 +7,11 @@
 // Kernels at creation (ForCpu) and every stage reaches it through its
 // ImageView. Tests build a view with ForPath to run a given path.
 //
+// The kernels know no stage: they take plain data (the frame's bytes as a
+// PixelFrame, tables, and the small structs below), which the stages fill
+// from their own types. No file in kernels/ includes a stage's header
+// (detector/CMakeLists.txt checks it).
+//
 // A null pointer means the path has no vector version of that kernel: the
 // caller runs its scalar loop.
 //
@@ -16,6 +21,7 @@
 #ifndef CHROMATAG_DETECTOR_SRC_KERNELS_KERNELS_H_
 #define CHROMATAG_DETECTOR_SRC_KERNELS_KERNELS_H_
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -30,16 +36,50 @@
 
 namespace chromatag::internal {
 
-class ImageView;
-struct ChannelWeights;
-struct ProfileSpec;
-struct ProfileEdge;
-struct PixelSums;
-
 // The instruction sets, narrowest first. kAvx512 is AVX-512 with byte and
 // word lanes and byte permutes (F, BW, VBMI); its kernels that need no
 // more than AVX2 are the AVX2 ones.
 enum class KernelPath { kScalar, kAvx2, kAvx512 };
+
+// A caller's 8-bit 3-channel frame as the kernels read it: rows `step`
+// bytes apart, red and blue at byte offsets `r_offset` and `b_offset` of
+// each pixel, green at 1 (ImageView holds one).
+struct PixelFrame {
+  const uint8_t* data = nullptr;
+  size_t step = 0;
+  int width = 0;
+  int height = 0;
+  int r_offset = 2;
+  int b_offset = 0;
+
+  bool Contains(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
+  const uint8_t* Pixel(int x, int y) const { return data + y * step + 3 * x; }
+  // Whether a bilinear sample at (x, y) can read its four pixels: they lie
+  // inside the frame (false for NaN).
+  bool CanSample(float x, float y) const {
+    // The same as (int)x + 1 < width for x >= 0, without a cast of a huge x.
+    return x >= 0.f && y >= 0.f && x < static_cast<float>(width - 1) &&
+           y < static_cast<float>(height - 1);
+  }
+  // Whether bilinear samples can read every point of the segment from
+  // (x, y) to (last_x, last_y): both ends strictly inside [0, width - 1) x
+  // [0, height - 1), hence every point between them (false for NaN).
+  bool SegmentInside(float x, float y, float last_x, float last_y) const {
+    const float w1 = static_cast<float>(width - 1), h1 = static_cast<float>(height - 1);
+    return x >= 0.f && y >= 0.f && last_x >= 0.f && last_y >= 0.f && x < w1 && y < h1 &&
+           last_x < w1 && last_y < h1;
+  }
+  // For a readable segment (or point, last = first): whether the AVX2
+  // bilinear reads along it (two bytes past each sample's lower right
+  // pixel) stay inside the frame: clear of the last two columns, or of the
+  // last two rows.
+  bool VectorReadsInside(float x, float y, float last_x, float last_y) const {
+    return std::max(x, last_x) < static_cast<float>(width - 2) ||
+           std::max(y, last_y) < static_cast<float>(height - 2);
+  }
+  // Whether every byte offset into the frame fits the AVX2 paths' 32 bits.
+  bool OffsetsFit32() const { return step * static_cast<size_t>(height) < (size_t{1} << 31); }
+};
 
 // One sampled row for FindADiff's row scan: the samples x = 0, N, 2N, ...
 // and the thresholds a rise between their values must pass, in the units of
@@ -57,6 +97,25 @@ struct RowSampler {
   int red_floor;        // ...to a sample above this.
 };
 
+// One profile across an edge (refine_corners.cc, EdgePoint): centred on
+// `middle`, searched `half` pixels either way along `outward` (the side's
+// outward unit normal), the two levels read `level_offset` either side of
+// the steepest change. Its samples lie kProfileStep pixels apart, at most
+// kMaxProfileSteps either side of its middle (4 px).
+inline constexpr float kProfileStep = 0.5f;
+inline constexpr int kMaxProfileSteps = 8;
+struct ProfileSpec {
+  cv::Point2d middle;
+  cv::Point2d outward;
+  double half = 0;
+  double level_offset = 0;
+};
+// The edge point found on a profile, if one was.
+struct ProfileEdge {
+  cv::Point2d edge;
+  bool found = false;
+};
+
 // Decode's grid of samples over one cell: point k = j * samples + i is
 // centre + s_i du + t_j dv, with s_i and t_j = spread[i] and spread[j]
 // (from -1 to 1).
@@ -64,6 +123,11 @@ struct CellGrid {
   cv::Point2d centre, du, dv;
   int samples = 0;
   std::array<double, 8> spread{};
+};
+// The sums of R, G and B over a cell's grid points inside the frame, and
+// their number.
+struct PixelSums {
+  int r = 0, g = 0, b = 0, n = 0;
 };
 
 // One path's kernels.
@@ -80,29 +144,28 @@ struct Kernels {
                              int* rises) = nullptr;
 
   // ImageView::FirstNotClearlyAbove's steps from `first` on, eight at a
-  // time: returns the first step it could not decide. Every step before it
-  // lies inside the frame with a coarse a* above `above`. The frame's byte
-  // offsets fit in 32 bits.
-  int (*first_not_clearly_above)(const uint8_t* data, size_t step, int width, int height,
-                                 int r_offset, const int8_t* table, float x, float y, float dx,
-                                 float dy, int first, int last, float above) = nullptr;
+  // time, `table` the coarse a* table: returns the first step it could not
+  // decide. Every step before it lies inside the frame with a coarse a*
+  // above `above`. The frame's byte offsets fit in 32 bits.
+  int (*first_not_clearly_above)(const PixelFrame& frame, const int8_t* table, float x, float y,
+                                 float dx, float dy, int first, int last, float above) = nullptr;
   // ImageView::SampleLine of the gray (R + G + B) or the R - G channel: the
   // first multiple of eight of the n samples; returns how many it did. The
   // caller guarantees that each sample's four pixels lie inside the frame,
   // that a read of two bytes past the lower right one does too, and that
   // the frame's byte offsets fit in 32 bits.
-  int (*sample_line)(const uint8_t* data, size_t step, int r_offset, bool gray, float x, float y,
-                     float dx, float dy, int n, float* out) = nullptr;
+  int (*sample_line)(const PixelFrame& frame, bool gray, float x, float y, float dx, float dy,
+                     int n, float* out) = nullptr;
   // EdgePoint (refine_corners.cc) for up to eight profiles, spec[0 .. count),
   // on the gray or the R - G channel (`linear`: gray in linear light), the
   // frame's byte offsets fitting in 32 bits. Returns the lanes (bit l for
   // profile l) it left to the caller's EdgePoint; out[] of the others is set.
-  unsigned (*edge_points8)(const ImageView& image, const ChannelWeights& channel, int polarity,
+  unsigned (*edge_points8)(const PixelFrame& frame, bool gray, int polarity,
                            const ProfileSpec* spec, int count, float min_contrast, ProfileEdge* out,
                            bool linear) = nullptr;
   // SumCellGrid's points [0, returned) of the grid's first `count`, added
   // to *sums; the frame's byte offsets fit in 32 bits.
-  int (*add_grid_points)(const ImageView& image, const CellGrid& grid, int count,
+  int (*add_grid_points)(const PixelFrame& frame, const CellGrid& grid, int count,
                          PixelSums* sums) = nullptr;
 
   // Whether this CPU (and this build) can run `path`; kScalar always.
