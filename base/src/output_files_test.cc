@@ -26,14 +26,14 @@ std::string Read(const std::string& path) {
   return buffer.str();
 }
 
-TEST(FileUtilTest, Sha256MatchesFips180Vectors) {
+TEST(Sha256Test, MatchesFips180Vectors) {
   EXPECT_EQ(Sha256Hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
   EXPECT_EQ(Sha256Hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_EQ(Sha256Hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
             "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
 }
 
-TEST(FileUtilTest, WritesAllFilesOrLeavesEverythingAsItWas) {
+TEST(OutputFilesTest, WritesAllFilesOrLeavesEverythingAsItWas) {
   const std::string dir = ::testing::TempDir();
   const std::string a = dir + "/atomic_a.txt";
   const std::string b = dir + "/atomic_b.txt";
@@ -51,7 +51,7 @@ TEST(FileUtilTest, WritesAllFilesOrLeavesEverythingAsItWas) {
 
 // Cases: a target that is a folder, a name of 250 characters, a
 // symlink at the target, the mode, and never a temporary left behind.
-TEST(FileUtilTest, TargetsAreCheckedFirstAndNothingIsLeftBehind) {
+TEST(OutputFilesTest, TargetsAreCheckedFirstAndNothingIsLeftBehind) {
   namespace fs = std::filesystem;
   const std::string dir = ::testing::TempDir() + "/atomic_cases";
   fs::remove_all(dir);
@@ -104,7 +104,7 @@ std::vector<std::string> Leftovers(const std::string& dir) {
 // old or new, once the next process writing into the folder has run: the child rewrites
 // ten files over and over, each round with its own number in every file, and
 // is killed after a random delay.
-TEST(FileUtilTest, AWriteKilledAnywhereIsFinishedByTheNextOne) {
+TEST(OutputFilesTest, AWriteKilledAnywhereIsFinishedByTheNextOne) {
   const std::string root = ::testing::TempDir() + "/atomic_kill_" + std::to_string(getpid());
   fs::remove_all(root);
   std::mt19937 random(7);
@@ -155,8 +155,8 @@ TEST(FileUtilTest, AWriteKilledAnywhereIsFinishedByTheNextOne) {
 }
 
 // The three states a killed write can leave, made by hand from the journal's
-// layout (file_util.cc): before its commit, after it, and during an undo.
-TEST(FileUtilTest, InterruptedWritesAreUndoneCompletedOrRolledBack) {
+// layout (output_files.cc): before its commit, after it, and during an undo.
+TEST(OutputFilesTest, InterruptedWritesAreUndoneCompletedOrRolledBack) {
   const std::string root = ::testing::TempDir() + "/atomic_states_" + std::to_string(getpid());
   fs::remove_all(root);
   // "new I DEV INO" / "old I DEV INO" for a file, as the writer records it.

@@ -1,20 +1,16 @@
-// The calibration sheet's sidecar (calib_sidecar.h).
+// The calibration sheet's sidecar (calib_sheet_layout.h).
 #include "chromatag/layout/calib_sheet_layout.h"
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
+#include <string>
 
 #include "chromatag/base/input_file.h"
-#include "chromatag/base/json_fields.h"
 #include "chromatag/base/sha256.h"
 #include "chromatag/families/family.h"
 #include "chromatag/families/version.h"
 #include "chromatag/layout/sheet_record.h"
+#include "json_fields.h"
 
 namespace chromatag {
 namespace {

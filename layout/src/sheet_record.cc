@@ -4,9 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include "chromatag/base/input_file.h"
-#include "chromatag/base/json_fields.h"
 #include "chromatag/base/sha256.h"
 #include "chromatag/families/version.h"
+#include "json_fields.h"
 
 namespace chromatag {
 namespace {

@@ -3,8 +3,8 @@
 // integers, range before any conversion, and throws FieldError with a
 // message that names the member. The readers catch it once and turn it into
 // their one error line.
-#ifndef CHROMATAG_BASE_JSON_FIELDS_H_
-#define CHROMATAG_BASE_JSON_FIELDS_H_
+#ifndef CHROMATAG_LAYOUT_SRC_JSON_FIELDS_H_
+#define CHROMATAG_LAYOUT_SRC_JSON_FIELDS_H_
 
 #include <array>
 #include <nlohmann/json.hpp>
@@ -28,4 +28,4 @@ std::array<double, 2> Point(const nlohmann::json& value);
 
 }  // namespace chromatag::json_fields
 
-#endif  // CHROMATAG_BASE_JSON_FIELDS_H_
+#endif  // CHROMATAG_LAYOUT_SRC_JSON_FIELDS_H_

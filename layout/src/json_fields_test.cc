@@ -1,4 +1,4 @@
-#include "chromatag/base/json_fields.h"
+#include "json_fields.h"
 
 #include <gtest/gtest.h>
 
