@@ -139,11 +139,7 @@ TEST_F(CalibCliTest, GoodPhotosGiveOutputsTheOtherCommandsAccept) {
 // The thresholds calibrate writes for a washed-out printer, loaded by
 // `chromatag detect --config`, find a tag that the defaults miss.
 TEST_F(CalibCliTest, DetectWithTheCalibratedConfigFindsWashedOutTags) {
-  SimPrinter washed_out;
-  washed_out.chroma_scale = 0.2;
-  washed_out.hue_shift_deg = 4.0;
-  washed_out.dot_gain = 0.3;
-  washed_out.black_l = 18.0;
+  const SimPrinter washed_out = SimPrinter::WashedOut();
   SimCamera warm;
   warm.gains = {1.1, 1.0, 0.8};
   SimCamera neutral;

@@ -26,6 +26,10 @@ struct SimPrinter {
 
   // The printed colour of `sent`, CIELAB relative to the paper white.
   Lab Print(const Rgb8& sent) const;
+
+  // A printer that loses four fifths of the chroma: the default palette's a*
+  // gap of 115 prints as about 23, below the paper's ADiffThresh of 25.
+  static SimPrinter WashedOut() { return {0.2, 4.0, 0.3, 18.0}; }
 };
 
 // Any printer: the printed colour (CIELAB relative to the paper white) of a

@@ -3,7 +3,6 @@
 // PNG, TIFF and JPEG, the report, JSON, and sidecars and input it refuses.
 // The print check itself is tested beside it (verify/src/print_check_test.cc).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -15,6 +14,7 @@
 #include "chromatag/verify/raster.h"
 #include "icc_press.h"
 #include "jpeg_segments.h"
+#include "printed_sheet.h"
 #include "test_util.h"
 
 namespace chromatag {
@@ -30,45 +30,24 @@ using testing::Resolution;
 using testing::SimCamera;
 using testing::SimScanner;
 
-constexpr double kRasterDpi = 300.0;
-
-// Every kept 16h5 ID at 30 mm on A4 (three pages), generated once, with its
-// pages rasterised at 300 dpi, and the SWOP press.
+// The printed sheet (testing::MakePrintedSheet), made once for the suite.
 class PrintCheckCliTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new std::string(fs::temp_directory_path() /
-                           ("chromatag-print-check-cli-" + std::to_string(getpid())));
-    fs::create_directories(*dir_);
-    SheetOptions options;
-    options.family = TagFamily::Load("16h5");
-    options.ids = options.family->kept_ids();
-    options.palette = *BuiltinPalette("default");
-    options.tag_size_mm = 30.0;
     std::string error;
-    const std::string sheet = *dir_ + "/tags.pdf";
-    ASSERT_TRUE(WriteSheet(options, sheet, &error)) << error;
-    auto record = ReadSidecar(SidecarPath(sheet), &error);
-    ASSERT_TRUE(record) << error;
-    record_ = new SheetRecord(*record);
-    auto images = RasterizeSheet(*record_, kRasterDpi, &error);
-    ASSERT_TRUE(images) << error;
-    images_ = new SheetImages(*images);
-    press_ = IccPress::Load(IccPress::DefaultCmykProfilePath(), &error).release();
-    ASSERT_NE(press_, nullptr) << error;
+    sheet_ = testing::MakePrintedSheet("chromatag-print-check-cli", &error).release();
+    ASSERT_NE(sheet_, nullptr) << error;
+    dir_ = &sheet_->dir;
+    record_ = &sheet_->record;
+    images_ = &sheet_->images;
+    press_ = sheet_->press.get();
   }
-  static void TearDownTestSuite() {
-    std::error_code ignored;
-    fs::remove_all(*dir_, ignored);
-    delete dir_;
-    delete record_;
-    delete images_;
-    delete press_;
-  }
+  static void TearDownTestSuite() { delete sheet_; }
 
-  static double PxPerMm() { return kRasterDpi / 25.4; }
+  static double PxPerMm() { return testing::PrintedSheet::PxPerMm(); }
 
-  static inline std::string* dir_ = nullptr;
+  static inline testing::PrintedSheet* sheet_ = nullptr;
+  static inline const std::string* dir_ = nullptr;
   static inline SheetRecord* record_ = nullptr;
   static inline SheetImages* images_ = nullptr;
   static inline IccPress* press_ = nullptr;

@@ -6,21 +6,19 @@
 #include "chromatag/verify/print_check.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
 #include "calib_sim.h"
 #include "chromatag/generator/sheet.h"
 #include "chromatag/verify/raster.h"
 #include "icc_press.h"
+#include "printed_sheet.h"
 
 namespace chromatag {
 namespace {
 
-namespace fs = std::filesystem;
 using testing::IccPress;
 using testing::PrintAndPhotograph;
 using testing::PrintAndScan;
@@ -28,8 +26,6 @@ using testing::PrintFn;
 using testing::PrintGeometry;
 using testing::SimCamera;
 using testing::SimScanner;
-
-constexpr double kRasterDpi = 300.0;
 
 std::string AllProblems(const PrintPageResult& r) {
   std::string all;
@@ -49,46 +45,28 @@ bool Near(const Rgb8& a, const Rgb8& b) {
   return std::abs(a.r - b.r) <= 2 && std::abs(a.g - b.g) <= 2 && std::abs(a.b - b.b) <= 2;
 }
 
-// Every kept 16h5 ID at 30 mm on A4 (three pages), generated once, with its
-// pages rasterised at 300 dpi, and the SWOP press.
+// The printed sheet (testing::MakePrintedSheet), made once for the suite.
 class PrintCheckTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new std::string(fs::temp_directory_path() /
-                           ("chromatag-print-check-" + std::to_string(getpid())));
-    fs::create_directories(*dir_);
-    SheetOptions options;
-    options.family = TagFamily::Load("16h5");
-    options.ids = options.family->kept_ids();
-    options.palette = *BuiltinPalette("default");
-    options.tag_size_mm = 30.0;
     std::string error;
-    const std::string sheet = *dir_ + "/tags.pdf";
-    ASSERT_TRUE(WriteSheet(options, sheet, &error)) << error;
-    auto record = ReadSidecar(SidecarPath(sheet), &error);
-    ASSERT_TRUE(record) << error;
-    record_ = new SheetRecord(*record);
-    auto images = RasterizeSheet(*record_, kRasterDpi, &error);
-    ASSERT_TRUE(images) << error;
-    images_ = new SheetImages(*images);
-    press_ = IccPress::Load(IccPress::DefaultCmykProfilePath(), &error).release();
-    ASSERT_NE(press_, nullptr) << error;
+    sheet_ = testing::MakePrintedSheet("chromatag-print-check", &error).release();
+    ASSERT_NE(sheet_, nullptr) << error;
+    dir_ = &sheet_->dir;
+    record_ = &sheet_->record;
+    images_ = &sheet_->images;
+    press_ = sheet_->press.get();
     DetectorOptions detector_options;
     detector_options.families = TagFamily::Names();
     detector_options.report_rejected = true;
     detector_ = Detector::Create(detector_options).release();
   }
   static void TearDownTestSuite() {
-    std::error_code ignored;
-    fs::remove_all(*dir_, ignored);
-    delete dir_;
-    delete record_;
-    delete images_;
-    delete press_;
+    delete sheet_;
     delete detector_;
   }
 
-  static double PxPerMm() { return kRasterDpi / 25.4; }
+  static double PxPerMm() { return testing::PrintedSheet::PxPerMm(); }
 
   static PrintPageResult Scan(const cv::Mat& page, const PrintFn& print,
                               const PrintGeometry& geometry = {},
@@ -104,7 +82,8 @@ class PrintCheckTest : public ::testing::Test {
     return options;
   }
 
-  static inline std::string* dir_ = nullptr;
+  static inline testing::PrintedSheet* sheet_ = nullptr;
+  static inline const std::string* dir_ = nullptr;
   static inline SheetRecord* record_ = nullptr;
   static inline SheetImages* images_ = nullptr;
   static inline IccPress* press_ = nullptr;

@@ -9,6 +9,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/camera.h"
+#include "page_view.h"
 
 namespace chromatag {
 namespace {
@@ -30,16 +31,9 @@ Board Grid() {
   return board;
 }
 
-// A 752 x 480 camera with fx 600 and strong barrel distortion (k1 -0.25).
-CameraIntrinsics Pinhole() {
-  CameraIntrinsics camera;
-  camera.fx = 600;
-  camera.fy = 603;
-  camera.cx = 370;
-  camera.cy = 245;
-  camera.distortion = {-0.25, 0.08, 0.001, -0.0005, 0};
-  return camera;
-}
+// The calibration tests' camera (page_view.h): 752 x 480, fx 600, strong
+// barrel distortion (k1 -0.25).
+CameraIntrinsics Pinhole() { return testing::BarrelCamera(); }
 
 // The board seen by `camera`, its corners moved by Gaussian noise of 0.1 px;
 // tags not wholly in the image are not seen. `id_of` may print a tag with

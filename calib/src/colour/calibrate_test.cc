@@ -182,20 +182,9 @@ TEST(CalibCalibrateTest, ThresholdsAllowForDimmerLightAndNeverExceedTheDefaults)
 namespace chromatag {
 namespace {
 
-// A printer that loses four fifths of the chroma: the default palette's a*
-// gap of 115 prints as about 23, below the paper's ADiffThresh of 25.
-SimPrinter WashedOut() {
-  SimPrinter printer;
-  printer.chroma_scale = 0.2;
-  printer.hue_shift_deg = 4.0;
-  printer.dot_gain = 0.3;
-  printer.black_l = 18.0;
-  return printer;
-}
-
 TEST(CalibCalibrateTest, WashedOutThresholdsFindTagsTheDefaultsMiss) {
   const CalibSheetLayout layout = Sheet();
-  const SimPrinter printer = WashedOut();
+  const SimPrinter printer = SimPrinter::WashedOut();
   std::string error;
   // Not in cool light: it takes the printed reds below the a* of 12 the
   // detector needs to see red at all (detector/src/initial_scan.cc).
