@@ -19,45 +19,11 @@
 #include <string>
 #include <thread>
 
+#include "chromatag/bench/run_info.h"
 #include "src/calib_report.h"
 #include "src/calib_trial.h"
 
 namespace {
-
-// The model name, and the family and model numbers that identify the core
-// when a virtual machine hides the name.
-std::string CpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line, name = "unknown", family, model;
-  const auto value = [](const std::string& text) {
-    const size_t start = text.find_first_not_of(" \t", text.find(':') + 1);
-    return start == std::string::npos ? std::string() : text.substr(start);
-  };
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0 && name == "unknown") name = value(line);
-    if (line.rfind("cpu family", 0) == 0 && family.empty()) family = value(line);
-    if (line.rfind("model\t", 0) == 0 && model.empty()) model = value(line);
-  }
-  return name + " (family " + family + ", model " + model + "), " +
-         std::to_string(std::thread::hardware_concurrency()) + " logical CPUs";
-}
-
-// Other work on the machine makes the times noisier: the report says how busy it was.
-std::string LoadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  in >> one >> five >> fifteen;
-  return one + " / " + five + " / " + fifteen;
-}
-
-std::string CommandLine(int argc, char** argv) {
-  std::ostringstream command;
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = i ? argv[i] : std::filesystem::path(argv[0]).filename().string();
-    command << (i ? " " : "") << (arg.find(' ') == std::string::npos ? arg : "'" + arg + "'");
-  }
-  return command.str();
-}
 
 // What the command line asks for.
 struct Args {

@@ -26,41 +26,12 @@
 
 #include "chromatag/bench/comparison.h"
 #include "chromatag/bench/prints.h"
+#include "chromatag/bench/run_info.h"
 #include "chromatag/detector/config.h"
 
 namespace {
 
 using namespace chromatag::bench;
-
-// The model name, and the family and model numbers that identify the core
-// when a virtual machine hides the name ("AMD EPYC").
-std::string CpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line, name = "unknown", family, model;
-  auto value = [](const std::string& text) {
-    const size_t colon = text.find(':');
-    const size_t start =
-        colon == std::string::npos ? std::string::npos : text.find_first_not_of(' ', colon + 1);
-    return start == std::string::npos ? std::string() : text.substr(start);
-  };
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0 && name == "unknown") name = value(line);
-    if (line.rfind("cpu family", 0) == 0 && family.empty()) family = value(line);
-    if (line.rfind("model\t", 0) == 0 && model.empty()) model = value(line);
-  }
-  const unsigned cores = std::thread::hardware_concurrency();
-  return name + " (family " + family + ", model " + model + "), " + std::to_string(cores) +
-         " logical CPUs";
-}
-
-// The 1, 5 and 15 minute load averages: other work on the machine slows
-// every detector alike but makes the absolute times noisier.
-std::string LoadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  in >> one >> five >> fifteen;
-  return one + " / " + five + " / " + fifteen;
-}
 
 void DrawQuad(cv::Mat& image, const Quad& quad, const cv::Scalar& color, int thickness) {
   for (int i = 0; i < 4; ++i) {
@@ -293,16 +264,6 @@ bool CalibrateForEachPrint(const std::vector<std::string>& families,
     used->emplace_back(PrintKindName(print), *options);
   }
   return true;
-}
-
-// The command as typed, arguments with spaces quoted.
-std::string CommandLine(int argc, char** argv) {
-  std::ostringstream command;
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = i ? argv[i] : std::filesystem::path(argv[0]).filename().string();
-    command << (i ? " " : "") << (arg.find(' ') == std::string::npos ? arg : "'" + arg + "'");
-  }
-  return command.str();
 }
 
 // Progress on stderr: one line redrawn on a terminal, else a line every tenth.
