@@ -10,6 +10,7 @@
 #include "chromatag/calib/calib_sheet.h"
 #include "chromatag/calib/calibrate.h"
 #include "chromatag/detector/read_image.h"
+#include "chromatag/families/margins.h"
 #include "chromatag/families/palette.h"
 #include "chromatag/generator/cairo_util.h"
 #include "chromatag/layout/calib_sheet_layout.h"
@@ -34,7 +35,7 @@ struct CalibrateArgs {
   std::vector<std::string> photos;
   std::string sheet;
   std::string output;
-  double safety = 2.0;
+  double safety = kMarginSafetyFactor;
   int lut_size = 17;
 };
 

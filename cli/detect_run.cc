@@ -335,7 +335,7 @@ Outcome Run::Process(Task& task, DetectionResult* result) const {
     outcome.out = TableLines(source.name, task.frame_index, result->detections, board, board_pose);
     return outcome;
   }
-  FrameRecord record;
+  FrameJsonRecord record;
   record.file = source.name;
   record.frame = task.frame_index;
   record.width = frame.cols;

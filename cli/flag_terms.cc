@@ -42,8 +42,6 @@ constexpr std::pair<std::string_view, std::string_view> kTerms[] = {
     // detect (detector/read_image.cc)
     {"a PDF or SVG sheet is rasterised and checked by the round trip (verify)",
      "a PDF or SVG sheet is checked by chromatag verify"},
-    // calibrate-camera (rig/camera_file.cc)
-    {"calibrate with k3 fixed at 0 for a", "calibrate without --k3 for a"},
     // calibrate (calib/locate_sheet.cc)
     {"or the wrong sheet's sidecar)", "or the wrong --sheet)"},
 };

@@ -148,7 +148,12 @@ echo "install_test: docs/cpp.md's first program, find_package and pkg-config con
 # The board example: a generated board seen face-on in its own page.
 "$prefix/bin/chromatag" generate --board 3x2 --dpi 150 -o "$work/board.png" >/dev/null
 cmake -S "$source/examples/board_pose" -B "$work/board_example" -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+  -DCMAKE_PREFIX_PATH="$prefix" >"$work/board_configure.txt" 2>&1
+# COMPONENTS rig: the detector's dependencies and yaml-cpp and tinyxml2, no more.
+if grep -Ei "ceres|glog|cairo|poppler|rsvg|opencolorio" "$work/board_configure.txt"; then
+  echo "install_test: configuring a program on ChromaTag::rig looked for the above" >&2
+  exit 1
+fi
 cmake --build "$work/board_example" >/dev/null
 "$work/board_example/board_pose" "$work/board.png" "$work/board.png.json" --focal 1500 \
   --out "$work/board_drawn.png" >"$work/board.txt"

@@ -37,6 +37,8 @@ def main():
     source = sys.argv[1]
     problems = []
     for lib, allowed in BELOW.items():
+        if not any(sources(os.path.join(source, lib))):
+            problems.append(f"{lib}/: no sources (a library renamed or moved? update BELOW)")
         for path in sources(os.path.join(source, lib)):
             with open(path, encoding="utf-8") as f:
                 for number, line in enumerate(f, 1):

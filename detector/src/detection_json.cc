@@ -71,7 +71,7 @@ Json BoardObject(const Board& board, const BoardPose& pose,
 
 std::string DetectionJson(const Detection& detection) { return Dump(DetectionObject(detection)); }
 
-std::string FrameJson(const FrameRecord& frame, const std::vector<Detection>& detections) {
+std::string FrameJson(const FrameJsonRecord& frame, const std::vector<Detection>& detections) {
   Json items = Json::array();
   for (const Detection& d : detections) items.push_back(DetectionObject(d));
   Json line = {{"file", frame.file},     {"frame", frame.frame},     {"width", frame.width},

@@ -42,7 +42,7 @@ TEST(DetectionJsonTest, OneDetectionAsTheCliWritesIt) {
 }
 
 TEST(DetectionJsonTest, FrameLineWithBoardRejectedAndOverlay) {
-  FrameRecord frame;
+  FrameJsonRecord frame;
   frame.file = "a\xff.png";  // Not UTF-8: written with U+FFFD.
   frame.frame = 2;
   frame.width = 640;
@@ -67,7 +67,10 @@ TEST(DetectionJsonTest, FrameLineWithBoardRejectedAndOverlay) {
   RejectedCandidate rejected;
   rejected.seed = {5, 6};
   rejected.centre = {7.5f, 8.5f};
-  std::vector<RejectedCandidate> all_rejected = {rejected};
+  RejectedCandidate grown = rejected;  // Lost again after GrowRegion.
+  grown.grown = true;
+  grown.grow_reason = RejectReason::kNoQuietZone;
+  std::vector<RejectedCandidate> all_rejected = {rejected, grown};
   frame.board = &board;
   frame.board_pose = &pose;
   frame.rejected = &all_rejected;
@@ -87,6 +90,12 @@ TEST(DetectionJsonTest, FrameLineWithBoardRejectedAndOverlay) {
             std::string::npos)
       << line;
   EXPECT_NE(line.find(R"("timestamp":12.5)"), std::string::npos) << line;
+  // Only the candidate GrowRegion tried says why that failed too.
+  const size_t grow = line.find(R"("grow_reason":")" +
+                                std::string(RejectReasonName(RejectReason::kNoQuietZone)) + "\"");
+  EXPECT_NE(grow, std::string::npos) << line;
+  EXPECT_EQ(line.find("grow_reason"), grow + 1) << line;  // The first and only one.
+  EXPECT_EQ(line.find("grow_reason", grow + 2), std::string::npos) << line;
 
   frame.board_pose = nullptr;  // The board not seen.
   EXPECT_NE(FrameJson(frame, {}).find(R"("board":null)"), std::string::npos);

@@ -1,8 +1,9 @@
 // Switches for the detector's own additions to the paper's Algorithm 1, so
 // that a benchmark can measure what each one buys (bench/pair_timing --off).
 // Not in DetectorOptions: they are always on for users. The Detector keeps
-// them; the stages that test one (PolyToQuad, NestedAndRefined,
-// DecodeCandidate) take them whole.
+// them; the stages that test refine_corners (PolyToQuad, NestedAndRefined,
+// DecodeCandidate) take them whole, and Decode's colour split finds its
+// switch in each family's FamilyDecoder.
 #ifndef CHROMATAG_DETECTOR_SRC_STAGE_SWITCHES_H_
 #define CHROMATAG_DETECTOR_SRC_STAGE_SWITCHES_H_
 

@@ -21,7 +21,7 @@ namespace chromatag {
 std::string DetectionJson(const Detection& detection);
 
 // What a frame's line holds beside its detections.
-struct FrameRecord {
+struct FrameJsonRecord {
   std::string file;  // The input's name as the user gave it; not UTF-8 is written with U+FFFD.
   int frame = 0;     // The frame's index in its input (0 for an image).
   int width = 0;     // Pixels.
@@ -40,7 +40,7 @@ struct FrameRecord {
 
 // A frame's line of `chromatag detect --json`, without the newline: the
 // record's fields and "detections" (DetectionJson's objects).
-std::string FrameJson(const FrameRecord& frame, const std::vector<Detection>& detections);
+std::string FrameJson(const FrameJsonRecord& frame, const std::vector<Detection>& detections);
 
 }  // namespace chromatag
 
