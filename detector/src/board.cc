@@ -251,6 +251,27 @@ void SetTagsUsed(const std::vector<Match>& matches, const std::vector<int>& agre
     if (!agrees[i]) pose->detections_rejected.push_back(matches[i].detection);
 }
 
+// The covariance of fits[best] from the corners of the tags that agree
+// with it; the other solution is its rival when as many tags agree with it.
+cv::Matx66d BoardCovariance(const std::vector<Detection>& detections,
+                            const CameraIntrinsics& camera, const std::vector<Match>& matches,
+                            const std::vector<std::vector<int>>& agreeing,
+                            const std::vector<PoseFit>& fits, size_t best, const cv::Matx33d& k) {
+  std::vector<internal::CornerNoise> noise;
+  noise.reserve(agreeing[best].size());
+  for (int i : agreeing[best]) {
+    internal::CornerNoise tag;
+    if (internal::TagCornerNoise(detections[matches[i].detection], camera, matches[i].board, &tag))
+      noise.push_back(std::move(tag));
+  }
+  std::vector<const internal::CornerNoise*> tags;
+  for (const internal::CornerNoise& tag : noise) tags.push_back(&tag);
+  const PoseFit* rival = nullptr;
+  if (fits.size() == 2 && agreeing[1 - best].size() == agreeing[best].size())
+    rival = &fits[1 - best];
+  return internal::PoseCovariance(tags, fits[best], rival, k);
+}
+
 }  // namespace
 
 bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& board,
@@ -295,6 +316,7 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
       pose->ambiguity = std::min(1.0, fit.rms_px / other.rms_px);
   }
   SetTagsUsed(matches, agreeing[best], pose);
+  pose->covariance = BoardCovariance(detections, camera, matches, agreeing, fits, best, k);
   return true;
 }
 

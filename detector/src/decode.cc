@@ -991,8 +991,24 @@ void FillDetection(const ImageView& image, const TagFamily& family, const Candid
   // moved to where the black ring's width says the edges lie (refine_corners.h,
   // RefineReportedQuad). If that fails, the stages' corners are reported.
   Quad reported = candidate.quads[kBlackWhite];
-  RefineReportedQuad(image, cells, buffers, &reported);
+  cv::Matx<double, 8, 8> covariance;
+  if (!RefineReportedQuad(image, cells, buffers, &reported, &covariance)) {
+    covariance =
+        (kUnrefinedCornerSigmaPx * kUnrefinedCornerSigmaPx + kCornerFloorPx * kCornerFloorPx) *
+        cv::Matx<double, 8, 8>::eye();
+  }
   for (int i = 0; i < 4; ++i) detection->corners[i] = reported[(i + k) % 4];
+  // The covariance's blocks in the same order.
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      const int from_i = (i + k) % 4, from_j = (j + k) % 4;
+      for (int a = 0; a < 2; ++a) {
+        for (int b = 0; b < 2; ++b)
+          detection->corner_covariance(2 * i + a, 2 * j + b) =
+              covariance(2 * from_i + a, 2 * from_j + b);
+      }
+    }
+  }
   detection->image_from_tag = UnitSquareToQuad(detection->corners);
   // Inner corners in the same order, where the tag's proportions put them
   // inside the outer ones (one and two cells in). The outer border is the

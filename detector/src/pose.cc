@@ -27,7 +27,8 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
   std::vector<cv::Point2d> image;
   if (!UndistortedRingCorners(detection, camera, &image, error)) return false;
   const std::vector<cv::Point3d> object = TagRingCorners(*detection.family, tag_size);
-  const std::vector<PoseFit> fits = TagPoseFits(object, image, CameraMatrix(camera));
+  const cv::Matx33d k = CameraMatrix(camera);
+  const std::vector<PoseFit> fits = TagPoseFits(object, image, k);
   if (fits.empty()) {
     if (error) *error = "no pose puts the tag in front of the camera";
     return false;
@@ -42,6 +43,12 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
   pose->tvec = fits[0].translation;
   pose->rms_error_px = fits[0].rms_px;
   pose->ambiguity = Ambiguity(fits);
+  CornerNoise noise;
+  if (!TagCornerNoise(detection, camera, object, &noise)) {
+    if (error) *error = "a corner lies beyond the range of the camera's lens model";
+    return false;
+  }
+  pose->covariance = PoseCovariance({&noise}, fits[0], Rival(fits), k);
   return true;
 }
 

@@ -8,6 +8,8 @@
 
 #include "chromatag/detector/camera.h"
 
+#include "geometry.h"
+
 namespace chromatag::internal {
 namespace {
 
@@ -142,6 +144,164 @@ void Reprojection::Refine(PoseFit* fit) const {
   fit->rms_px = std::sqrt(cost / static_cast<double>(object_.size()));
 }
 
+namespace {
+
+// The twelve ring corners placed from the four outer ones (the detector's
+// way: one and two cells inside them, through the homography of the
+// square), lens distortion then taken out.
+std::vector<cv::Point2d> RingFromCorners(const Quad& corners, int cells,
+                                         const CameraIntrinsics& camera) {
+  const cv::Matx33d h = UnitSquareToQuad(corners);
+  std::vector<cv::Point2d> ring(corners.begin(), corners.end());
+  for (int inset = 1; inset <= 2; ++inset) {
+    const Quad inner = InsetSquare(h, inset / static_cast<double>(cells));
+    ring.insert(ring.end(), inner.begin(), inner.end());
+  }
+  return UndistortPoints(camera, ring);
+}
+
+// d(projection of `object` under r, t) / d(w, t), two rows per point, with
+// the residuals (projection - image) into *residual.
+void ProjectionJacobian(const std::vector<cv::Point3d>& object,
+                        const std::vector<cv::Point2d>& image, const cv::Matx33d& r,
+                        const cv::Vec3d& t, const cv::Matx33d& k, cv::Mat* jacobian,
+                        cv::Mat* residual) {
+  const int n = static_cast<int>(object.size());
+  *jacobian = cv::Mat::zeros(2 * n, 6, CV_64F);
+  *residual = cv::Mat::zeros(2 * n, 1, CV_64F);
+  for (int i = 0; i < n; ++i) {
+    const cv::Vec3d q = r * cv::Vec3d(object[i].x, object[i].y, object[i].z);
+    const cv::Vec3d p = q + t;
+    const double fx = k(0, 0), fy = k(1, 1), z = p[2];
+    residual->at<double>(2 * i) = fx * p[0] / z + k(0, 2) - image[i].x;
+    residual->at<double>(2 * i + 1) = fy * p[1] / z + k(1, 2) - image[i].y;
+    const cv::Vec3d du(fx / z, 0, -fx * p[0] / (z * z)), dv(0, fy / z, -fy * p[1] / (z * z));
+    for (int row = 0; row < 2; ++row) {
+      const cv::Vec3d& g = row == 0 ? du : dv;
+      const cv::Vec3d gw = q.cross(g);  // As Reprojection::Normal.
+      double* out = jacobian->ptr<double>(2 * i + row);
+      for (int c = 0; c < 3; ++c) {
+        out[c] = gw[c];
+        out[3 + c] = g[c];
+      }
+    }
+  }
+}
+
+// The outer corners' misfit under (r, t), weighed by their covariance
+// (carried to undistorted pixels): a chi-square with eight terms per tag.
+double CornerChiSquare(const std::vector<const CornerNoise*>& noise, const cv::Matx33d& r,
+                       const cv::Vec3d& t, const cv::Matx33d& k) {
+  double chi2 = 0.0;
+  for (const CornerNoise* tag : noise) {
+    cv::Mat j, e;
+    const std::vector<cv::Point3d> outer(tag->object.begin(), tag->object.begin() + 4);
+    const std::vector<cv::Point2d> seen(tag->image.begin(), tag->image.begin() + 4);
+    ProjectionJacobian(outer, seen, r, t, k, &j, &e);
+    const cv::Mat d = cv::Mat(tag->image_from_corners).rowRange(0, 8);
+    const cv::Mat covariance = d * cv::Mat(tag->covariance) * d.t();
+    cv::Mat weighed;
+    if (!cv::solve(covariance, e, weighed, cv::DECOMP_CHOLESKY)) return 0.0;
+    chi2 += e.dot(weighed);
+  }
+  return chi2;
+}
+
+// The 95 % point of a chi-square with `dof` degrees of freedom (Wilson and
+// Hilferty's cube-root approximation: within 1 % from two degrees up).
+double ChiSquare95(double dof) {
+  const double a = 2.0 / (9.0 * dof);
+  const double root = 1.0 - a + 1.6449 * std::sqrt(a);
+  return dof * root * root * root;
+}
+
+// (w, t) -> ROS's (t, w).
+cv::Matx66d RosOrder(const cv::Mat& covariance) {
+  cv::Matx66d out;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) out(i, j) = covariance.at<double>((i + 3) % 6, (j + 3) % 6);
+  }
+  return out;
+}
+
+}  // namespace
+
+bool TagCornerNoise(const Detection& detection, const CameraIntrinsics& camera,
+                    std::vector<cv::Point3d> object, CornerNoise* noise) {
+  if (!UndistortedRingCorners(detection, camera, &noise->image, nullptr)) return false;
+  noise->object = std::move(object);
+  const int cells = detection.family->black_square_cells();
+  constexpr double kStep = 1e-3;  // Pixels: central differences.
+  for (int c = 0; c < 8; ++c) {
+    Quad plus = detection.corners, minus = detection.corners;
+    (c % 2 == 0 ? plus[c / 2].x : plus[c / 2].y) += kStep;
+    (c % 2 == 0 ? minus[c / 2].x : minus[c / 2].y) -= kStep;
+    const std::vector<cv::Point2d> a = RingFromCorners(plus, cells, camera);
+    const std::vector<cv::Point2d> b = RingFromCorners(minus, cells, camera);
+    for (int i = 0; i < 12; ++i) {
+      noise->image_from_corners(2 * i, c) = (a[i].x - b[i].x) / (2 * kStep);
+      noise->image_from_corners(2 * i + 1, c) = (a[i].y - b[i].y) / (2 * kStep);
+    }
+  }
+  for (int r = 0; r < 24; ++r) {
+    for (int c = 0; c < 8; ++c) {
+      if (!std::isfinite(noise->image_from_corners(r, c))) return false;
+    }
+  }
+  noise->covariance = detection.corner_covariance;
+  if (cv::norm(noise->covariance) == 0.0)
+    noise->covariance =
+        kUnknownCornerSigmaPx * kUnknownCornerSigmaPx * cv::Matx<double, 8, 8>::eye();
+  return true;
+}
+
+cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const PoseFit& fit,
+                           const PoseFit* rival, const cv::Matx33d& k) {
+  // The fit's parameters move with the image points as -(J^T J)^-1 J^T, and
+  // the image points with the corners as image_from_corners (H): per tag,
+  // M = J^T H, and the covariance is (J^T J)^-1 (sum M C M^T) (J^T J)^-1.
+  cv::Mat jtj = cv::Mat::zeros(6, 6, CV_64F), middle = cv::Mat::zeros(6, 6, CV_64F);
+  double residual_ss = 0.0, image_variance = 0.0;
+  for (const CornerNoise* tag : noise) {
+    cv::Mat j, e;
+    ProjectionJacobian(tag->object, tag->image, fit.rotation, fit.translation, k, &j, &e);
+    const cv::Mat h(tag->image_from_corners), c(tag->covariance);
+    const cv::Mat m = j.t() * h;
+    jtj += j.t() * j;
+    middle += m * c * m.t();
+    residual_ss += e.dot(e);
+    image_variance += cv::trace(h * c * h.t())[0];
+  }
+  cv::Mat inverse;
+  if (cv::invert(jtj, inverse, cv::DECOMP_CHOLESKY) == 0.0)
+    return cv::Matx66d::eye() * std::numeric_limits<double>::infinity();
+  cv::Mat covariance = inverse * middle * inverse;
+  // The residuals the corners' noise would leave: the image points'
+  // variance less the share the fit absorbs, over eight corner coordinates
+  // a tag less the pose's six. Residuals that fail a 95 % chi-square test
+  // against it (a lens model or a board that is off) take over the scale.
+  const double expected = image_variance - cv::trace(inverse * middle)[0];
+  const double dof = 8.0 * static_cast<double>(noise.size()) - 6.0;
+  double scale = 1.0;
+  if (expected > 0 && dof > 0 && residual_ss / expected > ChiSquare95(dof) / dof)
+    scale = residual_ss / expected;
+  covariance *= scale;
+  if (rival && AngleBetween(fit.rotation, rival->rotation) > kSameSolutionRadians) {
+    // The rival's share: its likelihood against the fit's, from the outer
+    // corners' misfit under each.
+    const double gap = (CornerChiSquare(noise, rival->rotation, rival->translation, k) -
+                        CornerChiSquare(noise, fit.rotation, fit.translation, k)) /
+                       scale;
+    const double share = 1.0 / (1.0 + std::exp(std::min(0.5 * gap, 700.0)));
+    cv::Vec3d w;
+    cv::Rodrigues(Orthonormal(rival->rotation * fit.rotation.t()), w);
+    const cv::Vec3d dt = rival->translation - fit.translation;
+    const cv::Mat apart = (cv::Mat_<double>(6, 1) << w[0], w[1], w[2], dt[0], dt[1], dt[2]);
+    covariance += share * apart * apart.t();
+  }
+  return RosOrder(covariance);
+}
+
 std::vector<PoseFit> TagPoseFits(const std::vector<cv::Point3d>& object,
                                  const std::vector<cv::Point2d>& image, const cv::Matx33d& k) {
   // Starting points, each refined on the twelve corners: both planar
@@ -219,15 +379,20 @@ bool Finite(const cv::Vec3d& v) {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
 
-double Ambiguity(const std::vector<PoseFit>& fits) {
+const PoseFit* Rival(const std::vector<PoseFit>& fits) {
   // Solutions refined into one (a frontal view: the planar solutions are its
   // mirror tilts) leave nothing ambiguous.
   for (size_t i = 1; i < fits.size(); ++i) {
     if (AngleBetween(fits[0].rotation, fits[i].rotation) > kSameSolutionRadians &&
         fits[i].rms_px > 0)
-      return fits[0].rms_px / fits[i].rms_px;
+      return &fits[i];
   }
-  return 0.0;
+  return nullptr;
+}
+
+double Ambiguity(const std::vector<PoseFit>& fits) {
+  const PoseFit* rival = Rival(fits);
+  return rival ? fits[0].rms_px / rival->rms_px : 0.0;
 }
 
 }  // namespace chromatag::internal

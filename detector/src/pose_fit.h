@@ -72,8 +72,48 @@ double AngleBetween(const cv::Matx33d& a, const cv::Matx33d& b);
 
 bool Finite(const cv::Vec3d& v);
 
+// What one tag's corners tell a pose fit, and how well: its twelve ring
+// corners in the fitted body's frame and where they were seen
+// (undistorted), how those image points move with the four corners the
+// detector measured (the inner corners are placed from the outer ones, and
+// lens distortion is taken out after), and the four corners' covariance.
+struct CornerNoise {
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> image;
+  cv::Matx<double, 24, 8> image_from_corners;  // d(image) / d(corners x0, y0, ...).
+  cv::Matx<double, 8, 8> covariance;           // The four corners', px^2.
+};
+
+// Standard deviation per coordinate given to the corners of a detection
+// that carries no covariance (one made by hand), unless the fit's rms
+// error is larger; px.
+inline constexpr double kUnknownCornerSigmaPx = 0.5;
+
+// The CornerNoise of `detection` (its twelve ring corners, undistorted, as
+// `image`; `object` as given). The covariance is the detection's, or
+// kUnknownCornerSigmaPx independent when it carries none. False when a
+// corner is not finite or beyond the lens model's range.
+bool TagCornerNoise(const Detection& detection, const CameraIntrinsics& camera,
+                    std::vector<cv::Point3d> object, CornerNoise* noise);
+
+// The covariance of the pose `fit` fitted to the tags of `noise`, in ROS's
+// PoseWithCovariance order and units: translation x, y, z (m) then a small
+// rotation about the camera's x, y, z axes composed onto the fitted one
+// (R' = exp([w]x) R, the body turning about its own origin; rad). The
+// corners' covariance carried through the least-squares fit, scaled up
+// when the fit's residuals are larger than that noise explains; when
+// `rival` (another local solution, or null) fits the corners nearly as
+// well, its difference from `fit` is added in the share the corners give
+// it.
+cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const PoseFit& fit,
+                           const PoseFit* rival, const cv::Matx33d& k);
+
 // Two refined solutions closer than this (radians) are one.
 inline constexpr double kSameSolutionRadians = 1e-4;
+
+// The best solution among `fits` (sorted best first) that differs from the
+// first, or null.
+const PoseFit* Rival(const std::vector<PoseFit>& fits);
 
 // The ambiguity of the best of `fits` (sorted best first): its rms over that
 // of the best solution that differs from it (as AprilTag 3's err1 / err2);

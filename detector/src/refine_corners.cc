@@ -68,7 +68,59 @@ bool FitLine(std::vector<cv::Point2d>* points, std::vector<double>* residual_buf
   return true;
 }
 
+// The uncertainty of `line`, fitted to `points` (at least three): the
+// residuals' variance (two degrees of freedom taken by the fit) over the
+// points for the offset at their centroid, over their spread along the line
+// for the angle.
+SideFit SideFitOf(const std::vector<cv::Point2d>& points, const Line& line) {
+  const cv::Point2d normal(-line.direction.y, line.direction.x);
+  double sum_r2 = 0, sum_u2 = 0;
+  for (const auto& p : points) {
+    const cv::Point2d d = p - line.point;
+    sum_r2 += d.dot(normal) * d.dot(normal);
+    sum_u2 += d.dot(line.direction) * d.dot(line.direction);
+  }
+  const double n = static_cast<double>(points.size());
+  const double variance = points.size() > 2 ? sum_r2 / (n - 2.0) : 0.0;
+  SideFit fit;
+  fit.line = line;
+  fit.offset_variance = variance / n;
+  fit.angle_variance = sum_u2 > 0 ? variance / sum_u2 : 0.0;
+  return fit;
+}
+
 }  // namespace
+
+cv::Matx<double, 8, 8> CornerCovariance(const std::array<SideFit, 4>& sides, const Quad& quad) {
+  // Corner i moves with the sides through it: along side a's normal by a's
+  // offset error plus its angle error times the corner's distance along a
+  // from a's centroid; likewise for b. g maps the eight side errors
+  // (offset, angle of side 0, then side 1, ...) to the corners' x, y.
+  cv::Matx<double, 8, 8> g = cv::Matx<double, 8, 8>::zeros();
+  for (int i = 0; i < 4; ++i) {
+    const int side[2] = {(i + 3) % 4, i};
+    cv::Matx22d normals;
+    cv::Matx<double, 2, 8> moves = cv::Matx<double, 2, 8>::zeros();
+    for (int k = 0; k < 2; ++k) {
+      const Line& line = sides[side[k]].line;
+      normals(k, 0) = -line.direction.y;
+      normals(k, 1) = line.direction.x;
+      moves(k, 2 * side[k]) = 1.0;
+      moves(k, 2 * side[k] + 1) = (quad[i] - line.point).dot(line.direction);
+    }
+    const cv::Matx<double, 2, 8> rows = normals.inv() * moves;
+    for (int c = 0; c < 8; ++c) {
+      g(2 * i, c) = rows(0, c);
+      g(2 * i + 1, c) = rows(1, c);
+    }
+  }
+  cv::Matx<double, 8, 8> errors = cv::Matx<double, 8, 8>::zeros();
+  for (int k = 0; k < 4; ++k) {
+    errors(2 * k, 2 * k) = sides[k].offset_variance;
+    errors(2 * k + 1, 2 * k + 1) = sides[k].angle_variance;
+  }
+  return g * errors * g.t();
+}
 
 // The edge point on the profile across the side at `middle`, searched within
 // `half` pixels either way: the steepest part of the profile is taken as
@@ -220,6 +272,7 @@ bool QuadFromEdges(const std::vector<ProfileEdge>& edges, const std::array<int, 
     }
     if (points.size() < 4) return false;
     if (!FitLine(&points, &buffers->residual, &buffers->sorted, &sides[i])) return false;
+    if (buffers->side_fits) (*buffers->side_fits)[i] = SideFitOf(points, sides[i]);
   }
   Quad refined;
   if (!QuadFromSides(sides, &refined)) return false;
@@ -288,7 +341,8 @@ bool RefineOuterQuad(const ImageView& image, SideFitBuffers* buffers, Candidate*
   return true;
 }
 
-bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad) {
+bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad,
+                        cv::Matx<double, 8, 8>* covariance) {
   const double side = std::sqrt(QuadArea(*quad));
   const double cell = side / cells;
   if (!(cell > 1.0)) return false;
@@ -297,6 +351,7 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
   Quad outer[2] = {*quad, *quad};
   const Quad inner_start = InsetSquare(UnitSquareToQuad(*quad), 1.0 / cells);
   Quad inner[2] = {inner_start, inner_start};
+  std::array<SideFit, 4> side_fits;
   // The outer border at the encoded average is `quad` itself, as
   // RefineOuterQuad left it.
   for (int way = 0; way < 2; ++way) {
@@ -306,9 +361,12 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
     SideSearch out{kGray, kRisesOutwards, kMinGrayContrast, cell, kReportedOuterProfiles, 1.5};
     SideSearch in{kGray, kFallsOutwards, kMinGreenBlackContrast, cell, kMinProfiles, 2.5};
     out.halfway = in.halfway = halfway;
-    if ((way == 1 && !RefineQuad(image, out, buffers, &outer[way])) ||
-        !RefineQuad(image, in, buffers, &inner[way]))
-      return false;
+    // The linear-light outer sides' scatter stands for both conventions'
+    // (the same profiles, read at another level).
+    buffers->side_fits = way == 1 && covariance ? &side_fits : nullptr;
+    const bool outer_found = way == 0 || RefineQuad(image, out, buffers, &outer[way]);
+    buffers->side_fits = nullptr;
+    if (!outer_found || !RefineQuad(image, in, buffers, &inner[way])) return false;
   }
   // Sides (square roots of the areas), linear in the share: the share at
   // which the inner square's side is (cells - 2) / cells of the outer's.
@@ -323,6 +381,16 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
   if (std::abs(change) > 1e-6)
     share = std::clamp((ratio * outer_side[0] - inner_side[0]) / change, 0.0, 1.0);
   for (int i = 0; i < 4; ++i) (*quad)[i] = outer[0][i] + share * (outer[1][i] - outer[0][i]);
+  if (covariance) {
+    cv::Vec<double, 8> apart;
+    for (int i = 0; i < 4; ++i) {
+      apart[2 * i] = outer[1][i].x - outer[0][i].x;
+      apart[2 * i + 1] = outer[1][i].y - outer[0][i].y;
+    }
+    *covariance = CornerCovariance(side_fits, outer[1]) +
+                  kShareSigma * kShareSigma * apart * apart.t() +
+                  kCornerFloorPx * kCornerFloorPx * cv::Matx<double, 8, 8>::eye();
+  }
   return true;
 }
 

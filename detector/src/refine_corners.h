@@ -4,6 +4,7 @@
 #ifndef CHROMATAG_DETECTOR_SRC_REFINE_CORNERS_H_
 #define CHROMATAG_DETECTOR_SRC_REFINE_CORNERS_H_
 
+#include <array>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -57,6 +58,15 @@ struct SideSearch {
 // The profiles across a side and the edge points on them are the edge
 // kernel's (kernels/kernels.h: ProfileSpec, ProfileEdge, kProfileStep).
 
+// How well a fitted side is known: its line, and the variances of its
+// offset along its normal at the edge points' centroid and of its angle,
+// from the scatter of the kept edge points about it.
+struct SideFit {
+  Line line;
+  double offset_variance = 0.0;  // px^2.
+  double angle_variance = 0.0;   // rad^2.
+};
+
 // RefineQuad's buffers: the profiles across the four sides and their edge
 // points, one side's points found, and its line's residuals (FitLine).
 struct SideFitBuffers {
@@ -64,7 +74,30 @@ struct SideFitBuffers {
   std::vector<ProfileEdge> edges;
   std::vector<cv::Point2d> points;
   std::vector<double> residual, sorted;
+  // When set, RefineQuad fills it with each side's fit (side i runs from
+  // corner i to corner i + 1). Left null on the stages' searches, which
+  // only need the lines.
+  std::array<SideFit, 4>* side_fits = nullptr;
 };
+
+// The covariance of the four corners where the sides meet (corner i on sides
+// i - 1 and i), as x0, y0, x1, y1, ...: each side's offset and angle errors
+// carried to the corners it ends at, independent from side to side. px^2.
+cv::Matx<double, 8, 8> CornerCovariance(const std::array<SideFit, 4>& sides, const Quad& quad);
+
+// The noise in a reported corner that the edges' scatter does not show:
+// the camera's and printer's departures from a sharp straight edge (tone
+// curve, demosaicing, sharpening, a print's ink spread), as a standard
+// deviation per coordinate added to every reported corner, px; and how far
+// the black ring's share between the two edge conventions
+// (RefineReportedQuad) may be off, as a standard deviation of the share.
+// Set from the camera set's pose errors against the truth
+// (tag_comparison's pose covariance table; docs/pose.md, "Uncertainty").
+inline constexpr double kCornerFloorPx = 0.05;
+inline constexpr double kShareSigma = 0.25;
+// Corners reported without RefineReportedQuad (a border it could not
+// locate): standard deviation per coordinate, px.
+inline constexpr double kUnrefinedCornerSigmaPx = 0.5;
 // The edge point on one profile: where `channel` passes halfway between the
 // two levels (in linear light for the gray channel with Halfway::kLinearLight:
 // profile and levels decoded first), nearest the steepest change the
@@ -103,8 +136,13 @@ bool RefineInnerQuads(const ImageView& image, SideFitBuffers* buffers, Candidate
 // values (the encoded average is right). The black ring is one cell wide:
 // its outer and inner borders, each located both ways, are mixed in the
 // share that gives it that width, and the outer corners in the same share.
-// False (quad untouched) when a border cannot be located.
-bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad);
+// False (quad untouched) when a border cannot be located. On success,
+// *covariance (when given) is the corners' covariance (CornerCovariance's
+// order and units): the linear-light outer sides' scatter, the share's
+// uncertainty (kShareSigma) along the two conventions' difference, and
+// kCornerFloorPx.
+bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad,
+                        cv::Matx<double, 8, 8>* covariance = nullptr);
 
 }  // namespace chromatag::internal
 

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -155,7 +156,13 @@ TEST(RefineQuadTest, ReportedCornersFollowWhereTheImageWasBlurred) {
       Quad encoded = truth;
       ASSERT_TRUE(RefineQuad(view, BlackOnWhite(8.0), &scratch.side_fit, &encoded)) << what;
       Quad reported = encoded;  // As the stages leave it.
-      ASSERT_TRUE(RefineReportedQuad(view, 6, &scratch.side_fit, &reported)) << what;
+      cv::Matx<double, 8, 8> covariance;
+      ASSERT_TRUE(RefineReportedQuad(view, 6, &scratch.side_fit, &reported, &covariance)) << what;
+      // A clean edge: above the floor, below half a pixel per coordinate.
+      for (int i = 0; i < 8; ++i) {
+        EXPECT_GE(covariance(i, i), kCornerFloorPx * kCornerFloorPx) << what;
+        EXPECT_LT(covariance(i, i), 0.25) << what;
+      }
       for (int i = 0; i < 4; ++i) {
         EXPECT_LT(cv::norm(reported[i] - truth[i]), 0.15) << what << ", corner " << i;
         // Each corner sqrt(2) x 0.8 px nearer the centre, give or take.
@@ -164,6 +171,37 @@ TEST(RefineQuadTest, ReportedCornersFollowWhereTheImageWasBlurred) {
         }
       }
     }
+  }
+}
+
+// Each side's offset error moves the two corners it ends at together along
+// its normal; its angle error moves them apart, in proportion to their
+// distance from its middle.
+TEST(CornerCovarianceTest, CarriesEachSidesErrorsToTheCornersItEndsAt) {
+  const Quad square = {cv::Point2d(0, 0), cv::Point2d(10, 0), cv::Point2d(10, 10),
+                       cv::Point2d(0, 10)};
+  std::array<SideFit, 4> sides;
+  const double offset[4] = {0.01, 0.04, 0.09, 0.16};
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d p = square[i], q = square[(i + 1) % 4];
+    sides[i].line = {0.5 * (p + q), (q - p) / cv::norm(q - p)};
+    sides[i].offset_variance = offset[i];
+  }
+  sides[0].angle_variance = 0.0004;  // 0.01 px^2 at 5 px from its middle.
+  const cv::Matx<double, 8, 8> c = CornerCovariance(sides, square);
+  // Corner 0 (on sides 3 and 0): x from the left side, y from the top.
+  EXPECT_NEAR(c(0, 0), 0.16, 1e-12);
+  EXPECT_NEAR(c(1, 1), 0.01 + 0.01, 1e-12);
+  // Corner 1 (on sides 0 and 1): x from the right side, y from the top.
+  EXPECT_NEAR(c(2, 2), 0.04, 1e-12);
+  EXPECT_NEAR(c(3, 3), 0.02, 1e-12);
+  // The top side's two ends: the offset together, the angle apart.
+  EXPECT_NEAR(c(1, 3), 0.01 - 0.01, 1e-12);
+  // Corners on no common side are independent.
+  EXPECT_NEAR(c(0, 4), 0.0, 1e-12);
+  EXPECT_NEAR(c(1, 5), 0.0, 1e-12);
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) EXPECT_NEAR(c(i, j), c(j, i), 1e-12);
   }
 }
 

@@ -72,6 +72,10 @@ struct BoardPose {
   // of the best other local solution; 0 when there is none. A planar board
   // seen small or face-on may have a mirrored tilt that fits almost as well.
   double ambiguity = 0.0;
+  // As TagPose::covariance, for the board frame's origin and axes: ROS's
+  // order (x, y, z in metres, then a small rotation about the camera's axes
+  // in radians), from the corners of the tags used.
+  cv::Matx66d covariance = cv::Matx66d::zeros();
 };
 
 // The board's pose in the camera frame from the detections of its tags

@@ -28,6 +28,19 @@ struct TagPose {
   // equally (a small or nearly frontal tag), and the tilt may be mirrored.
   // 0 when there was one solution, or both refined into one (frontal views).
   double ambiguity = 0.0;
+  // How far the pose can be trusted: its 6 x 6 covariance in ROS's
+  // PoseWithCovariance order and units, row-major: the translation's x, y, z
+  // (metres; tvec's units when the tag size is given in another), then a
+  // small rotation about the camera's x, y, z axes composed onto the pose
+  // (R' = exp([w]x) R: the tag turning about its own centre; radians). The
+  // detection's corner covariance carried through the fit, scaled up when
+  // the corners fit each other worse than their noise explains; when the
+  // other planar solution fits nearly as well, its difference is added in
+  // the share the corners give it, so a tilt that may be mirrored shows as
+  // a large rotation variance. Over the benchmark's rendered views, errors
+  // against the truth fall within it as a Gaussian's would (docs/pose.md,
+  // "Uncertainty").
+  cv::Matx66d covariance = cv::Matx66d::zeros();
 };
 
 struct Detection {
@@ -62,6 +75,15 @@ struct Detection {
   // Maps the upright black square, the unit square (0,0)-(1,1) with x right
   // and y down, to image pixels: (0,0) -> corners[0], (1,0) -> corners[1].
   cv::Matx33d image_from_tag;
+  // How far `corners` can be trusted: their covariance as x0, y0, x1, y1,
+  // ... (the order of `corners`), px^2. The detector estimates it from the
+  // scatter of the edge points about each fitted side, how far apart the
+  // two edge conventions put the corners, and a floor for what a camera and
+  // a print do to an edge that the scatter does not show (docs/pose.md,
+  // "Uncertainty"). The inner corners are functions of these four. Zero in
+  // a detection made by hand: EstimateTagPose then takes the corners as
+  // independent, with the fit's residuals as their spread.
+  cv::Matx<double, 8, 8> corner_covariance = cv::Matx<double, 8, 8>::zeros();
   bool has_pose = false;
   TagPose pose;
 };
