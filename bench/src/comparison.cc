@@ -65,8 +65,10 @@ uint64_t DetectAndScore(const Frame& frame, int d, TagDetector* detector,
     const FoundTag& tag = (*found)[out.score.found_index];
     const cv::Matx33d k(own->fx, 0, own->cx, 0, own->fx, own->cy, 0, 0, 1);
     PoseEstimate pose;
-    if (detector->Pose(tag, k, 1.0, &pose))
+    if (detector->Pose(tag, k, 1.0, &pose)) {
       PoseError(pose, *own, &out.rotation_error_deg, &out.translation_error_pct);
+      PoseNormalisedError(pose, *own, &out.pose_z, &out.pose_nees);
+    }
     if (d == kChromaTag && detector->TagDetector::Pose(tag, k, 1.0, &pose)) {
       PoseError(pose, *own, &record->chromatag_four_corner_rotation_error_deg,
                 &record->chromatag_four_corner_translation_error_pct);

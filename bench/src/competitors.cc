@@ -244,6 +244,7 @@ void ChromaTagDetector::Detect(const cv::Mat& bgr, std::vector<FoundTag>* found)
     tag.has_inner_corners = true;
     std::copy(d.green_corners.begin(), d.green_corners.end(), tag.inner_corners.begin());
     std::copy(d.red_corners.begin(), d.red_corners.end(), tag.inner_corners.begin() + 4);
+    tag.corner_covariance = d.corner_covariance;
     found->push_back(tag);
   }
 }
@@ -259,6 +260,7 @@ bool ChromaTagDetector::Pose(const FoundTag& tag, const cv::Matx33d& k, double t
   std::copy(tag.inner_corners.begin(), tag.inner_corners.begin() + 4,
             detection.green_corners.begin());
   std::copy(tag.inner_corners.begin() + 4, tag.inner_corners.end(), detection.red_corners.begin());
+  detection.corner_covariance = tag.corner_covariance;
   CameraIntrinsics camera;
   camera.fx = k(0, 0);
   camera.fy = k(1, 1);
@@ -268,6 +270,8 @@ bool ChromaTagDetector::Pose(const FoundTag& tag, const cv::Matx33d& k, double t
   if (!EstimateTagPose(detection, camera, tag_size, &estimate)) return false;
   cv::Rodrigues(estimate.rvec, pose->rotation);
   pose->translation = estimate.tvec;
+  pose->has_covariance = true;
+  pose->covariance = estimate.covariance;
   return true;
 }
 

@@ -124,6 +124,20 @@ void PoseError(const PoseEstimate& pose, const TagTruth& truth, double* rotation
       100.0 * cv::norm(pose.translation - truth.translation) / cv::norm(truth.translation);
 }
 
+bool PoseNormalisedError(const PoseEstimate& pose, const TagTruth& truth, std::array<double, 6>* z,
+                         double* nees) {
+  if (!pose.has_covariance) return false;
+  cv::Vec3d w;
+  cv::Rodrigues(cv::Matx33d(truth.rotation * pose.rotation.t()), w);
+  const cv::Vec3d t = truth.translation - pose.translation;
+  const cv::Vec6d error(t[0], t[1], t[2], w[0], w[1], w[2]);
+  cv::Matx66d inverse;
+  if (cv::invert(pose.covariance, inverse, cv::DECOMP_CHOLESKY) == 0.0) return false;
+  for (int i = 0; i < 6; ++i) (*z)[i] = error[i] / std::sqrt(pose.covariance(i, i));
+  *nees = (error.t() * inverse * error)[0];
+  return std::isfinite(*nees);
+}
+
 double Percentile(std::vector<double> values, double p) {
   if (values.empty()) return kNaN;
   std::sort(values.begin(), values.end());

@@ -529,7 +529,9 @@ void WriteCsvHeader(std::ostream& out) {
   for (int s = 0; s < kNumStages; ++s) out << ",rejected_" << StageName(static_cast<Stage>(s));
   out << ",seeds,chromatag_miss_stage,chromatag_miss_reason";
   for (const char* key : keys) out << "," << key << "_rotation_deg," << key << "_translation_pct";
-  out << ",chromatag_4_corners_rotation_deg,chromatag_4_corners_translation_pct\n";
+  out << ",chromatag_4_corners_rotation_deg,chromatag_4_corners_translation_pct";
+  for (const char* axis : {"x", "y", "z", "rx", "ry", "rz"}) out << ",chromatag_pose_z_" << axis;
+  out << ",chromatag_pose_nees\n";
 }
 
 // How the frame was made.
@@ -589,6 +591,8 @@ void WritePoseColumns(std::ostream& out, const FrameRecord& r) {
   }
   number(r.chromatag_four_corner_rotation_error_deg);
   number(r.chromatag_four_corner_translation_error_pct);
+  for (double z : r.detectors[kChromaTag].pose_z) number(z);
+  number(r.detectors[kChromaTag].pose_nees);
 }
 
 bool WriteCsv(const Context& c) {
@@ -638,7 +642,10 @@ bool WriteReport(const std::vector<FrameRecord>& records, const ReportInfo& info
       << ConditionRecallSection(c) << "\n";
   const std::string casts = CastRecallSection(c);
   if (!casts.empty()) out << casts << "\n";
-  out << CornerTable(c) << "\n" << PoseSection(c) << "\n" << FalseDetectionTable(c);
+  out << CornerTable(c) << "\n"
+      << PoseSection(c) << "\n"
+      << PoseUncertaintySection(c) << "\n"
+      << FalseDetectionTable(c);
   *markdown = out.str();
   std::ofstream file(out_dir + "/report.md");
   file << *markdown;

@@ -415,8 +415,11 @@ PoseErrors CollectPoseErrors(const Context& c, int e,
 
 }  // namespace
 
-std::string PoseSection(const Context& c) {
-  if (c.info.dataset.kind != DatasetKind::kCamera) return "";
+namespace {
+
+// The ranges the pose tables break the tags into: tilt groups (30 px and
+// more), size groups (up to 60 degrees), and both.
+std::vector<std::pair<std::string, std::function<bool(const TagTruth&)>>> PoseRanges() {
   std::vector<std::pair<std::string, std::function<bool(const TagTruth&)>>> ranges;
   for (const Range& tilt : kTiltGroups) {
     ranges.push_back({"tilt " + tilt.name, [tilt](const TagTruth& t) {
@@ -429,6 +432,56 @@ std::string PoseSection(const Context& c) {
                       }});
   }
   ranges.push_back({"≥ 30 px, ≤ 60°", Squarish});
+  return ranges;
+}
+
+}  // namespace
+
+PoseCalibration CalibrationOfPoses(const Context& c,
+                                   const std::function<bool(const TagTruth&)>& keep) {
+  PoseCalibration out;
+  std::array<double, 6> squares{};
+  int inside = 0;
+  for (const auto& r : c.records) {
+    const DetectorRecord& d = r.detectors[kChromaTag];
+    if (!r.truth.has_tags || !d.ran || std::isnan(d.pose_nees) || !keep(r.truth.chromatag))
+      continue;
+    for (int i = 0; i < 6; ++i) squares[i] += d.pose_z[i] * d.pose_z[i];
+    inside += d.pose_nees <= kChiSquare6At95;
+    ++out.poses;
+  }
+  if (out.poses == 0) return out;
+  for (int i = 0; i < 6; ++i) out.spread[i] = std::sqrt(squares[i] / out.poses);
+  out.coverage = static_cast<double>(inside) / out.poses;
+  return out;
+}
+
+std::string PoseUncertaintySection(const Context& c) {
+  if (c.info.dataset.kind != DatasetKind::kCamera || !c.info.active[kChromaTag]) return "";
+  Table rows;
+  for (const auto& [name, keep] : PoseRanges()) {
+    const PoseCalibration p = CalibrationOfPoses(c, keep);
+    std::vector<std::string> row = {name, Grouped(p.poses)};
+    for (double s : p.spread) row.push_back(Fixed(s, 2));
+    row.push_back(p.poses > 0 ? Fixed(100.0 * p.coverage, 1) + " %" : "–");
+    rows.push_back(row);
+  }
+  return "### Pose uncertainty against the truth\n\n"
+         "ChromaTag's pose covariance (`TagPose::covariance`, from the detector's corner "
+         "covariance) tested on the tags of the table above: for each axis (translation x, y, z, "
+         "then the small rotation about the camera's x, y, z that takes the estimate to the "
+         "truth), the root mean square of the error over its predicted standard deviation "
+         "(1 when the covariance is right; above 1 it claims too much), and the share of poses "
+         "whose whole error lies inside the covariance's 95 % ellipsoid (a squared Mahalanobis "
+         "distance within 12.59, chi-square with six degrees of freedom). AprilTag 3's "
+         "`estimate_tag_pose` gives no covariance, only the object-space error of its fit "
+         "(apriltag_ros publishes zeros): a user has to assume one.\n\n" +
+         Markdown({"range", "poses", "x", "y", "z", "rot x", "rot y", "rot z", "in 95 %"}, rows);
+}
+
+std::string PoseSection(const Context& c) {
+  if (c.info.dataset.kind != DatasetKind::kCamera) return "";
+  const auto ranges = PoseRanges();
   const int estimators[] = {kChromaTag, kFourCornerChromaTag, kAprilTag, kAruco};
   Table rows;
   for (const auto& [name, keep] : ranges) {

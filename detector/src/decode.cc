@@ -993,9 +993,7 @@ void FillDetection(const ImageView& image, const TagFamily& family, const Candid
   Quad reported = candidate.quads[kBlackWhite];
   cv::Matx<double, 8, 8> covariance;
   if (!RefineReportedQuad(image, cells, buffers, &reported, &covariance)) {
-    covariance =
-        (kUnrefinedCornerSigmaPx * kUnrefinedCornerSigmaPx + kCornerFloorPx * kCornerFloorPx) *
-        cv::Matx<double, 8, 8>::eye();
+    covariance = kUnrefinedCornerSigmaPx * kUnrefinedCornerSigmaPx * cv::Matx<double, 8, 8>::eye();
   }
   for (int i = 0; i < 4; ++i) detection->corners[i] = reported[(i + k) % 4];
   // The covariance's blocks in the same order.

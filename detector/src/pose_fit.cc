@@ -207,6 +207,12 @@ double CornerChiSquare(const std::vector<const CornerNoise*>& noise, const cv::M
   return chi2;
 }
 
+// How much larger the corners' covariance is taken when weighing the rival
+// solution: set on the camera set's tags under 30 px, where a mirrored tilt
+// is picked now and then (with 1, their rotation errors reached 13 times
+// the predicted sigma, root mean square; with 4, 0.7-0.8).
+constexpr double kRivalNoiseScale = 4.0;
+
 // The 95 % point of a chi-square with `dof` degrees of freedom (Wilson and
 // Hilferty's cube-root approximation: within 1 % from two degrees up).
 double ChiSquare95(double dof) {
@@ -288,10 +294,13 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
   covariance *= scale;
   if (rival && AngleBetween(fit.rotation, rival->rotation) > kSameSolutionRadians) {
     // The rival's share: its likelihood against the fit's, from the outer
-    // corners' misfit under each.
+    // corners' misfit under each, judged with the corners' covariance
+    // kRivalNoiseScale times larger: the corners' errors have heavier tails
+    // than a Gaussian's, and taking the wrong solution is the gross error
+    // those tails make.
     const double gap = (CornerChiSquare(noise, rival->rotation, rival->translation, k) -
                         CornerChiSquare(noise, fit.rotation, fit.translation, k)) /
-                       scale;
+                       (scale * kRivalNoiseScale);
     const double share = 1.0 / (1.0 + std::exp(std::min(0.5 * gap, 700.0)));
     cv::Vec3d w;
     cv::Rodrigues(Orthonormal(rival->rotation * fit.rotation.t()), w);

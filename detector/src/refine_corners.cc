@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "candidate.h"
 #include "geometry.h"
@@ -120,6 +121,45 @@ cv::Matx<double, 8, 8> CornerCovariance(const std::array<SideFit, 4>& sides, con
     errors(2 * k + 1, 2 * k + 1) = sides[k].angle_variance;
   }
   return g * errors * g.t();
+}
+
+cv::Matx<double, 8, 8> ReportedCornerCovariance(const std::array<SideFit, 4>& sides,
+                                                const Quad& encoded, const Quad& linear) {
+  using Matx88 = cv::Matx<double, 8, 8>;
+  using Vec8 = cv::Vec<double, 8>;
+  const CornerNoiseModel& m = kCornerNoise;
+  // How far apart the two conventions put each corner, and each side (along
+  // its normal): the edge's width shows in it, and a motion blur widens the
+  // sides across the motion only.
+  Vec8 apart;
+  double side_min = std::numeric_limits<double>::infinity(), side_max = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    apart[2 * i] = linear[i].x - encoded[i].x;
+    apart[2 * i + 1] = linear[i].y - encoded[i].y;
+    const cv::Point2d normal(-sides[i].line.direction.y, sides[i].line.direction.x);
+    const cv::Point2d moved =
+        0.5 * (linear[i] - encoded[i] + linear[(i + 1) % 4] - encoded[(i + 1) % 4]);
+    const double side = std::abs(moved.dot(normal));
+    side_min = std::min(side_min, side);
+    side_max = std::max(side_max, side);
+  }
+  const double uneven = side_max - side_min;
+  // The whole quad shifted (x, then y), and grown (each corner away from
+  // the centre).
+  const Vec8 shift_x(1, 0, 1, 0, 1, 0, 1, 0), shift_y(0, 1, 0, 1, 0, 1, 0, 1);
+  const cv::Point2d centre = 0.25 * (linear[0] + linear[1] + linear[2] + linear[3]);
+  Vec8 grow;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d out = linear[i] - centre;
+    const double length = std::max(cv::norm(out), 1e-9);
+    grow[2 * i] = out.x / length;
+    grow[2 * i + 1] = out.y / length;
+  }
+  const auto sq = [](double v) { return v * v; };
+  return sq(m.scatter) * CornerCovariance(sides, linear) + sq(m.share) * apart * apart.t() +
+         (sq(m.floor_px) + sq(m.uneven_each * uneven)) * Matx88::eye() +
+         sq(m.uneven_shift * uneven) * (shift_x * shift_x.t() + shift_y * shift_y.t()) +
+         (sq(m.grow_px) + sq(m.uneven_grow * uneven)) * grow * grow.t();
 }
 
 // The edge point on the profile across the side at `middle`, searched within
@@ -381,16 +421,7 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
   if (std::abs(change) > 1e-6)
     share = std::clamp((ratio * outer_side[0] - inner_side[0]) / change, 0.0, 1.0);
   for (int i = 0; i < 4; ++i) (*quad)[i] = outer[0][i] + share * (outer[1][i] - outer[0][i]);
-  if (covariance) {
-    cv::Vec<double, 8> apart;
-    for (int i = 0; i < 4; ++i) {
-      apart[2 * i] = outer[1][i].x - outer[0][i].x;
-      apart[2 * i + 1] = outer[1][i].y - outer[0][i].y;
-    }
-    *covariance = CornerCovariance(side_fits, outer[1]) +
-                  kShareSigma * kShareSigma * apart * apart.t() +
-                  kCornerFloorPx * kCornerFloorPx * cv::Matx<double, 8, 8>::eye();
-  }
+  if (covariance) *covariance = ReportedCornerCovariance(side_fits, outer[0], outer[1]);
   return true;
 }
 

@@ -85,18 +85,37 @@ struct SideFitBuffers {
 // carried to the corners it ends at, independent from side to side. px^2.
 cv::Matx<double, 8, 8> CornerCovariance(const std::array<SideFit, 4>& sides, const Quad& quad);
 
-// The noise in a reported corner that the edges' scatter does not show:
-// the camera's and printer's departures from a sharp straight edge (tone
-// curve, demosaicing, sharpening, a print's ink spread), as a standard
-// deviation per coordinate added to every reported corner, px; and how far
-// the black ring's share between the two edge conventions
-// (RefineReportedQuad) may be off, as a standard deviation of the share.
-// Set from the camera set's pose errors against the truth
-// (tag_comparison's pose covariance table; docs/pose.md, "Uncertainty").
-inline constexpr double kCornerFloorPx = 0.05;
-inline constexpr double kShareSigma = 0.25;
+// What the reported corners' errors are made of, as standard deviations
+// (px, or shares), fitted by maximum likelihood to the corner errors
+// against the truth of the camera set's tags of 30 px and more seen at up
+// to 60 degrees (4,000 frames; docs/pose.md, "Uncertainty"): the edge
+// points' scatter about the sides (CornerCovariance, which counts the
+// neighbouring profiles as independent and so overstates it), the share
+// between the two edge conventions (RefineReportedQuad), a floor on each
+// coordinate, the whole quad grown or shrunk (the tone curve and blur move
+// every edge the same way), and terms that grow with how unevenly the two
+// conventions move the four sides (px): a motion blur widens only the sides
+// across the motion, and shifts, grows and jitters the corners.
+struct CornerNoiseModel {
+  double scatter = 0.5;
+  double share = 0.33;
+  double floor_px = 0.02;
+  double grow_px = 0.156;
+  double uneven_each = 0.4;
+  double uneven_shift = 0.5;
+  double uneven_grow = 2.28;
+};
+inline constexpr CornerNoiseModel kCornerNoise;
+
+// The covariance of the corners RefineReportedQuad reports (CornerCovariance's
+// order and units), from the linear-light outer sides' fits, the quads found
+// at the `encoded` average and in `linear` light, and kCornerNoise.
+cv::Matx<double, 8, 8> ReportedCornerCovariance(const std::array<SideFit, 4>& sides,
+                                                const Quad& encoded, const Quad& linear);
+
 // Corners reported without RefineReportedQuad (a border it could not
-// locate): standard deviation per coordinate, px.
+// locate): standard deviation per coordinate, px (the camera set's corner
+// errors without the linear-light move are about this large).
 inline constexpr double kUnrefinedCornerSigmaPx = 0.5;
 // The edge point on one profile: where `channel` passes halfway between the
 // two levels (in linear light for the gray channel with Halfway::kLinearLight:
@@ -138,9 +157,7 @@ bool RefineInnerQuads(const ImageView& image, SideFitBuffers* buffers, Candidate
 // share that gives it that width, and the outer corners in the same share.
 // False (quad untouched) when a border cannot be located. On success,
 // *covariance (when given) is the corners' covariance (CornerCovariance's
-// order and units): the linear-light outer sides' scatter, the share's
-// uncertainty (kShareSigma) along the two conventions' difference, and
-// kCornerFloorPx.
+// order and units): ReportedCornerCovariance.
 bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad,
                         cv::Matx<double, 8, 8>* covariance = nullptr);
 

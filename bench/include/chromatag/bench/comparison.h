@@ -23,6 +23,8 @@ namespace chromatag::bench {
 enum DetectorIndex { kChromaTag = 0, kAprilTag = 1, kAruco = 2 };
 inline constexpr int kNumDetectors = 3;
 
+inline constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+
 struct DetectorRecord {
   bool ran = false;      // False for a detector left out of the run.
   double time_us = 0.0;  // Wall time of the Detect call, one thread.
@@ -33,6 +35,10 @@ struct DetectorRecord {
   // distance; NaN otherwise.
   double rotation_error_deg = std::numeric_limits<double>::quiet_NaN();
   double translation_error_pct = std::numeric_limits<double>::quiet_NaN();
+  // And where the pose has a covariance (ChromaTag), its error in the
+  // covariance's terms (PoseNormalisedError); NaN otherwise.
+  std::array<double, 6> pose_z = {kNoValue, kNoValue, kNoValue, kNoValue, kNoValue, kNoValue};
+  double pose_nees = kNoValue;
 };
 
 struct FrameRecord {

@@ -29,6 +29,8 @@ struct FoundTag {
   // call). Detectors without them leave has_inner_corners false.
   bool has_inner_corners = false;
   std::array<cv::Point2d, 8> inner_corners{};
+  // ChromaTag's Detection::corner_covariance; zero for the other detectors.
+  cv::Matx<double, 8, 8> corner_covariance = cv::Matx<double, 8, 8>::zeros();
   // AprilTag 3's own homography (apriltag_detection_t::H, row-major), for its
   // pose; zero for the other detectors.
   std::array<double, 9> apriltag_h{};
@@ -39,6 +41,11 @@ struct FoundTag {
 struct PoseEstimate {
   cv::Matx33d rotation = cv::Matx33d::eye();
   cv::Vec3d translation;
+  // ChromaTag's TagPose::covariance (ROS order: translation, then a small
+  // rotation about the camera's axes composed onto `rotation`); the other
+  // detectors give none.
+  bool has_covariance = false;
+  cv::Matx66d covariance = cv::Matx66d::zeros();
 };
 
 class TagDetector {

@@ -53,6 +53,18 @@ FrameScore ScoreFrame(const std::vector<FoundTag>& found, const TagTruth* truth,
 void PoseError(const PoseEstimate& pose, const TagTruth& truth, double* rotation_deg,
                double* translation_pct);
 
+// `pose`'s error against the truth in its covariance's terms: per axis
+// (translation x, y, z, then the rotation w with R_truth = exp([w]x) R),
+// truth minus estimate over the predicted standard deviation, into *z; and
+// the squared Mahalanobis distance of the whole error (chi-square with six
+// degrees of freedom when the covariance is right) into *nees. False when
+// the pose has no covariance or it is not positive definite.
+bool PoseNormalisedError(const PoseEstimate& pose, const TagTruth& truth, std::array<double, 6>* z,
+                         double* nees);
+
+// The 95 % point of a chi-square with six degrees of freedom.
+inline constexpr double kChiSquare6At95 = 12.5916;
+
 // p-th percentile (p in [0, 100]) with linear interpolation between order
 // statistics; NaN for an empty sample. Takes a copy to sort.
 double Percentile(std::vector<double> values, double p);
