@@ -275,6 +275,43 @@ std::string Header(const std::vector<TrialResult>& trials, const CalibrationRunI
   return out.str();
 }
 
+// ChromaTag's board poses over every trial's views against the truth: the
+// poses, per axis the root mean square of error over sigma, and the share
+// inside the 95 % ellipsoid.
+struct BoardPoseCalibration {
+  int poses = 0;
+  std::array<double, 6> spread{};
+  double coverage = 0;
+};
+
+BoardPoseCalibration CalibrationOfBoardPoses(const std::vector<TrialResult>& trials) {
+  BoardPoseCalibration c;
+  int inside = 0;
+  for (const TrialResult& t : trials) {
+    const CalibrationOutcome& o = t.outcome[kChromaTagBoard];
+    for (size_t v = 0; v < o.board_pose_z.size(); ++v) {
+      for (int i = 0; i < 6; ++i) c.spread[i] += o.board_pose_z[v][i] * o.board_pose_z[v][i];
+      inside += o.board_pose_nees[v] <= kChiSquare6At95;
+      ++c.poses;
+    }
+  }
+  if (c.poses == 0) return c;
+  for (double& s : c.spread) s = std::sqrt(s / c.poses);
+  c.coverage = static_cast<double>(inside) / c.poses;
+  return c;
+}
+
+std::string BoardPoseTable(const std::vector<TrialResult>& trials) {
+  const BoardPoseCalibration c = CalibrationOfBoardPoses(trials);
+  std::ostringstream out;
+  out << "| poses | x | y | z | rot x | rot y | rot z | in 95 % |\n"
+      << "|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+      << "| " << c.poses;
+  for (double s : c.spread) out << " | " << Fixed(s, 2);
+  out << " | " << Fixed(100 * c.coverage, 1) << " % |\n";
+  return out.str();
+}
+
 nlohmann::json OutcomeJson(const CalibrationOutcome& o) {
   nlohmann::json j = {{"ok", o.ok},
                       {"views_used", o.views_used},
@@ -284,6 +321,10 @@ nlohmann::json OutcomeJson(const CalibrationOutcome& o) {
                       {"corner_error_px", o.corner_error_px},
                       {"pixel_centre", o.pixel_centre},
                       {"corner_error_own_px", o.corner_error_own_px}};
+  if (!o.board_pose_nees.empty()) {
+    j["board_pose_z"] = o.board_pose_z;
+    j["board_pose_nees"] = o.board_pose_nees;
+  }
   if (!o.ok) {
     j["error"] = o.error;
     return j;
@@ -368,6 +409,14 @@ bool WriteCalibrationReport(const std::vector<TrialResult>& trials, const Calibr
         "and interpolating the corners. Calibration: `CalibrateCamera`; "
         "`calibrateCameraAruco` and `calibrateCameraCharuco`.\n\n"
      << OtherTable(trials) << "\n";
+  md << "## Board pose uncertainty\n\n"
+     << "ChromaTag's board pose (`EstimateBoardPose` with the true camera) in every view of "
+        "every trial, against the true pose, in its covariance's terms (`BoardPose::covariance`, "
+        "ROS order): per axis, translation x, y, z then the small rotation about the camera's "
+        "axes that takes the estimate to the truth, the root mean square of the error over its "
+        "predicted standard deviation (1 when the covariance is right), and the share of poses "
+        "inside the covariance's 95 % ellipsoid (squared Mahalanobis distance within 12.59).\n\n"
+     << BoardPoseTable(trials) << "\n";
   md << "## Every trial\n\n"
      << "Signed errors (estimate minus truth); ChArUco's principal point also without its "
         "half pixel, in brackets. Views partly out: views with a corner of the board outside "

@@ -15,6 +15,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/bench/metrics.h"
 #include "chromatag/calib/camera_calibration.h"
 #include "chromatag/detector/camera.h"
 #include "chromatag/generator/sheet.h"
@@ -263,6 +264,23 @@ void AddDistances(const std::vector<cv::Point2d>& found, const std::vector<cv::P
     distances->push_back(cv::norm(found[i] - truth[i] - shift));
 }
 
+// The board's pose from `detections` (the true camera given) against the
+// truth (rvec, tvec), into out->board_pose_z and board_pose_nees.
+void AddBoardPoseCheck(const CalibrationSetup& setup, const std::vector<Detection>& detections,
+                       const cv::Vec3d& rvec, const cv::Vec3d& tvec, CalibrationOutcome* out) {
+  BoardPose pose;
+  if (!EstimateBoardPose(detections, setup.chromatag_board, TrueCamera(), &pose)) return;
+  cv::Matx33d rotation, true_rotation;
+  cv::Rodrigues(pose.rvec, rotation);
+  cv::Rodrigues(rvec, true_rotation);
+  std::array<double, 6> z;
+  double nees = 0;
+  if (PoseNormalisedError(rotation, pose.tvec, pose.covariance, true_rotation, tvec, &z, &nees)) {
+    out->board_pose_z.push_back(z);
+    out->board_pose_nees.push_back(nees);
+  }
+}
+
 CalibrationOutcome CalibrateWithChromaTag(const CalibrationSetup& setup,
                                           const std::vector<PlannedView>& plan,
                                           const std::vector<cv::Mat>& frames) {
@@ -284,6 +302,7 @@ CalibrationOutcome CalibrateWithChromaTag(const CalibrationSetup& setup,
       AddDistances(RingCorners(d), ProjectPoints(TrueCamera(), corners, plan[v].pose.rvec, tvec),
                    0.0, &distances);
     }
+    AddBoardPoseCheck(setup, result.detections, plan[v].pose.rvec, tvec, &out);
     views.push_back({"view " + std::to_string(v + 1), std::move(result.detections)});
   }
   out.detect_ms_per_view = detect_ms / static_cast<double>(plan.size());

@@ -91,6 +91,12 @@ struct CalibrationOutcome {
   // leaves the rest of the fit as it was.
   double pixel_centre = 0;
   double corner_error_own_px = 0;  // As corner_error_px, the truth moved by pixel_centre.
+  // ChromaTag only: each view's board pose (EstimateBoardPose with the true
+  // camera) against the truth, in its covariance's terms
+  // (PoseNormalisedError): per axis error over sigma, and the squared
+  // Mahalanobis distance. Views without a pose are left out.
+  std::vector<std::array<double, 6>> board_pose_z;
+  std::vector<double> board_pose_nees;
 };
 
 struct TrialResult {

@@ -126,14 +126,22 @@ void PoseError(const PoseEstimate& pose, const TagTruth& truth, double* rotation
 
 bool PoseNormalisedError(const PoseEstimate& pose, const TagTruth& truth, std::array<double, 6>* z,
                          double* nees) {
-  if (!pose.has_covariance) return false;
+  return pose.has_covariance &&
+         PoseNormalisedError(pose.rotation, pose.translation, pose.covariance, truth.rotation,
+                             truth.translation, z, nees);
+}
+
+bool PoseNormalisedError(const cv::Matx33d& rotation, const cv::Vec3d& translation,
+                         const cv::Matx66d& covariance, const cv::Matx33d& true_rotation,
+                         const cv::Vec3d& true_translation, std::array<double, 6>* z,
+                         double* nees) {
   cv::Vec3d w;
-  cv::Rodrigues(cv::Matx33d(truth.rotation * pose.rotation.t()), w);
-  const cv::Vec3d t = truth.translation - pose.translation;
+  cv::Rodrigues(cv::Matx33d(true_rotation * rotation.t()), w);
+  const cv::Vec3d t = true_translation - translation;
   const cv::Vec6d error(t[0], t[1], t[2], w[0], w[1], w[2]);
   cv::Matx66d inverse;
-  if (cv::invert(pose.covariance, inverse, cv::DECOMP_CHOLESKY) == 0.0) return false;
-  for (int i = 0; i < 6; ++i) (*z)[i] = error[i] / std::sqrt(pose.covariance(i, i));
+  if (cv::invert(covariance, inverse, cv::DECOMP_CHOLESKY) == 0.0) return false;
+  for (int i = 0; i < 6; ++i) (*z)[i] = error[i] / std::sqrt(covariance(i, i));
   *nees = (error.t() * inverse * error)[0];
   return std::isfinite(*nees);
 }

@@ -9,6 +9,7 @@
 #include "chromatag/detector/camera.h"
 
 #include "geometry.h"
+#include "refine_corners.h"
 
 namespace chromatag::internal {
 namespace {
@@ -254,6 +255,15 @@ bool TagCornerNoise(const Detection& detection, const CameraIntrinsics& camera,
       if (!std::isfinite(noise->image_from_corners(r, c))) return false;
     }
   }
+  const cv::Point2d centre = 0.25 * (detection.corners[0] + detection.corners[1] +
+                                     detection.corners[2] + detection.corners[3]);
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d out = detection.corners[i] - centre;
+    const double length = std::max(cv::norm(out), 1e-9);
+    noise->shift_x[2 * i] = 1, noise->shift_x[2 * i + 1] = 0;
+    noise->shift_y[2 * i] = 0, noise->shift_y[2 * i + 1] = 1;
+    noise->grow[2 * i] = out.x / length, noise->grow[2 * i + 1] = out.y / length;
+  }
   noise->covariance = detection.corner_covariance;
   if (cv::norm(noise->covariance) == 0.0)
     noise->covariance =
@@ -266,7 +276,12 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
   // The fit's parameters move with the image points as -(J^T J)^-1 J^T, and
   // the image points with the corners as image_from_corners (H): per tag,
   // M = J^T H, and the covariance is (J^T J)^-1 (sum M C M^T) (J^T J)^-1.
+  // The errors the tags share add their cross terms: a shift of the frame
+  // in full (no tag's covariance holds it), and between tags the share
+  // kSharedGrowShare of each tag's growth.
   cv::Mat jtj = cv::Mat::zeros(6, 6, CV_64F), middle = cv::Mat::zeros(6, 6, CV_64F);
+  cv::Mat shift_x = cv::Mat::zeros(6, 1, CV_64F), shift_y = shift_x.clone(), grow = shift_x.clone(),
+          grow_within = cv::Mat::zeros(6, 6, CV_64F);
   double residual_ss = 0.0, image_variance = 0.0;
   for (const CornerNoise* tag : noise) {
     cv::Mat j, e;
@@ -275,9 +290,17 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
     const cv::Mat m = j.t() * h;
     jtj += j.t() * j;
     middle += m * c * m.t();
+    shift_x += m * cv::Mat(tag->shift_x);
+    shift_y += m * cv::Mat(tag->shift_y);
+    const cv::Mat g = m * cv::Mat(tag->grow);
+    grow += g;
+    grow_within += g * g.t();
     residual_ss += e.dot(e);
     image_variance += cv::trace(h * c * h.t())[0];
   }
+  const double grow_px = kCornerNoise.grow_px;
+  middle += kFrameShiftPx * kFrameShiftPx * (shift_x * shift_x.t() + shift_y * shift_y.t()) +
+            kSharedGrowShare * grow_px * grow_px * (grow * grow.t() - grow_within);
   cv::Mat inverse;
   if (cv::invert(jtj, inverse, cv::DECOMP_CHOLESKY) == 0.0)
     return cv::Matx66d::eye() * std::numeric_limits<double>::infinity();

@@ -61,6 +61,11 @@ void PoseError(const PoseEstimate& pose, const TagTruth& truth, double* rotation
 // the pose has no covariance or it is not positive definite.
 bool PoseNormalisedError(const PoseEstimate& pose, const TagTruth& truth, std::array<double, 6>* z,
                          double* nees);
+// The same for any pose (rotation, translation, covariance in TagPose's
+// terms) against a true rotation and translation.
+bool PoseNormalisedError(const cv::Matx33d& rotation, const cv::Vec3d& translation,
+                         const cv::Matx66d& covariance, const cv::Matx33d& true_rotation,
+                         const cv::Vec3d& true_translation, std::array<double, 6>* z, double* nees);
 
 // The 95 % point of a chi-square with six degrees of freedom.
 inline constexpr double kChiSquare6At95 = 12.5916;
