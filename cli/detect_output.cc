@@ -8,10 +8,13 @@
 
 #include "chromatag/base/output_files.h"
 #include "chromatag/detector/draw.h"
+#include "chromatag/detector/pose.h"
 #include "detect_signals.h"
 
 namespace chromatag::cli {
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 // A table line (names may be long: built as a string, not in a buffer).
 std::string BoardLine(const std::string& name, int frame, const Board& board,
@@ -23,10 +26,13 @@ std::string BoardLine(const std::string& name, int frame, const Board& board,
       name + std::string(name.size() < 30 ? 30 - name.size() : 0, ' ') + head + board.name + ": ";
   if (!pose) return line + "not seen\n";
   char body[256];
-  std::snprintf(body, sizeof body,
-                "t = (%g, %g, %g) m  %zu of %zu tags  rms %.2f px  ambiguity %.2f", pose->tvec[0],
-                pose->tvec[1], pose->tvec[2], pose->tags_used.size(), board.tags.size(),
-                pose->rms_error_px, pose->ambiguity);
+  const PoseSigma sigma = SigmaOf(pose->covariance);
+  std::snprintf(
+      body, sizeof body,
+      "t = (%g, %g, %g) m  ± %.2g mm, %.2g°  %zu of %zu tags  rms %.2f px  ambiguity %.2f",
+      pose->tvec[0], pose->tvec[1], pose->tvec[2], 1000 * sigma.translation,
+      sigma.rotation * 180 / kPi, pose->tags_used.size(), board.tags.size(), pose->rms_error_px,
+      pose->ambiguity);
   line += body;
   if (!pose->detections_rejected.empty()) {
     line += "  left out: ID";
@@ -54,8 +60,10 @@ std::string TableLines(const std::string& name, int frame, const std::vector<Det
                   d.corners[0].x, d.corners[0].y);
     out += line;
     if (d.has_pose) {
-      std::snprintf(line, sizeof line, "  t = (%g, %g, %g) m  ambiguity %.2f", d.pose.tvec[0],
-                    d.pose.tvec[1], d.pose.tvec[2], d.pose.ambiguity);
+      const PoseSigma sigma = SigmaOf(d.pose.covariance);
+      std::snprintf(line, sizeof line, "  t = (%g, %g, %g) m  ± %.2g mm, %.2g°  ambiguity %.2f",
+                    d.pose.tvec[0], d.pose.tvec[1], d.pose.tvec[2], 1000 * sigma.translation,
+                    sigma.rotation * 180 / kPi, d.pose.ambiguity);
       out += line;
     }
     out += "\n";

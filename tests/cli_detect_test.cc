@@ -256,6 +256,18 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
   EXPECT_EQ(board["tags_used"], nlohmann::json({0, 1, 2, 3, 4, 6}));
   EXPECT_TRUE(board["tags_rejected"].empty());
   EXPECT_LT(board["rms_error_px"].get<double>(), 0.5);
+  // Its covariance as ROS writes one: 36 numbers, row-major, symmetric, a
+  // positive variance on each axis (and under a millimetre on a sharp page).
+  const nlohmann::json& covariance = board["covariance"];
+  ASSERT_EQ(covariance.size(), 36u) << board;
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_GT(covariance[7 * i].get<double>(), 0.0) << board;
+    for (int j = 0; j < 6; ++j)
+      EXPECT_NEAR(covariance[6 * i + j].get<double>(), covariance[6 * j + i].get<double>(),
+                  1e-12)
+          << board;
+  }
+  EXPECT_LT(std::sqrt(covariance[14].get<double>()), 0.001) << board;
   // The origin, the bottom-left black square's bottom-left corner, where the
   // page puts it in front of the camera.
   const double ox = sidecar["board"]["origin_mm"][0], oy = sidecar["board"]["origin_mm"][1];
@@ -275,6 +287,7 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
   ASSERT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("board board.png: t = ("), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("6 of 6 tags"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find(" m  ± "), std::string::npos) << table.out;  // Its 1-sigma.
   EXPECT_NE(table.out.find("board board.png: not seen"), std::string::npos) << table.out;
 
   // The board's tags twice in one frame (a frame spliced from two, or two

@@ -22,6 +22,9 @@ Json Points(const std::array<cv::Point2d, 4>& points) {
 
 Json Vec3(const cv::Vec3d& v) { return {v[0], v[1], v[2]}; }
 
+// A 6 x 6 covariance as ROS writes one: 36 numbers, row-major.
+Json Covariance(const cv::Matx66d& m) { return Json(std::vector<double>(m.val, m.val + 36)); }
+
 Json DetectionObject(const Detection& d) {
   Json item = {{"family", d.family->name()},
                {"id", d.id},
@@ -34,7 +37,8 @@ Json DetectionObject(const Detection& d) {
     item["pose"] = {{"rvec", Vec3(d.pose.rvec)},
                     {"tvec", Vec3(d.pose.tvec)},
                     {"rms_error_px", d.pose.rms_error_px},
-                    {"ambiguity", d.pose.ambiguity}};
+                    {"ambiguity", d.pose.ambiguity},
+                    {"covariance", Covariance(d.pose.covariance)}};
   }
   return item;
 }
@@ -61,10 +65,10 @@ Json BoardObject(const Board& board, const BoardPose& pose,
   Json used = Json::array(), rejected = Json::array();
   for (int i : pose.tags_used) used.push_back(board.tags[i].id);
   for (int i : pose.detections_rejected) rejected.push_back(detections[i].id);
-  return {{"name", board.name},         {"rvec", Vec3(pose.rvec)},
-          {"tvec", Vec3(pose.tvec)},    {"tags_used", used},
-          {"tags_rejected", rejected},  {"rms_error_px", pose.rms_error_px},
-          {"ambiguity", pose.ambiguity}};
+  return {{"name", board.name},          {"rvec", Vec3(pose.rvec)},
+          {"tvec", Vec3(pose.tvec)},     {"tags_used", used},
+          {"tags_rejected", rejected},   {"rms_error_px", pose.rms_error_px},
+          {"ambiguity", pose.ambiguity}, {"covariance", Covariance(pose.covariance)}};
 }
 
 }  // namespace

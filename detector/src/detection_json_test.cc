@@ -34,8 +34,12 @@ TEST(DetectionJsonTest, OneDetectionAsTheCliWritesIt) {
   posed.pose.tvec = {0.01, 0.02, 0.5};
   posed.pose.rms_error_px = 0.25;
   posed.pose.ambiguity = 0.125;
+  for (int i = 0; i < 36; ++i) posed.pose.covariance.val[i] = i == 1 ? 0.5 : i == 35 ? 2.0 : 0.0;
   const std::string text = DetectionJson(posed);
-  EXPECT_NE(text.find(R"("pose":{"ambiguity":0.125,"rms_error_px":0.25,"rvec":[0.1,-0.2,3.0],)"
+  // The covariance as ROS writes one: 36 numbers, row-major.
+  EXPECT_NE(text.find(R"("pose":{"ambiguity":0.125,"covariance":[0.0,0.5,0.0,)"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find(R"(,2.0],"rms_error_px":0.25,"rvec":[0.1,-0.2,3.0],)"
                       R"("tvec":[0.01,0.02,0.5]})"),
             std::string::npos)
       << text;
@@ -77,7 +81,9 @@ TEST(DetectionJsonTest, FrameLineWithBoardRejectedAndOverlay) {
   frame.timestamp = 12.5;
   frame.overlay = "out/a.png";
   const std::string line = FrameJson(frame, {Sample()});
-  EXPECT_NE(line.find(R"("board":{"ambiguity":0.0,"name":"pair","rms_error_px":0.5,)"
+  EXPECT_NE(line.find(R"("board":{"ambiguity":0.0,"covariance":[0.0,)"), std::string::npos)
+      << line;
+  EXPECT_NE(line.find(R"(,0.0],"name":"pair","rms_error_px":0.5,)"
                       R"("rvec":[0.0,0.0,0.0],"tags_rejected":[],"tags_used":[3],)"
                       R"("tvec":[0.0,0.0,1.0]})"),
             std::string::npos)

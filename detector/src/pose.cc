@@ -1,5 +1,6 @@
 #include "chromatag/detector/pose.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -50,6 +51,14 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
   }
   pose->covariance = PoseCovariance({&noise}, fits[0], Rival(fits), k);
   return true;
+}
+
+PoseSigma SigmaOf(const cv::Matx66d& covariance) {
+  PoseSigma sigma;
+  sigma.translation =
+      std::sqrt(std::max(0.0, covariance(0, 0) + covariance(1, 1) + covariance(2, 2)));
+  sigma.rotation = std::sqrt(std::max(0.0, covariance(3, 3) + covariance(4, 4) + covariance(5, 5)));
+  return sigma;
 }
 
 }  // namespace chromatag

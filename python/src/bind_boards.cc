@@ -208,6 +208,10 @@ void BindBoardPose(py::module_& m) {
       .def_property_readonly(
           "ambiguity", [](const PyBoardPose& p) { return p.pose.ambiguity; },
           "the pose's error over the best other solution's: near 0 settled, near 1 ambiguous")
+      .def_property_readonly(
+          "covariance", [](const PyBoardPose& p) { return SquareMatrix(p.pose.covariance.val, 6); },
+          "6 x 6 covariance in ROS's PoseWithCovariance order: x, y, z (metres), then a small\n"
+          "rotation about the camera's x, y, z axes composed onto the pose (radians)")
       .def("__repr__", [](const PyBoardPose& p) {
         return "BoardPose(tvec=[" + std::to_string(p.pose.tvec[0]) + ", " +
                std::to_string(p.pose.tvec[1]) + ", " + std::to_string(p.pose.tvec[2]) +

@@ -279,6 +279,12 @@ py::object DetectionDict(const PyDetection& detection) {
   return py::module_::import("json").attr("loads")(DetectionJson(detection.d));
 }
 
+// A pickled Detection's numbers: corners, homography, pose, errors and
+// margin, then the pose's and the corners' covariances (pickles written
+// before the covariances stop at the margin; they load with zeros).
+constexpr size_t kStateNumbersWithoutCovariance = 24 + 9 + 6 + 3;
+constexpr size_t kStateNumbers = kStateNumbersWithoutCovariance + 36 + 64;
+
 // Every field of a Detection, for pickling: the family by name.
 py::tuple DetectionState(const Detection& d) {
   std::vector<double> numbers;
@@ -287,6 +293,8 @@ py::tuple DetectionState(const Detection& d) {
   for (int i = 0; i < 9; ++i) numbers.push_back(d.image_from_tag.val[i]);
   for (int i = 0; i < 3; ++i) numbers.insert(numbers.end(), {d.pose.rvec[i], d.pose.tvec[i]});
   numbers.insert(numbers.end(), {d.pose.rms_error_px, d.pose.ambiguity, d.decision_margin});
+  numbers.insert(numbers.end(), d.pose.covariance.val, d.pose.covariance.val + 36);
+  numbers.insert(numbers.end(), d.corner_covariance.val, d.corner_covariance.val + 64);
   return py::make_tuple(d.family->name(), d.id, d.hamming, d.has_pose, numbers);
 }
 
@@ -307,7 +315,7 @@ Detection DetectionFromState(const py::tuple& state) {
     throw Error(bad);
   }
   if (d.id < 0 || d.id >= d.family->num_apriltag_ids() || d.hamming < 0 ||
-      numbers.size() != 24 + 9 + 6 + 3 ||
+      (numbers.size() != kStateNumbers && numbers.size() != kStateNumbersWithoutCovariance) ||
       !std::all_of(numbers.begin(), numbers.end(), [](double x) { return std::isfinite(x); }))
     throw Error(bad);
   size_t k = 0;
@@ -325,6 +333,10 @@ Detection DetectionFromState(const py::tuple& state) {
   d.pose.rms_error_px = numbers[k++];
   d.pose.ambiguity = numbers[k++];
   d.decision_margin = numbers[k++];
+  if (numbers.size() == kStateNumbers) {
+    for (double& v : d.pose.covariance.val) v = numbers[k++];
+    for (double& v : d.corner_covariance.val) v = numbers[k++];
+  }
   return d;
 }
 
@@ -350,6 +362,10 @@ void BindPose(py::module_& m) {
       .def_readonly("ambiguity", &TagPose::ambiguity,
                     "the kept planar solution's error over the other's: near 0 settled, near 1 "
                     "ambiguous (the tilt may be mirrored)")
+      .def_property_readonly(
+          "covariance", [](const TagPose& p) { return SquareMatrix(p.covariance.val, 6); },
+          "6 x 6 covariance in ROS's PoseWithCovariance order: x, y, z (metres), then a small\n"
+          "rotation about the camera's x, y, z axes composed onto the pose (radians)")
       .def("__repr__", [](const TagPose& p) {
         return "Pose(tvec=[" + std::to_string(p.tvec[0]) + ", " + std::to_string(p.tvec[1]) + ", " +
                std::to_string(p.tvec[2]) + "])";
@@ -379,6 +395,11 @@ py::class_<PyDetection> DetectionFields(py::module_& m) {
           "corners", [](const PyDetection& d) { return Points(d.d.corners.data(), 4); },
           "4 x 2, pixels: the black square's top-left, top-right, bottom-right, bottom-left "
           "corners of the upright tag")
+      .def_property_readonly(
+          "corner_covariance",
+          [](const PyDetection& d) { return SquareMatrix(d.d.corner_covariance.val, 8); },
+          "8 x 8, pixels squared: the covariance of the four corners as x0, y0, x1, y1, ...\n"
+          "(the detector's estimate of how far they can be trusted)")
       .def_property_readonly(
           "center",
           [](const PyDetection& d) {

@@ -97,6 +97,14 @@ py::array_t<double> Matrix33(const cv::Matx33d& m) {
   return out;
 }
 
+py::array_t<double> SquareMatrix(const double* values, int n) {
+  py::array_t<double> out({n, n});
+  auto view = out.mutable_unchecked<2>();
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) view(r, c) = values[r * n + c];
+  return out;
+}
+
 std::string Describe(const py::handle& value) {
   std::string repr = py::str(py::repr(value));
   if (repr.size() > 40) {

@@ -48,6 +48,8 @@ py::array_t<double, py::array::c_style | py::array::forcecast> SmallNumbers(
 py::array_t<double> Points(const cv::Point2d* points, int n);
 py::array_t<double> Vector(const double* values, int n);
 py::array_t<double> Matrix33(const cv::Matx33d& m);
+// An n x n row-major matrix as a numpy array.
+py::array_t<double> SquareMatrix(const double* values, int n);
 
 // What a value is, for messages: its type and a short repr.
 std::string Describe(const py::handle& value);

@@ -178,7 +178,14 @@ def test_detection_compares_pickles_and_reads_as_the_cli_json():
     d = tag.as_dict()
     assert set(d) == {"family", "id", "hamming", "margin", "corners", "green_corners",
                       "red_corners", "pose"}
-    assert set(d["pose"]) == {"rvec", "tvec", "rms_error_px", "ambiguity"}
+    assert set(d["pose"]) == {"rvec", "tvec", "rms_error_px", "ambiguity", "covariance"}
+    # ROS's 36 numbers, row-major, as the pose's 6 x 6 matrix; pickles keep
+    # both covariances.
+    np.testing.assert_array_equal(np.array(d["pose"]["covariance"]).reshape(6, 6),
+                                  tag.pose.covariance)
+    np.testing.assert_array_equal(copy.pose.covariance, tag.pose.covariance)
+    np.testing.assert_array_equal(copy.corner_covariance, tag.corner_covariance)
+    assert tag.corner_covariance.shape == (8, 8) and (np.diag(tag.corner_covariance) > 0).all()
     assert d["margin"] == tag.decision_margin
     np.testing.assert_allclose(np.array(d["green_corners"]), tag.green_corners)
     # The green ring lies one cell (12 px) inside the black square.
@@ -332,6 +339,14 @@ def test_pose_of_an_exactly_frontal_tag(offset_m, quarter_turns):
     assert np.degrees(np.linalg.norm(error)) < 0.5
     assert np.linalg.norm(pose.tvec - translation) < 0.005 * 0.5
     assert pose.ambiguity == 0.0  # Both planar solutions refine to this one.
+    # The covariance: symmetric, positive definite, and the errors against
+    # the truth within four of its standard deviations on every axis.
+    c = pose.covariance
+    assert c.shape == (6, 6)
+    np.testing.assert_allclose(c, c.T, rtol=1e-9, atol=1e-18)
+    assert (np.linalg.eigvalsh(c) > 0).all()
+    w = cv2.Rodrigues(rotation @ pose.rotation.T)[0].ravel()
+    assert (np.abs(np.concatenate([translation - pose.tvec, w])) < 4 * np.sqrt(np.diag(c))).all()
 
 
 def test_rejected_candidates_on_request():

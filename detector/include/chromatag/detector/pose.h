@@ -22,6 +22,18 @@ namespace chromatag {
 bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera, double tag_size,
                      TagPose* pose, std::string* error = nullptr);
 
+// One figure each for how far a pose's translation and rotation can be
+// trusted: the root of the trace of the covariance's translation block
+// (metres) and of its rotation block (radians), in TagPose::covariance's
+// layout (BoardPose's too). The root mean square length of the error each
+// part is expected to have: about 1.6 times a single axis's sigma when the
+// three are alike.
+struct PoseSigma {
+  double translation = 0.0;
+  double rotation = 0.0;
+};
+PoseSigma SigmaOf(const cv::Matx66d& covariance);
+
 }  // namespace chromatag
 
 #endif  // CHROMATAG_DETECTOR_POSE_H_
