@@ -263,8 +263,7 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
   for (int i = 0; i < 6; ++i) {
     EXPECT_GT(covariance[7 * i].get<double>(), 0.0) << board;
     for (int j = 0; j < 6; ++j)
-      EXPECT_NEAR(covariance[6 * i + j].get<double>(), covariance[6 * j + i].get<double>(),
-                  1e-12)
+      EXPECT_NEAR(covariance[6 * i + j].get<double>(), covariance[6 * j + i].get<double>(), 1e-12)
           << board;
   }
   EXPECT_LT(std::sqrt(covariance[14].get<double>()), 0.001) << board;

@@ -81,8 +81,7 @@ TEST(DetectionJsonTest, FrameLineWithBoardRejectedAndOverlay) {
   frame.timestamp = 12.5;
   frame.overlay = "out/a.png";
   const std::string line = FrameJson(frame, {Sample()});
-  EXPECT_NE(line.find(R"("board":{"ambiguity":0.0,"covariance":[0.0,)"), std::string::npos)
-      << line;
+  EXPECT_NE(line.find(R"("board":{"ambiguity":0.0,"covariance":[0.0,)"), std::string::npos) << line;
   EXPECT_NE(line.find(R"(,0.0],"name":"pair","rms_error_px":0.5,)"
                       R"("rvec":[0.0,0.0,0.0],"tags_rejected":[],"tags_used":[3],)"
                       R"("tvec":[0.0,0.0,1.0]})"),
