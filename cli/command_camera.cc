@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "chromatag/base/output_files.h"
+#include "chromatag/base/units.h"
 #include "chromatag/calib/camera_calibration.h"
 #include "chromatag/calib/camera_report.h"
 #include "chromatag/calib/view_selection.h"
@@ -42,6 +43,7 @@ struct CameraCalibOptions {
   std::string config;
   std::string camera_name = "camera";
   bool write_uncertain = false;
+  std::string distance;  // --distance: a length; empty for the views' median.
 };
 
 // Ctrl-C ends the reading of a live camera and calibrates with the views
@@ -250,6 +252,16 @@ void PrintResult(const CameraCalibration& c) {
             values[i], deviation);
     }
   }
+  const ProjectionCheck& p = c.projection;
+  Print("projection at %.3g m, central 80 %% of the image (median / worst):\n", p.distance);
+  Print("  uncertainty       %.3f / %.3f px (limit %.1f)\n", p.uncertainty_median_px,
+        p.uncertainty_worst_px, kMaxProjectionUncertaintyPx);
+  if (p.cross_validation_px.empty()) {
+    Print("  cross-validation  not measured (fewer than six views)\n");
+  } else {
+    Print("  cross-validation  %.3f / %.3f px (limit %.1f): two halves of the views fitted apart\n",
+          p.cross_validation_median_px, p.cross_validation_worst_px, kMaxCrossValidationPx);
+  }
   std::fflush(stdout);
   for (const std::string& w : c.doubts) std::cerr << "calibrate-camera: uncertain: " << w << "\n";
   for (const std::string& w : c.warnings) std::cerr << "calibrate-camera: warning: " << w << "\n";
@@ -270,6 +282,12 @@ bool CheckArguments(const CameraCalibOptions& o, CameraFileFormat* format,
   calibration_options->model = o.model == "fisheye" ? LensModel::kFisheye : LensModel::kPinhole;
   calibration_options->fit_k3 = o.k3;
   if (!calibration_options->IsValid(error)) return fail("--k3: " + *error);
+  if (!o.distance.empty()) {
+    const auto length = ParseLength(o.distance, error);
+    if (!length || !(length->mm > 0))
+      return fail("--distance: " + (length ? std::string("must be more than 0") : *error));
+    calibration_options->working_distance = length->mm / 1000.0;
+  }
   if (o.k3 && *format == CameraFileFormat::kKalibr)
     return fail("--k3 with --format kalibr: Kalibr's radtan model has no k3");
   const std::string ext = LowerExtension(o.output);
@@ -416,8 +434,14 @@ void RegisterCalibrateCamera(CLI::App& app, Action* action) {
   c->add_flag("--k3", o->k3, "Pinhole: fit k3 as well (wide lenses)");
   c->add_flag("--write-uncertain", o->write_uncertain,
               "Write the camera file even when the fit is in doubt: fewer than 2 views tilted 20 "
-              "degrees or more, or a standard deviation over 0.5 % of fx or fy, or over 1 % of "
-              "the image for cx or cy");
+              "degrees or more, a standard deviation over 0.5 % of fx or fy or over 1 % of the "
+              "image for cx or cy, every view at one distance, fewer than 6 views, or a "
+              "projection uncertainty or cross-validation over 0.3 px in the central 80 % of "
+              "the image (docs/camera-calibration.md)");
+  c->add_option("--distance", o->distance,
+                "Where the projection uncertainty and cross-validation are judged: a distance "
+                "from the camera (50cm, 2m, ...); default the median distance of the views' "
+                "boards");
   c->add_option("--max-views", o->max_views,
                 "Most views kept from videos and cameras, chosen for coverage and pose [3, 1000]")
       ->capture_default_str();

@@ -9,6 +9,7 @@
 
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/camera.h"
+#include "projection_check.h"
 
 namespace chromatag {
 namespace {
@@ -88,66 +89,11 @@ struct Fit {
   CameraIntrinsics camera;
   std::vector<cv::Vec3d> rvecs, tvecs;  // Per entry of `used`.
   double rms_px = 0.0;
-  std::vector<double> std_dev;
+  // The intrinsics' covariance (internal::IntrinsicCovariance), computed
+  // here for both models: OpenCV's fisheye calibration gives none, and its
+  // pinhole calibration (4.6) divides by N - P.
+  cv::Mat covariance;
 };
-
-// One standard deviation of the fitted intrinsics (fx, fy, cx, cy, then the
-// fitted distortion coefficients), from the Jacobian of every corner's
-// projection over the intrinsics and every view's pose: sigma^2 (J^T J)^-1,
-// sigma^2 the residuals' variance over 2N - P degrees of freedom. Computed
-// here for both models: OpenCV's fisheye calibration gives none, and its
-// pinhole calibration (4.6) divides by N - P. J^T J is [A B; B^T D] with D
-// block-diagonal (each view's pose touches only its own corners), so the
-// intrinsics' block of its inverse is that of the Schur complement
-// A - sum_v B_v D_v^-1 B_v^T: time linear in the views, where inverting the
-// whole matrix, 9 + 6 views wide, grows as their cube.
-std::vector<double> StdDev(const std::vector<std::vector<cv::Point3d>>& object,
-                           const std::vector<std::vector<cv::Point2d>>& image, const Fit& fit,
-                           bool fit_k3) {
-  const bool fisheye = fit.camera.model == LensModel::kFisheye;
-  // The Jacobian's columns for the fitted intrinsics and for the pose:
-  // cv::fisheye::projectPoints gives f(2), c(2), k(4), om(3), T(3), alpha;
-  // cv::projectPoints gives rvec(3), tvec(3), f(2), c(2), then the
-  // distortion (k3 fifth, held when not fitted).
-  std::vector<int> intrinsic, pose;
-  for (int c = fisheye ? 0 : 6; c < (fisheye ? 8 : (fit_k3 ? 15 : 14)); ++c) intrinsic.push_back(c);
-  for (int c = fisheye ? 8 : 0; c < (fisheye ? 14 : 6); ++c) pose.push_back(c);
-  const int intrinsics = static_cast<int>(intrinsic.size());
-  const int views = static_cast<int>(object.size());
-  const int parameters = intrinsics + 6 * views;
-  cv::Mat schur = cv::Mat::zeros(intrinsics, intrinsics, CV_64F);
-  double squares = 0;
-  int rows = 0;
-  const cv::Mat k(CameraMatrix(fit.camera));
-  const cv::Mat d(fit.camera.distortion, true);
-  for (int v = 0; v < views; ++v) {
-    std::vector<cv::Point2d> projected;
-    cv::Mat jacobian;
-    if (fisheye) {
-      cv::fisheye::projectPoints(object[v], projected, fit.rvecs[v], fit.tvecs[v], k, d, 0.0,
-                                 jacobian);
-    } else {
-      cv::projectPoints(object[v], fit.rvecs[v], fit.tvecs[v], k, d, projected, jacobian);
-    }
-    cv::Mat ji(jacobian.rows, intrinsics, CV_64F), jp(jacobian.rows, 6, CV_64F);
-    jacobian.convertTo(jacobian, CV_64F);
-    for (int c = 0; c < intrinsics; ++c) jacobian.col(intrinsic[c]).copyTo(ji.col(c));
-    for (int c = 0; c < 6; ++c) jacobian.col(pose[c]).copyTo(jp.col(c));
-    const cv::Mat b = ji.t() * jp;
-    schur += ji.t() * ji - b * (jp.t() * jp).inv(cv::DECOMP_SVD) * b.t();
-    for (size_t i = 0; i < projected.size(); ++i) {
-      const cv::Point2d e = projected[i] - image[v][i];
-      squares += e.x * e.x + e.y * e.y;
-    }
-    rows += jacobian.rows;
-  }
-  const double variance = squares / std::max(1, rows - parameters);
-  const cv::Mat covariance = schur.inv(cv::DECOMP_SVD) * variance;
-  std::vector<double> out;
-  for (int i = 0; i < intrinsics; ++i)
-    out.push_back(std::sqrt(std::max(0.0, covariance.at<double>(i, i))));
-  return out;
-}
 
 // OpenCV's camera matrix, distortion and poses into *fit.
 void StoreFit(const cv::Mat& k, cv::Mat d, std::vector<cv::Mat> rvecs, std::vector<cv::Mat> tvecs,
@@ -182,8 +128,8 @@ bool IsFinite(const Fit& fit) {
   return std::all_of(all.begin(), all.end(), [](double x) { return std::isfinite(x); });
 }
 
-// With `deviations`, also the standard deviations (StdDev), which only the
-// last fit needs.
+// With `deviations`, also the intrinsics' covariance, which only the last
+// fit needs.
 bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& used,
             cv::Size image_size, const CameraCalibrationOptions& options, Fit* fit,
             std::string* error, bool deviations = false) {
@@ -224,7 +170,10 @@ bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& us
     *error = "the fit did not converge";
     return false;
   }
-  fit->std_dev = deviations ? StdDev(object, image, *fit, options.fit_k3) : std::vector<double>();
+  if (deviations) {
+    fit->covariance = internal::IntrinsicCovariance(fit->camera, object, image, fit->rvecs,
+                                                    fit->tvecs, options.fit_k3);
+  }
   return true;
 }
 
@@ -320,7 +269,7 @@ std::vector<std::string> Warnings(const CameraCalibration& c) {
 // What the fit does not pin down (CameraCalibration::doubts): the focal
 // length and principal point without tilted views, and the parameters
 // whose standard deviations are over their limits.
-std::vector<std::string> Doubts(const CameraCalibration& c) {
+std::vector<std::string> Doubts(const CameraCalibration& c, double distance_spread) {
   std::vector<std::string> out;
   double largest_tilt = 0;
   const int tilted = TiltedViews(c, &largest_tilt);
@@ -348,6 +297,37 @@ std::vector<std::string> Doubts(const CameraCalibration& c) {
                       Format(" is uncertain: %.1f +- %.1f px (more than 1 %% of the image)",
                              values[i], c.std_dev[i]));
     }
+  }
+  if (distance_spread < kMinDistanceSpread) {
+    out.push_back(Format(
+        "every view shows the board at about one distance (the furthest %.2f times the nearest, "
+        "under %.1f): the focal length trades against the distance and the distortion is seen "
+        "at one depth; add views with the board nearer and further",
+        distance_spread, kMinDistanceSpread));
+  }
+  const ProjectionCheck& p = c.projection;
+  if (!(p.uncertainty_worst_px <= kMaxProjectionUncertaintyPx)) {
+    out.push_back(
+        Format(
+            "the projection is uncertain: up to %.2f px (median %.2f) in the central 80 %% of the "
+            "image at %.2f m",
+            p.uncertainty_worst_px, p.uncertainty_median_px, p.distance) +
+        Format(" (limit %.1f px); add views, tilted, covering the image",
+               kMaxProjectionUncertaintyPx));
+  }
+  if (p.cross_validation_px.empty()) {
+    out.push_back(
+        "fewer than six views were used: the calibration cannot be checked against itself (two "
+        "halves of the views fitted apart); add views");
+  } else if (!(p.cross_validation_worst_px <= kMaxCrossValidationPx)) {
+    out.push_back(
+        Format(
+            "two halves of the views give models that project up to %.2f px apart (median %.2f) in "
+            "the central 80 %% of the image at %.2f m",
+            p.cross_validation_worst_px, p.cross_validation_median_px, p.distance) +
+        Format(" (limit %.1f px): the views do not agree on the lens; add views, or "
+               "look for a view of a bent or moving board",
+               kMaxCrossValidationPx));
   }
   return out;
 }
@@ -403,6 +383,7 @@ struct Calibration {
   const CameraCalibrationOptions& options;
   CameraCalibration result;
   std::vector<ViewPoints> points;
+  double distance_spread = 0.0;  // The used boards' furthest distance over the nearest.
 
   // Tag t of view v leaves the view, for `why`.
   void LeaveOut(size_t v, size_t t, const std::string& why) {
@@ -575,8 +556,62 @@ void RecordFit(const Fit& fit, const std::vector<size_t>& used, Calibration* c) 
   result.camera = fit.camera;
   result.rms_px = fit.rms_px;
   // k3 held at 0 has no deviation.
-  result.std_dev = fit.std_dev;
+  result.std_dev.clear();
+  for (int i = 0; i < fit.covariance.rows; ++i)
+    result.std_dev.push_back(std::sqrt(std::max(0.0, fit.covariance.at<double>(i, i))));
   result.std_dev.resize(4 + result.camera.distortion.size(), 0.0);
+}
+
+// The median distance of the used views' boards from the camera, metres
+// (each board's used corners' centroid); *spread the furthest over the
+// nearest.
+double MedianBoardDistance(const Calibration& c, const Fit& fit, const std::vector<size_t>& used,
+                           double* spread) {
+  std::vector<double> distances;
+  for (size_t u = 0; u < used.size(); ++u) {
+    cv::Vec3d centre(0, 0, 0);
+    const std::vector<cv::Point3d> board = Flatten(c.points[used[u]].board);
+    for (const cv::Point3d& p : board) centre += cv::Vec3d(p.x, p.y, p.z) / double(board.size());
+    cv::Matx33d r;
+    cv::Rodrigues(fit.rvecs[u], r);
+    distances.push_back(cv::norm(r * centre + fit.tvecs[u]));
+  }
+  std::sort(distances.begin(), distances.end());
+  *spread = distances.front() > 0 ? distances.back() / distances.front() : 0.0;
+  return distances[distances.size() / 2];
+}
+
+// CameraCalibration::projection: the final fit's projection uncertainty,
+// and the models of two halves of the used views against each other.
+void CheckProjection(Calibration& c, const Fit& fit, const std::vector<size_t>& used) {
+  ProjectionCheck& check = c.result.projection;
+  double spread = 0;
+  const double median = MedianBoardDistance(c, fit, used, &spread);
+  c.distance_spread = spread;
+  check.distance = c.options.working_distance > 0 ? c.options.working_distance : median;
+  const cv::Size size = c.result.image_size;
+  check.grid =
+      cv::Size(internal::kProjectionGrid,
+               std::max(1, static_cast<int>(std::lround(internal::kProjectionGrid *
+                                                        double(size.height) / size.width))));
+  check.uncertainty_px = internal::UncertaintyMap(fit.camera, fit.covariance, c.options.fit_k3,
+                                                  check.distance, size, check.grid);
+  internal::CentralFigures(check.uncertainty_px, size, check.grid, &check.uncertainty_median_px,
+                           &check.uncertainty_worst_px);
+  check.cross_validation_median_px = check.cross_validation_worst_px =
+      std::numeric_limits<double>::quiet_NaN();
+  std::vector<size_t> halves[2];
+  for (size_t u = 0; u < used.size(); ++u) halves[u % 2].push_back(used[u]);
+  if (halves[1].size() < 3) return;
+  Fit fits[2];
+  std::string why;
+  for (int h = 0; h < 2; ++h) {
+    if (!RunFit(c.points, halves[h], size, c.options, &fits[h], &why)) return;
+  }
+  check.cross_validation_px = internal::CrossValidationMap(fits[0].camera, fits[1].camera,
+                                                           check.distance, size, check.grid);
+  internal::CentralFigures(check.cross_validation_px, size, check.grid,
+                           &check.cross_validation_median_px, &check.cross_validation_worst_px);
 }
 
 }  // namespace
@@ -592,7 +627,7 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
   };
   if (!options.IsValid(error) || !CheckCalibrationBoard(board, options, error)) return std::nullopt;
   if (image_size.width <= 0 || image_size.height <= 0) return fail("the image size is empty");
-  Calibration c{board, views, options, CameraCalibration(), {}};
+  Calibration c{board, views, options, CameraCalibration(), {}, 0.0};
   c.result.image_size = image_size;
   CollectBoardCorners(&c);
   std::vector<size_t> used = UsableDistinctViews(&c);
@@ -611,8 +646,9 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
   if (!RunFit(c.points, used, image_size, options, &fit, &why, /*deviations=*/true))
     return fail(why);
   RecordFit(fit, used, &c);
+  CheckProjection(c, fit, used);
   c.result.warnings = Warnings(c.result);
-  c.result.doubts = Doubts(c.result);
+  c.result.doubts = Doubts(c.result, c.distance_spread);
   return c.result;
 }
 

@@ -288,20 +288,109 @@ void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& titl
   DrawViewBars(cr, c, right + side + 40, below, kWidth - kMargin - (right + side + 40), side);
 }
 
+// A map's value as a colour: green at 0, yellow at `limit`, red from twice
+// it; grey where nothing is known.
+void MapColour(cairo_t* cr, double value, double limit) {
+  if (!std::isfinite(value)) {
+    cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
+    return;
+  }
+  const double t = std::clamp(value / (2 * limit), 0.0, 1.0);
+  if (t < 0.5) {
+    cairo_set_source_rgb(cr, 0.3 + 1.3 * t, 0.75, 0.3);
+  } else {
+    cairo_set_source_rgb(cr, 0.95, 0.75 - 1.2 * (t - 0.5), 0.3 - 0.4 * (t - 0.5));
+  }
+}
+
+// One ProjectionCheck map over the image's frame, the central 80 % outlined,
+// each cell's value printed when the cells are large enough.
+void DrawMap(cairo_t* cr, const CameraCalibration& c, const std::vector<double>& map, double x,
+             double y, double width, const std::string& caption, double limit) {
+  const double s = ImageFrame(cr, c, x, y, width, caption);
+  const cv::Size grid = c.projection.grid;
+  if (map.size() != static_cast<size_t>(grid.area())) {
+    Text(cr, x + 8, y + 20, 9, "not measured (fewer than six views)", false, 0.3);
+    return;
+  }
+  const double cw = c.image_size.width * s / grid.width, ch = c.image_size.height * s / grid.height;
+  for (int r = 0; r < grid.height; ++r) {
+    for (int col = 0; col < grid.width; ++col) {
+      MapColour(cr, map[r * grid.width + col], limit);
+      cairo_rectangle(cr, x + col * cw, y + r * ch, cw + 0.2, ch + 0.2);
+      cairo_fill(cr);
+    }
+  }
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  cairo_set_line_width(cr, 0.8);
+  cairo_rectangle(cr, x + 0.1 * c.image_size.width * s, y + 0.1 * c.image_size.height * s,
+                  0.8 * c.image_size.width * s, 0.8 * c.image_size.height * s);
+  cairo_stroke(cr);
+}
+
+void DrawLegend(cairo_t* cr, double x, double y, double width, double limit) {
+  for (int i = 0; i < 100; ++i) {
+    MapColour(cr, 2 * limit * i / 99.0, limit);
+    cairo_rectangle(cr, x + width * i / 100.0, y, width / 100.0 + 0.3, 8);
+    cairo_fill(cr);
+  }
+  Text(cr, x, y + 19, 8, "0 px", false, 0.25);
+  Text(cr, x + 0.5 * width - 14, y + 19, 8, F("%.1f px (limit)", limit), false, 0.25);
+  Text(cr, x + width - 40, y + 19, 8, F("%.1f px +", 2 * limit), false, 0.25);
+}
+
+// Page 2: the projection check's two maps and figures.
+void DrawProjectionPage(cairo_t* cr, const CameraCalibration& c, const std::string& title) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  const ProjectionCheck& p = c.projection;
+  double y = kMargin + 12;
+  Text(cr, kMargin, y, 14, "How well the model projects: " + title, true);
+  y += 16;
+  Text(cr, kMargin, y, 8.5,
+       F("At %.3g m from the camera. Outlined: the central 80 %% of the image, where the limits "
+         "(%.1f px) apply.",
+         p.distance, kMaxProjectionUncertaintyPx),
+       false, 0.25);
+  const double panel = 370, top = y + 40;
+  const double aspect = static_cast<double>(c.image_size.height) / c.image_size.width;
+  const double width = std::min(panel, 360.0 / aspect);
+  DrawMap(cr, c, p.uncertainty_px, kMargin, top, width,
+          F("Projection uncertainty (1 sigma): median %.3f, worst %.3f px", p.uncertainty_median_px,
+            p.uncertainty_worst_px),
+          kMaxProjectionUncertaintyPx);
+  DrawMap(cr, c, p.cross_validation_px, kMargin + panel + 30, top, width,
+          p.cross_validation_px.empty()
+              ? std::string("Cross-validation: two halves of the views")
+              : F("Cross-validation, two halves of the views: median %.3f, worst %.3f px",
+                  p.cross_validation_median_px, p.cross_validation_worst_px),
+          kMaxCrossValidationPx);
+  DrawLegend(cr, kMargin, top + width * aspect + 18, 240, kMaxProjectionUncertaintyPx);
+}
+
 }  // namespace
 
 std::string RenderCameraReportPdf(const CameraCalibration& calibration, const std::string& title) {
-  return RenderPdf(kWidth, kHeight, "ChromaTag camera calibration report", 1,
-                   [&](cairo_t* cr, int) { DrawReport(cr, calibration, title); });
+  return RenderPdf(kWidth, kHeight, "ChromaTag camera calibration report", 2,
+                   [&](cairo_t* cr, int page) {
+                     if (page == 0) {
+                       DrawReport(cr, calibration, title);
+                     } else {
+                       DrawProjectionPage(cr, calibration, title);
+                     }
+                   });
 }
 
 std::string RenderCameraReportPng(const CameraCalibration& calibration, const std::string& title,
                                   double scale) {
   const int width = static_cast<int>(std::lround(kWidth * scale));
-  const int height = static_cast<int>(std::lround(kHeight * scale));
+  // Both pages, one below the other.
+  const int height = static_cast<int>(std::lround(2 * kHeight * scale));
   return RenderPng(width, height, 0, [&](cairo_t* cr) {
     cairo_scale(cr, scale, scale);
     DrawReport(cr, calibration, title);
+    cairo_translate(cr, 0, kHeight);
+    DrawProjectionPage(cr, calibration, title);
   });
 }
 

@@ -42,6 +42,9 @@ struct CameraCalibrationOptions {
   double max_view_rms_px = 2.0;
   double max_corner_error_px = 1.0;
   double corner_error_factor = 5.0;
+  // Where ProjectionCheck judges the model: this far from the camera,
+  // metres; 0 for the median distance of the used views' boards.
+  double working_distance = 0.0;
 
   bool IsValid(std::string* error) const;
 };
@@ -62,6 +65,37 @@ struct CalibrationViewResult {
   std::vector<cv::Point2d> residuals;
 };
 
+// How well the fitted model projects, over the image, at a working distance
+// (as mrcal measures it). Maps are grid.width x grid.height cells,
+// row-major, each value at its cell's centre.
+struct ProjectionCheck {
+  double distance = 0.0;  // Metres.
+  cv::Size grid;
+  // One standard deviation of where the model projects the point it sees at
+  // the cell's centre, `distance` away, from the intrinsics' covariance (the
+  // larger axis of its ellipse), px: the views' poses marginalised out, and
+  // what a turn of the camera frame would absorb taken out.
+  std::vector<double> uncertainty_px;
+  // How far apart the models fitted to two halves of the views (every
+  // other used view) project the same point, the camera frames aligned by
+  // the rotation that best matches their rays, px. Empty with fewer than six
+  // used views.
+  std::vector<double> cross_validation_px;
+  // Over the central 80 % of the image (10 % off each side): the median and
+  // the largest cell; NaN when not computed.
+  double uncertainty_median_px = 0.0, uncertainty_worst_px = 0.0;
+  double cross_validation_median_px = 0.0, cross_validation_worst_px = 0.0;
+};
+
+// The limits CameraCalibration::doubts holds ProjectionCheck's worst central
+// figures to, px.
+inline constexpr double kMaxProjectionUncertaintyPx = 0.3;
+inline constexpr double kMaxCrossValidationPx = 0.3;
+// Used views whose boards' distances span less than this ratio (furthest
+// over nearest) are "at one distance": the fit then cannot tell the focal
+// length from the distance, nor the distortion at other depths.
+inline constexpr double kMinDistanceSpread = 1.3;
+
 struct CameraCalibration {
   CameraIntrinsics camera;  // fx, fy, cx, cy, the model and its distortion.
   cv::Size image_size;
@@ -78,10 +112,14 @@ struct CameraCalibration {
   // views are tilted 20 degrees or more (views of a board facing the camera
   // leave the focal length to the distortion, whatever the deviations say),
   // fx or fy with a standard deviation over 0.5 % of its value, cx or cy
-  // over 1 % of the image's side; each a sentence. A camera file written from such a fit
+  // over 1 % of the image's side, every view at one distance
+  // (kMinDistanceSpread), projection uncertainty or cross-validation over
+  // their limits in the central 80 % of the image (or not measurable: fewer
+  // than six views); each a sentence. A camera file written from such a fit
   // would claim what the views do not show; `calibrate-camera` writes none
   // unless asked.
   std::vector<std::string> doubts;
+  ProjectionCheck projection;
 };
 
 // The names of CameraCalibration::std_dev's entries: "fx", "fy", "cx", "cy",
