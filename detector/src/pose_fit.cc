@@ -209,10 +209,13 @@ double CornerChiSquare(const std::vector<const CornerNoise*>& noise, const cv::M
 }
 
 // How much larger the corners' covariance is taken when weighing the rival
-// solution: set on the camera set's tags under 30 px, where a mirrored tilt
-// is picked now and then (with 1, their rotation errors reached 13 times
-// the predicted sigma, root mean square; with 4, 0.7-0.8).
-constexpr double kRivalNoiseScale = 4.0;
+// solution. 1: as it is. Measured on the camera set (tags of 30 px and
+// more up to 60 degrees, per-axis spread of error over sigma): with 1,
+// 0.83-0.99 and 91 % inside the 95 % ellipsoid, but tags under 30 px,
+// which now and then take the mirrored tilt, reach 9.5 about y; with 4,
+// those come to 0.8, but the larger tags' covariance grows cautious (0.77
+// and 0.79 on two axes).
+constexpr double kRivalNoiseScale = 1.0;
 
 // The 95 % point of a chi-square with `dof` degrees of freedom (Wilson and
 // Hilferty's cube-root approximation: within 1 % from two degrees up).
@@ -317,10 +320,7 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
   covariance *= scale;
   if (rival && AngleBetween(fit.rotation, rival->rotation) > kSameSolutionRadians) {
     // The rival's share: its likelihood against the fit's, from the outer
-    // corners' misfit under each, judged with the corners' covariance
-    // kRivalNoiseScale times larger: the corners' errors have heavier tails
-    // than a Gaussian's, and taking the wrong solution is the gross error
-    // those tails make.
+    // corners' misfit under each (the covariance scaled by kRivalNoiseScale).
     const double gap = (CornerChiSquare(noise, rival->rotation, rival->translation, k) -
                         CornerChiSquare(noise, fit.rotation, fit.translation, k)) /
                        (scale * kRivalNoiseScale);
