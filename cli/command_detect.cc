@@ -94,6 +94,11 @@ bool Prepare(const DetectOptions& options, Setup* setup, std::string* error) {
     *error = "pose needs both --camera FILE and --tag-size LENGTH (or --board FILE)";
     return false;
   }
+  if (options.smooth && !(d.camera && (d.tag_size > 0 || setup->board))) {
+    *error =
+        "--smooth smooths poses: it needs --camera FILE with --tag-size LENGTH or --board FILE";
+    return false;
+  }
   if (options.show && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) {
     *error = "--show needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set)";
     return false;
@@ -103,6 +108,13 @@ bool Prepare(const DetectOptions& options, Setup* setup, std::string* error) {
                      &setup->skipped))
     return false;
   for (const std::string& note : notes) Fail("detect", note, kExitOk);
+  for (const Source& source : setup->sources) {
+    if (options.smooth && source.kind == SourceKind::kImage) {
+      *error = "--smooth follows a pose over the frames of a video or a camera; '" + source.name +
+               "' is an image";
+      return false;
+    }
+  }
   for (const std::string& entry : setup->skipped) Fail("detect", entry, kExitOk);
   if (!options.overlay_dir.empty()) {
     std::error_code ec;
@@ -157,6 +169,10 @@ void AddDetectionOptions(CLI::App* command, DetectOptions* options) {
                       "sheet (or its sidecar .json) or a bundle YAML (FILE[#NAME]); docs/pose.md");
   command->add_option("--config", options->config,
                       "Detector config JSON (thresholds from 'chromatag calibrate')");
+  command->add_flag("--smooth", options->smooth,
+                    "Videos and cameras: filter each tag's and the board's pose over frames, "
+                    "weighing each frame by its covariance and refusing a lone flip "
+                    "(docs/pose.md, Pose over time)");
   command->add_flag("--rejected", options->rejected,
                     "Also report the rejected candidates (JSON: \"rejected\") and draw them on "
                     "the overlays, coloured by the stage that rejected them");

@@ -107,7 +107,38 @@ std::optional<Outcome> Run::Next(size_t next, Tally* tally) {
   return outcome;
 }
 
+void Run::WriteSmoothed(Outcome* outcome) {
+  PendingFrame& p = *outcome->pending;
+  for (Detection& d : p.detections) {
+    if (!d.has_pose) continue;
+    const FilteredPose f = tag_filters_[{p.source, d.family->name(), d.id}].Update(
+        p.timestamp, d.pose.rvec, d.pose.tvec, d.pose.covariance);
+    d.pose.rvec = f.rvec;
+    d.pose.tvec = f.tvec;
+    d.pose.covariance = f.covariance;
+  }
+  if (p.board_pose) {
+    const FilteredPose f = board_filters_[p.source].Update(
+        p.timestamp, p.board_pose->rvec, p.board_pose->tvec, p.board_pose->covariance);
+    p.board_pose->rvec = f.rvec;
+    p.board_pose->tvec = f.tvec;
+    p.board_pose->covariance = f.covariance;
+  }
+  const Board* board = board_ ? &*board_ : nullptr;
+  if (!options_.json) {
+    outcome->out =
+        TableLines(sources_[p.source].name, p.frame_index, p.detections, board, p.board_pose);
+  } else {
+    p.record.board = board;
+    p.record.board_pose = p.board_pose ? &*p.board_pose : nullptr;
+    p.record.rejected = options_.rejected ? &p.rejected : nullptr;
+    outcome->out = FrameJson(p.record, p.detections) + "\n";
+  }
+  outcome->pending.reset();
+}
+
 void Run::PrintOutcome(Outcome& outcome, bool live, Progress* progress, Tally* tally) {
+  if (outcome.pending) WriteSmoothed(&outcome);
   std::cout << outcome.out << std::flush;
   if (!outcome.err.empty()) {
     progress->Finish();  // The message on a line of its own; the bar comes back.
@@ -331,6 +362,24 @@ Outcome Run::Process(Task& task, DetectionResult* result) const {
   if (!options_.overlay_dir.empty() || options_.show)
     overlay = Draw(source, task, *result, d, board_pose, &outcome);
   const Board* board = board_ ? &*board_ : nullptr;
+  if (options_.smooth) {
+    // The printer filters the poses in frame order, then writes the frame.
+    PendingFrame& p = outcome.pending.emplace();
+    p.source = task.source;
+    p.frame_index = task.frame_index;
+    p.timestamp = task.timestamp;
+    p.detections = result->detections;
+    p.board_pose = board_pose;
+    if (options_.rejected) p.rejected = result->rejected;
+    p.record.file = source.name;
+    p.record.frame = task.frame_index;
+    p.record.width = frame.cols;
+    p.record.height = frame.rows;
+    p.record.time_us = result->summary.total_time_us;
+    p.record.timestamp = task.timestamp;
+    p.record.overlay = overlay;
+    return outcome;
+  }
   if (!options_.json) {
     outcome.out = TableLines(source.name, task.frame_index, result->detections, board, board_pose);
     return outcome;

@@ -14,13 +14,16 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 #include "chromatag/detector/board.h"
+#include "chromatag/detector/detection_json.h"
 #include "chromatag/detector/detector.h"
+#include "chromatag/detector/pose_filter.h"
 #include "detect_camera.h"
 #include "progress.h"
 #include "sources.h"
@@ -43,6 +46,7 @@ struct DetectOptions {
   double duration_s = 0.0;                      // 0: no limit.
   double open_timeout_s = kDefaultOpenTimeout;  // For a stream's server to answer.
   bool every_frame = false;                     // Live sources: never drop a stale frame.
+  bool smooth = false;  // Videos and cameras: poses filtered over frames (PoseFilter).
   std::vector<std::string> inputs;
 };
 
@@ -57,6 +61,18 @@ struct Task {
   std::string error;  // A source that could not be read: passed on in order.
 };
 
+// With --smooth, a frame's own results, kept for the printer, which filters
+// the poses in frame order and then writes the frame.
+struct PendingFrame {
+  size_t source = 0;
+  int frame_index = 0;
+  double timestamp = 0;
+  std::vector<Detection> detections;
+  std::optional<BoardPose> board_pose;
+  std::vector<RejectedCandidate> rejected;
+  FrameJsonRecord record;  // Its board, board_pose and rejected set when written.
+};
+
 struct Outcome {
   std::string out;
   std::string err;
@@ -64,7 +80,8 @@ struct Outcome {
   bool frame = false;    // A frame was detected in.
   bool dropped = false;  // A live frame dropped unseen: a newer one came first.
   int tags = 0;
-  cv::Mat shown;  // --show: the frame with the detections drawn.
+  cv::Mat shown;                        // --show: the frame with the detections drawn.
+  std::optional<PendingFrame> pending;  // --smooth: `out` is written by the printer.
 };
 
 class Run {
@@ -98,6 +115,9 @@ class Run {
   // The next outcome, waited for; nullopt when there is none to wait for.
   std::optional<Outcome> Next(size_t next, Tally* tally);
   void PrintOutcome(Outcome& outcome, bool live, Progress* progress, Tally* tally);
+  // --smooth: the pending frame's poses through their filters, then its
+  // output written into outcome->out.
+  void WriteSmoothed(Outcome* outcome);
   // The summary line; returns the exit code.
   int Summary(const Tally& tally, Progress* progress);
   [[noreturn]] void EndWithoutThreads(int code);
@@ -149,6 +169,10 @@ class Run {
   bool abandoned_ = false;               // The printer stopped waiting for a stuck reader.
   mutable std::atomic<int> writing_{0};  // Workers inside an overlay's write.
   std::atomic<bool> dying_{false};       // The process ends without the workers.
+  // --smooth, the printer's: a filter per source and tag (family, ID), and
+  // per source for the board.
+  std::map<std::tuple<size_t, std::string, int>, PoseFilter> tag_filters_;
+  std::map<size_t, PoseFilter> board_filters_;
 };
 
 }  // namespace chromatag::cli

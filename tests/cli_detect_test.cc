@@ -14,7 +14,9 @@
 #include <set>
 #include <sstream>
 
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "test_util.h"
 
@@ -313,7 +315,10 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
            {{"--camera", dir + "/camera.yaml"}, "or --board FILE"},
            {{"--camera", dir + "/camera.yaml", "--board", dir + "/board.png.json", "--family",
              "36h11"},
-            "--family 36h11 leaves out every tag of the board (16h5)"}}) {
+            "--family 36h11 leaves out every tag of the board (16h5)"},
+           {{"--smooth"}, "--smooth smooths poses: it needs --camera FILE with --tag-size"},
+           {{"--camera", dir + "/camera.yaml", "--board", dir + "/board.png.json", "--smooth"},
+            "'" + dir + "/board.png' is an image"}}) {
     std::vector<std::string> command = {"detect"};
     command.insert(command.end(), args.begin(), args.end());
     command.push_back(dir + "/board.png");
@@ -322,6 +327,61 @@ TEST(CliDetectTest, BoardPoseInJsonAndTable) {
     EXPECT_EQ(CountLines(refused.err), 1) << refused.err;
     EXPECT_NE(refused.err.find(message), std::string::npos) << refused.err;
   }
+}
+
+// --smooth on a video of a still board through sensor noise: the board's
+// pose moves less from frame to frame than each frame's own.
+TEST(CliDetectTest, SmoothFiltersABoardsPoseOverAVideo) {
+  const std::string dir = ::testing::TempDir() + "/cli_detect_smooth";
+  std::system(("rm -rf '" + dir + "'").c_str());
+  mkdir(dir.c_str(), 0755);
+  const auto generated = Chromatag({"generate", "--board", "3x2", "--page", "120x90mm", "--dpi",
+                                    "150", "-o", dir + "/board.png"});
+  ASSERT_EQ(generated.exit_code, 0) << generated.err;
+  const cv::Mat page = cv::imread(dir + "/board.png");
+  ASSERT_FALSE(page.empty());
+  const double cx = (page.cols - 1) / 2.0, cy = (page.rows - 1) / 2.0;
+  std::ofstream(dir + "/camera.yaml")
+      << "camera_matrix: [2000, 0, " << cx << ", 0, 2000, " << cy << ", 0, 0, 1]\n";
+  cv::VideoWriter video(dir + "/still.avi", cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30,
+                        page.size());
+  ASSERT_TRUE(video.isOpened());
+  cv::RNG rng(7);
+  for (int f = 0; f < 24; ++f) {
+    cv::Mat noise(page.size(), CV_16SC3), frame;
+    rng.fill(noise, cv::RNG::NORMAL, 0, 12);
+    cv::add(page, noise, frame, cv::noArray(), CV_8UC3);
+    video.write(frame);
+  }
+  video.release();
+  // The board's distance per frame, each frame's own and smoothed.
+  const auto distances = [&](bool smooth) {
+    std::vector<std::string> command = {"detect",          "--json",
+                                        "--camera",        dir + "/camera.yaml",
+                                        "--board",         dir + "/board.png.json",
+                                        dir + "/still.avi"};
+    if (smooth) command.push_back("--smooth");
+    const auto run = Chromatag(command);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    std::vector<double> out;
+    std::istringstream lines(run.out);
+    for (std::string line; std::getline(lines, line);) {
+      const auto frame = nlohmann::json::parse(line);
+      if (!frame["board"].is_null()) out.push_back(frame["board"]["tvec"][2].get<double>());
+    }
+    return out;
+  };
+  const auto spread = [](std::vector<double> v) {
+    v.erase(v.begin(), v.begin() + 8);  // The filter settling.
+    double mean = 0, sum = 0;
+    for (double x : v) mean += x / v.size();
+    for (double x : v) sum += (x - mean) * (x - mean);
+    return std::sqrt(sum / v.size());
+  };
+  const std::vector<double> raw = distances(false), smooth = distances(true);
+  ASSERT_EQ(raw.size(), 24u);
+  ASSERT_EQ(smooth.size(), 24u);
+  EXPECT_LT(spread(smooth), 0.7 * spread(raw)) << spread(smooth) << " against " << spread(raw);
 }
 
 TEST(CliDetectTest, BadUsageIsExitTwo) {
