@@ -279,12 +279,12 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
   // The fit's parameters move with the image points as -(J^T J)^-1 J^T, and
   // the image points with the corners as image_from_corners (H): per tag,
   // M = J^T H, and the covariance is (J^T J)^-1 (sum M C M^T) (J^T J)^-1.
-  // The errors the tags share add their cross terms: a shift of the frame
-  // in full (no tag's covariance holds it), and between tags the share
-  // kSharedGrowShare of each tag's growth.
+  // The errors the tags of a frame share add their terms between tags (each
+  // tag's own covariance holds them within it): a shift of the frame, and
+  // the share kSharedGrowShare of each tag's growth.
   cv::Mat jtj = cv::Mat::zeros(6, 6, CV_64F), middle = cv::Mat::zeros(6, 6, CV_64F);
   cv::Mat shift_x = cv::Mat::zeros(6, 1, CV_64F), shift_y = shift_x.clone(), grow = shift_x.clone(),
-          grow_within = cv::Mat::zeros(6, 6, CV_64F);
+          grow_within = cv::Mat::zeros(6, 6, CV_64F), shift_within = grow_within.clone();
   double residual_ss = 0.0, image_variance = 0.0;
   for (const CornerNoise* tag : noise) {
     cv::Mat j, e;
@@ -293,8 +293,10 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
     const cv::Mat m = j.t() * h;
     jtj += j.t() * j;
     middle += m * c * m.t();
-    shift_x += m * cv::Mat(tag->shift_x);
-    shift_y += m * cv::Mat(tag->shift_y);
+    const cv::Mat sx = m * cv::Mat(tag->shift_x), sy = m * cv::Mat(tag->shift_y);
+    shift_x += sx;
+    shift_y += sy;
+    shift_within += sx * sx.t() + sy * sy.t();
     const cv::Mat g = m * cv::Mat(tag->grow);
     grow += g;
     grow_within += g * g.t();
@@ -302,7 +304,8 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
     image_variance += cv::trace(h * c * h.t())[0];
   }
   const double grow_px = kCornerNoise.grow_px;
-  middle += kFrameShiftPx * kFrameShiftPx * (shift_x * shift_x.t() + shift_y * shift_y.t()) +
+  middle += kFrameShiftPx * kFrameShiftPx *
+                (shift_x * shift_x.t() + shift_y * shift_y.t() - shift_within) +
             kSharedGrowShare * grow_px * grow_px * (grow * grow.t() - grow_within);
   cv::Mat inverse;
   if (cv::invert(jtj, inverse, cv::DECOMP_CHOLESKY) == 0.0)

@@ -90,13 +90,14 @@ struct CornerNoise {
 };
 
 // Errors the tags of one frame share, which a board's pose cannot average
-// away: a shift of the whole image that no single tag's edges show (the
-// camera's sampling, the lens model's remaining error), standard deviation
-// per axis in px; and the share of each tag's growth (kCornerNoise.grow_px:
-// the frame's tone curve and blur) that every other tag shares. Set on the
-// calibration benchmark's board views (calib_comparison, 10 trials): with
-// tags taken as independent, 73 % of board poses fell inside their 95 %
-// ellipsoid, the lateral position erring most.
+// away (added between tags; each tag's covariance holds them within it): a
+// shift of the whole image (the camera's sampling, the lens model's
+// remaining error), standard deviation per axis in px; and the share of
+// each tag's growth (kCornerNoise.grow_px: the frame's tone curve and blur)
+// that every other tag shares. Set on the calibration benchmark's board
+// views (calib_comparison, 10 trials): with tags taken as independent, 73 %
+// of board poses fell inside their 95 % ellipsoid, the lateral position
+// erring most.
 inline constexpr double kFrameShiftPx = 0.01;
 inline constexpr double kSharedGrowShare = 0.5;
 
