@@ -254,8 +254,11 @@ void DrawLeftOut(cairo_t* cr, const CameraCalibration& c, double y) {
 }
 
 void DrawReport(cairo_t* cr, const CameraCalibration& c, const std::string& title) {
+  // The page's own rectangle, not cairo_paint: the PNG draws the pages one
+  // below the other on one surface.
   cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
+  cairo_rectangle(cr, 0, 0, kWidth, kHeight);
+  cairo_fill(cr);
   double y = kMargin + 12;
   Text(cr, kMargin, y, 14, "Camera calibration: " + title, true);
   y += 16;
@@ -341,8 +344,11 @@ void DrawLegend(cairo_t* cr, double x, double y, double width, double limit) {
 
 // Page 2: the projection check's two maps and figures.
 void DrawProjectionPage(cairo_t* cr, const CameraCalibration& c, const std::string& title) {
+  // The page's own rectangle, not cairo_paint: the PNG draws the pages one
+  // below the other on one surface.
   cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
+  cairo_rectangle(cr, 0, 0, kWidth, kHeight);
+  cairo_fill(cr);
   const ProjectionCheck& p = c.projection;
   double y = kMargin + 12;
   Text(cr, kMargin, y, 14, "How well the model projects: " + title, true);
