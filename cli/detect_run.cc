@@ -364,20 +364,7 @@ Outcome Run::Process(Task& task, DetectionResult* result) const {
   const Board* board = board_ ? &*board_ : nullptr;
   if (options_.smooth) {
     // The printer filters the poses in frame order, then writes the frame.
-    PendingFrame& p = outcome.pending.emplace();
-    p.source = task.source;
-    p.frame_index = task.frame_index;
-    p.timestamp = task.timestamp;
-    p.detections = result->detections;
-    p.board_pose = board_pose;
-    if (options_.rejected) p.rejected = result->rejected;
-    p.record.file = source.name;
-    p.record.frame = task.frame_index;
-    p.record.width = frame.cols;
-    p.record.height = frame.rows;
-    p.record.time_us = result->summary.total_time_us;
-    p.record.timestamp = task.timestamp;
-    p.record.overlay = overlay;
+    outcome.pending = Pending(task, *result, board_pose, overlay);
     return outcome;
   }
   if (!options_.json) {
@@ -397,6 +384,26 @@ Outcome Run::Process(Task& task, DetectionResult* result) const {
   record.rejected = options_.rejected ? &result->rejected : nullptr;
   outcome.out = FrameJson(record, result->detections) + "\n";
   return outcome;
+}
+
+PendingFrame Run::Pending(const Task& task, const DetectionResult& result,
+                          const std::optional<BoardPose>& board_pose,
+                          const std::string& overlay) const {
+  PendingFrame p;
+  p.source = task.source;
+  p.frame_index = task.frame_index;
+  p.timestamp = task.timestamp;
+  p.detections = result.detections;
+  p.board_pose = board_pose;
+  if (options_.rejected) p.rejected = result.rejected;
+  p.record.file = sources_[task.source].name;
+  p.record.frame = task.frame_index;
+  p.record.width = task.frame.cols;
+  p.record.height = task.frame.rows;
+  p.record.time_us = result.summary.total_time_us;
+  p.record.timestamp = task.timestamp;
+  p.record.overlay = overlay;
+  return p;
 }
 
 std::optional<BoardPose> Run::BoardPoseIn(const Source& source, const Task& task,

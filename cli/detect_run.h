@@ -131,6 +131,10 @@ class Run {
   void ReadVideo(size_t i);
   void Work();
   Outcome Process(Task& task, DetectionResult* result) const;
+  // --smooth: what the printer needs of the frame (PendingFrame).
+  PendingFrame Pending(const Task& task, const DetectionResult& result,
+                       const std::optional<BoardPose>& board_pose,
+                       const std::string& overlay) const;
   // The board's pose in a frame, if seen; a board tag seen twice fails the
   // frame in *outcome instead.
   std::optional<BoardPose> BoardPoseIn(const Source& source, const Task& task,

@@ -102,6 +102,44 @@ FilteredPose PoseFilter::Output(bool used, bool restarted) const {
   return out;
 }
 
+void PoseFilter::Predict(double dt) {
+  // The pose moves at its velocities; white noise on the accelerations
+  // widens it (per axis [dt^3/3 dt^2/2; dt^2/2 dt] q).
+  translation_ += velocity_ * dt;
+  rotation_ = Exp(angular_velocity_ * dt) * rotation_;
+  Matx12 f = Matx12::eye();
+  for (int i = 0; i < 6; ++i) f(i, 6 + i) = dt;
+  p_ = f * p_ * f.t();
+  for (int i = 0; i < 6; ++i) {
+    const double a = i < 3 ? options_.translation_acceleration : options_.rotation_acceleration;
+    const double q = a * a;
+    p_(i, i) += q * dt * dt * dt / 3;
+    p_(i, 6 + i) += q * dt * dt / 2;
+    p_(6 + i, i) += q * dt * dt / 2;
+    p_(6 + i, 6 + i) += q * dt;
+  }
+}
+
+void PoseFilter::Correct(const cv::Vec6d& innovation, const cv::Matx66d& s,
+                         const cv::Matx66d& seen) {
+  // K = P H^T S^-1 with H = [I 0]; Joseph's form keeps P symmetric.
+  cv::Matx66d s_inverse;
+  cv::invert(s, s_inverse, cv::DECOMP_CHOLESKY);
+  cv::Matx<double, 12, 6> p_h;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 6; ++j) p_h(i, j) = p_(i, j);
+  const cv::Matx<double, 12, 6> k = p_h * s_inverse;
+  const Vec12 correction = k * innovation;
+  translation_ += cv::Vec3d(correction[0], correction[1], correction[2]);
+  rotation_ = Exp(cv::Vec3d(correction[3], correction[4], correction[5])) * rotation_;
+  velocity_ += cv::Vec3d(correction[6], correction[7], correction[8]);
+  angular_velocity_ += cv::Vec3d(correction[9], correction[10], correction[11]);
+  Matx12 i_kh = Matx12::eye();
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 6; ++j) i_kh(i, j) -= k(i, j);
+  p_ = i_kh * p_ * i_kh.t() + k * seen * k.t();
+}
+
 FilteredPose PoseFilter::Update(double time_s, const cv::Vec3d& rvec, const cv::Vec3d& tvec,
                                 const cv::Matx66d& covariance) {
   // The frame's translation and rotation covariances, without their
@@ -120,61 +158,32 @@ FilteredPose PoseFilter::Update(double time_s, const cv::Vec3d& rvec, const cv::
     Start(time_s, rotation, tvec, seen);
     return Output(true, true);
   }
-  // Predict: the pose moves at its velocities; white noise on the
-  // accelerations widens it (per axis [dt^3/3 dt^2/2; dt^2/2 dt] q).
-  translation_ += velocity_ * dt;
-  rotation_ = Exp(angular_velocity_ * dt) * rotation_;
+  Predict(dt);
   time_s_ = time_s;
-  Matx12 f = Matx12::eye();
-  for (int i = 0; i < 6; ++i) f(i, 6 + i) = dt;
-  p_ = f * p_ * f.t();
-  for (int i = 0; i < 6; ++i) {
-    const double a = i < 3 ? options_.translation_acceleration : options_.rotation_acceleration;
-    const double q = a * a;
-    p_(i, i) += q * dt * dt * dt / 3;
-    p_(i, 6 + i) += q * dt * dt / 2;
-    p_(6 + i, i) += q * dt * dt / 2;
-    p_(6 + i, 6 + i) += q * dt;
-  }
   // The frame against the prediction.
   const cv::Vec6d innovation = Difference(rotation_, translation_, rotation, tvec);
   cv::Matx66d s = seen;
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 6; ++j) s(i, j) += p_(i, j);
-  if (Mahalanobis(innovation, s) > options_.gate_chi2) {
-    // Left out; several in a row that agree with each other are a move.
-    const bool agrees =
-        left_out_ > 0 &&
-        Mahalanobis(Difference(left_out_rotation_, left_out_translation_, rotation, tvec),
-                    left_out_covariance_ + seen) <= options_.gate_chi2;
-    left_out_ = agrees ? left_out_ + 1 : 1;
-    left_out_rotation_ = rotation;
-    left_out_translation_ = tvec;
-    left_out_covariance_ = seen;
-    if (left_out_ >= options_.frames_to_jump) {
-      Start(time_s, rotation, tvec, seen);
-      return Output(true, true);
-    }
-    return Output(false, false);
+  if (Mahalanobis(innovation, s) <= options_.gate_chi2) {
+    left_out_ = 0;
+    Correct(innovation, s, seen);
+    return Output(true, false);
   }
-  left_out_ = 0;
-  // Update: K = P H^T S^-1 with H = [I 0]; Joseph's form keeps P symmetric.
-  cv::Matx66d s_inverse;
-  cv::invert(s, s_inverse, cv::DECOMP_CHOLESKY);
-  cv::Matx<double, 12, 6> p_h;
-  for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 6; ++j) p_h(i, j) = p_(i, j);
-  const cv::Matx<double, 12, 6> k = p_h * s_inverse;
-  const Vec12 correction = k * innovation;
-  translation_ += cv::Vec3d(correction[0], correction[1], correction[2]);
-  rotation_ = Exp(cv::Vec3d(correction[3], correction[4], correction[5])) * rotation_;
-  velocity_ += cv::Vec3d(correction[6], correction[7], correction[8]);
-  angular_velocity_ += cv::Vec3d(correction[9], correction[10], correction[11]);
-  Matx12 i_kh = Matx12::eye();
-  for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 6; ++j) i_kh(i, j) -= k(i, j);
-  p_ = i_kh * p_ * i_kh.t() + k * seen * k.t();
-  return Output(true, false);
+  // Left out; several in a row that agree with each other are a move.
+  const bool agrees =
+      left_out_ > 0 &&
+      Mahalanobis(Difference(left_out_rotation_, left_out_translation_, rotation, tvec),
+                  left_out_covariance_ + seen) <= options_.gate_chi2;
+  left_out_ = agrees ? left_out_ + 1 : 1;
+  left_out_rotation_ = rotation;
+  left_out_translation_ = tvec;
+  left_out_covariance_ = seen;
+  if (left_out_ >= options_.frames_to_jump) {
+    Start(time_s, rotation, tvec, seen);
+    return Output(true, true);
+  }
+  return Output(false, false);
 }
 
 }  // namespace chromatag

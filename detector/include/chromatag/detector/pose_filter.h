@@ -75,6 +75,11 @@ class PoseFilter {
   void Start(double time_s, const cv::Matx33d& rotation, const cv::Vec3d& translation,
              const cv::Matx66d& covariance);
   FilteredPose Output(bool used, bool restarted) const;
+  // Moves the pose and widens its covariance over `dt` seconds.
+  void Predict(double dt);
+  // Takes in a frame `innovation` away from the prediction (`s`: its
+  // covariance, the frame's `seen` and the prediction's together).
+  void Correct(const cv::Vec6d& innovation, const cv::Matx66d& s, const cv::Matx66d& seen);
 
   PoseFilterOptions options_;
   bool started_ = false;
