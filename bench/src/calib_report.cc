@@ -275,40 +275,20 @@ std::string Header(const std::vector<TrialResult>& trials, const CalibrationRunI
   return out.str();
 }
 
-// ChromaTag's board poses over every trial's views against the truth: the
-// poses, per axis the root mean square of error over sigma, and the share
-// inside the 95 % ellipsoid.
-struct BoardPoseCalibration {
-  int poses = 0;
-  std::array<double, 6> spread{};
-  double coverage = 0;
-};
-
-BoardPoseCalibration CalibrationOfBoardPoses(const std::vector<TrialResult>& trials) {
-  BoardPoseCalibration c;
-  int inside = 0;
+std::string BoardPoseTable(const std::vector<TrialResult>& trials) {
+  // ChromaTag's board poses over every trial's views.
+  CovarianceTally c;
   for (const TrialResult& t : trials) {
     const CalibrationOutcome& o = t.outcome[kChromaTagBoard];
-    for (size_t v = 0; v < o.board_pose_z.size(); ++v) {
-      for (int i = 0; i < 6; ++i) c.spread[i] += o.board_pose_z[v][i] * o.board_pose_z[v][i];
-      inside += o.board_pose_nees[v] <= kChiSquare6At95;
-      ++c.poses;
-    }
+    for (size_t v = 0; v < o.board_pose_z.size(); ++v)
+      c.Add(o.board_pose_z[v], o.board_pose_nees[v]);
   }
-  if (c.poses == 0) return c;
-  for (double& s : c.spread) s = std::sqrt(s / c.poses);
-  c.coverage = static_cast<double>(inside) / c.poses;
-  return c;
-}
-
-std::string BoardPoseTable(const std::vector<TrialResult>& trials) {
-  const BoardPoseCalibration c = CalibrationOfBoardPoses(trials);
   std::ostringstream out;
   out << "| poses | x | y | z | rot x | rot y | rot z | in 95 % |\n"
       << "|---:|---:|---:|---:|---:|---:|---:|---:|\n"
-      << "| " << c.poses;
-  for (double s : c.spread) out << " | " << Fixed(s, 2);
-  out << " | " << Fixed(100 * c.coverage, 1) << " % |\n";
+      << "| " << c.poses();
+  for (int axis = 0; axis < 6; ++axis) out << " | " << Fixed(c.Spread(axis), 2);
+  out << " | " << Fixed(100 * c.Coverage(), 1) << " % |\n";
   return out.str();
 }
 

@@ -146,6 +146,20 @@ bool PoseNormalisedError(const cv::Matx33d& rotation, const cv::Vec3d& translati
   return std::isfinite(*nees);
 }
 
+void CovarianceTally::Add(const std::array<double, 6>& z, double nees) {
+  for (int i = 0; i < 6; ++i) squares_[i] += z[i] * z[i];
+  inside_ += nees <= kChiSquare6At95;
+  ++poses_;
+}
+
+double CovarianceTally::Spread(int axis) const {
+  return poses_ ? std::sqrt(squares_[axis] / poses_) : kNaN;
+}
+
+double CovarianceTally::Coverage() const {
+  return poses_ ? static_cast<double>(inside_) / poses_ : kNaN;
+}
+
 double Percentile(std::vector<double> values, double p) {
   if (values.empty()) return kNaN;
   std::sort(values.begin(), values.end());

@@ -437,33 +437,25 @@ std::vector<std::pair<std::string, std::function<bool(const TagTruth&)>>> PoseRa
 
 }  // namespace
 
-PoseCalibration CalibrationOfPoses(const Context& c,
+CovarianceTally CalibrationOfPoses(const Context& c,
                                    const std::function<bool(const TagTruth&)>& keep) {
-  PoseCalibration out;
-  std::array<double, 6> squares{};
-  int inside = 0;
+  CovarianceTally tally;
   for (const auto& r : c.records) {
     const DetectorRecord& d = r.detectors[kChromaTag];
-    if (!r.truth.has_tags || !d.ran || std::isnan(d.pose_nees) || !keep(r.truth.chromatag))
-      continue;
-    for (int i = 0; i < 6; ++i) squares[i] += d.pose_z[i] * d.pose_z[i];
-    inside += d.pose_nees <= kChiSquare6At95;
-    ++out.poses;
+    if (r.truth.has_tags && d.ran && !std::isnan(d.pose_nees) && keep(r.truth.chromatag))
+      tally.Add(d.pose_z, d.pose_nees);
   }
-  if (out.poses == 0) return out;
-  for (int i = 0; i < 6; ++i) out.spread[i] = std::sqrt(squares[i] / out.poses);
-  out.coverage = static_cast<double>(inside) / out.poses;
-  return out;
+  return tally;
 }
 
 std::string PoseUncertaintySection(const Context& c) {
   if (c.info.dataset.kind != DatasetKind::kCamera || !c.info.active[kChromaTag]) return "";
   Table rows;
   for (const auto& [name, keep] : PoseRanges()) {
-    const PoseCalibration p = CalibrationOfPoses(c, keep);
-    std::vector<std::string> row = {name, Grouped(p.poses)};
-    for (double s : p.spread) row.push_back(Fixed(s, 2));
-    row.push_back(p.poses > 0 ? Fixed(100.0 * p.coverage, 1) + " %" : "–");
+    const CovarianceTally p = CalibrationOfPoses(c, keep);
+    std::vector<std::string> row = {name, Grouped(p.poses())};
+    for (int axis = 0; axis < 6; ++axis) row.push_back(Fixed(p.Spread(axis), 2));
+    row.push_back(p.poses() > 0 ? Fixed(100.0 * p.Coverage(), 1) + " %" : "–");
     rows.push_back(row);
   }
   return "### Pose uncertainty against the truth\n\n"

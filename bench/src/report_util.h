@@ -108,20 +108,13 @@ std::string FamilyRecallSection(const Context& c);
 std::string ConditionRecallSection(const Context& c);
 std::string PrintRecallSection(const Context& c);  // Camera set only; empty otherwise.
 std::string CastRecallSection(const Context& c);   // Camera set only; empty otherwise.
-std::string PoseSection(const Context& c);
+std::string PoseSection(const Context& c);         // Camera set only; empty otherwise.
 // How well ChromaTag's pose covariance predicts its errors, over the tags
-// `keep` keeps: per axis (ROS order) the root mean square of error over
-// predicted sigma, and the share inside the 95 % ellipsoid.
-struct PoseCalibration {
-  int poses = 0;
-  std::array<double, 6> spread{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
-  double coverage = kNaN;
-};
-PoseCalibration CalibrationOfPoses(const Context& c,
+// `keep` keeps (per axis in ROS order, and the 95 % ellipsoid).
+CovarianceTally CalibrationOfPoses(const Context& c,
                                    const std::function<bool(const TagTruth&)>& keep);
-std::string PoseUncertaintySection(
-    const Context& c);  // Camera set only.         // Camera set only; empty otherwise.
-std::string MissTable(const Context& c);  // Table 4(b), from the miss analysis.
+std::string PoseUncertaintySection(const Context& c);  // Camera set only; empty otherwise.
+std::string MissTable(const Context& c);               // Table 4(b), from the miss analysis.
 
 enum class Verdict { kNotApplicable = 0, kPass = 1, kFail = 2 };
 

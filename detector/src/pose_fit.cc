@@ -258,15 +258,7 @@ bool TagCornerNoise(const Detection& detection, const CameraIntrinsics& camera,
       if (!std::isfinite(noise->image_from_corners(r, c))) return false;
     }
   }
-  const cv::Point2d centre = 0.25 * (detection.corners[0] + detection.corners[1] +
-                                     detection.corners[2] + detection.corners[3]);
-  for (int i = 0; i < 4; ++i) {
-    const cv::Point2d out = detection.corners[i] - centre;
-    const double length = std::max(cv::norm(out), 1e-9);
-    noise->shift_x[2 * i] = 1, noise->shift_x[2 * i + 1] = 0;
-    noise->shift_y[2 * i] = 0, noise->shift_y[2 * i + 1] = 1;
-    noise->grow[2 * i] = out.x / length, noise->grow[2 * i + 1] = out.y / length;
-  }
+  noise->grow = QuadGrowth(detection.corners);
   noise->covariance = detection.corner_covariance;
   if (cv::norm(noise->covariance) == 0.0)
     noise->covariance =
@@ -293,7 +285,7 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
     const cv::Mat m = j.t() * h;
     jtj += j.t() * j;
     middle += m * c * m.t();
-    const cv::Mat sx = m * cv::Mat(tag->shift_x), sy = m * cv::Mat(tag->shift_y);
+    const cv::Mat sx = m * cv::Mat(kQuadShiftX), sy = m * cv::Mat(kQuadShiftY);
     shift_x += sx;
     shift_y += sy;
     shift_within += sx * sx.t() + sy * sy.t();

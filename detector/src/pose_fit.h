@@ -82,11 +82,11 @@ struct CornerNoise {
   std::vector<cv::Point2d> image;
   cv::Matx<double, 24, 8> image_from_corners;  // d(image) / d(corners x0, y0, ...).
   cv::Matx<double, 8, 8> covariance;           // The four corners', px^2.
-  // How the four corners move under errors every tag of one frame shares:
-  // the whole image shifted in x, in y (px), and every tag grown about its
-  // centre (px, each corner away from it; the tone curve and blur are the
-  // frame's). `covariance` already holds the growth within the tag.
-  cv::Vec<double, 8> shift_x, shift_y, grow;
+  // How the four corners move when the tag grows about its centre (px, each
+  // corner away from it; the tone curve and blur are the frame's, shared by
+  // every tag). `covariance` already holds the growth within the tag; a
+  // shift of the whole image moves them as kQuadShiftX and kQuadShiftY.
+  cv::Vec<double, 8> grow;
 };
 
 // Errors the tags of one frame share, which a board's pose cannot average

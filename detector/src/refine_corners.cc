@@ -123,6 +123,18 @@ cv::Matx<double, 8, 8> CornerCovariance(const std::array<SideFit, 4>& sides, con
   return g * errors * g.t();
 }
 
+cv::Vec<double, 8> QuadGrowth(const Quad& quad) {
+  const cv::Point2d centre = 0.25 * (quad[0] + quad[1] + quad[2] + quad[3]);
+  cv::Vec<double, 8> grow;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d out = quad[i] - centre;
+    const double length = std::max(cv::norm(out), 1e-9);
+    grow[2 * i] = out.x / length;
+    grow[2 * i + 1] = out.y / length;
+  }
+  return grow;
+}
+
 cv::Matx<double, 8, 8> ReportedCornerCovariance(const std::array<SideFit, 4>& sides,
                                                 const Quad& encoded, const Quad& linear) {
   using Matx88 = cv::Matx<double, 8, 8>;
@@ -144,17 +156,7 @@ cv::Matx<double, 8, 8> ReportedCornerCovariance(const std::array<SideFit, 4>& si
     side_max = std::max(side_max, side);
   }
   const double uneven = side_max - side_min;
-  // The whole quad shifted (x, then y), and grown (each corner away from
-  // the centre).
-  const Vec8 shift_x(1, 0, 1, 0, 1, 0, 1, 0), shift_y(0, 1, 0, 1, 0, 1, 0, 1);
-  const cv::Point2d centre = 0.25 * (linear[0] + linear[1] + linear[2] + linear[3]);
-  Vec8 grow;
-  for (int i = 0; i < 4; ++i) {
-    const cv::Point2d out = linear[i] - centre;
-    const double length = std::max(cv::norm(out), 1e-9);
-    grow[2 * i] = out.x / length;
-    grow[2 * i + 1] = out.y / length;
-  }
+  const Vec8 shift_x = kQuadShiftX, shift_y = kQuadShiftY, grow = QuadGrowth(linear);
   const auto sq = [](double v) { return v * v; };
   return sq(m.scatter) * CornerCovariance(sides, linear) + sq(m.share) * apart * apart.t() +
          (sq(m.floor_px) + sq(m.uneven_each * uneven)) * Matx88::eye() +

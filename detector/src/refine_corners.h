@@ -107,6 +107,14 @@ struct CornerNoiseModel {
 };
 inline constexpr CornerNoiseModel kCornerNoise;
 
+// How a quad's four corners (x0, y0, x1, ...) move when the whole quad
+// shifts by a pixel in x or in y, and when it grows by a pixel (each corner
+// away from its centre): the modes of error the corner covariance and the
+// pose covariance share.
+inline const cv::Vec<double, 8> kQuadShiftX(1, 0, 1, 0, 1, 0, 1, 0);
+inline const cv::Vec<double, 8> kQuadShiftY(0, 1, 0, 1, 0, 1, 0, 1);
+cv::Vec<double, 8> QuadGrowth(const Quad& quad);
+
 // The covariance of the corners RefineReportedQuad reports (CornerCovariance's
 // order and units), from the linear-light outer sides' fits, the quads found
 // at the `encoded` average and in `linear` light, and kCornerNoise.

@@ -70,6 +70,21 @@ bool PoseNormalisedError(const cv::Matx33d& rotation, const cv::Vec3d& translati
 // The 95 % point of a chi-square with six degrees of freedom.
 inline constexpr double kChiSquare6At95 = 12.5916;
 
+// How well poses' covariances predicted their errors (PoseNormalisedError
+// of each): per axis the root mean square of error over sigma (1 when the
+// covariance is right), and the share of poses inside the 95 % ellipsoid.
+class CovarianceTally {
+ public:
+  void Add(const std::array<double, 6>& z, double nees);
+  int poses() const { return poses_; }
+  double Spread(int axis) const;  // NaN without poses.
+  double Coverage() const;        // NaN without poses.
+
+ private:
+  int poses_ = 0, inside_ = 0;
+  std::array<double, 6> squares_{};
+};
+
 // p-th percentile (p in [0, 100]) with linear interpolation between order
 // statistics; NaN for an empty sample. Takes a copy to sort.
 double Percentile(std::vector<double> values, double p);
