@@ -88,7 +88,10 @@ cv::Matx<double, 8, 8> CornerCovariance(const std::array<SideFit, 4>& sides, con
 // What the reported corners' errors are made of, as standard deviations
 // (px, or shares), fitted by maximum likelihood to the corner errors
 // against the truth of the camera set's tags of 30 px and more seen at up
-// to 60 degrees (4,000 frames; docs/pose.md, "Uncertainty"): the edge
+// to 60 degrees (4,000 frames; docs/pose.md, "Uncertainty"), then scatter,
+// floor_px, uneven_each and uneven_shift lowered by a fifth to a quarter
+// (from 0.6, 0.027, 0.49 and 0.65), which brought the pose covariance's
+// spread on every axis above 0.8 on those frames: the edge
 // points' scatter about the sides (CornerCovariance, which counts the
 // neighbouring profiles as independent and so overstates it), the share
 // between the two edge conventions (RefineReportedQuad), a floor on each
