@@ -432,7 +432,7 @@ void RegisterCalibrateCamera(CLI::App& app, Action* action) {
       ->capture_default_str()
       ->check(CLI::IsMember({"pinhole", "fisheye"}));
   c->add_flag("--k3", o->k3, "Pinhole: fit k3 as well (wide lenses)");
-  c->add_flag("--write-uncertain", o->write_uncertain,
+  c->add_flag("--write-uncertain,--force", o->write_uncertain,
               "Write the camera file even when the fit is in doubt: fewer than 2 views tilted 20 "
               "degrees or more, a standard deviation over 0.5 % of fx or fy or over 1 % of the "
               "image for cx or cy, every view at one distance, fewer than 6 views, or a "

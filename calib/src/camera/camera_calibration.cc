@@ -9,6 +9,7 @@
 
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/camera.h"
+#include "corner_bend.h"
 #include "projection_check.h"
 
 namespace chromatag {
@@ -17,15 +18,18 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // One view's corners: per board tag seen, its twelve corners on the board
-// (z = 0) and in the image.
+// (z = 0) and in the image, as detected and as fitted: less the bend the
+// lens gives the detected corners under the last fit (StraightenCorners).
 struct ViewPoints {
   std::vector<int> detection;  // Index into the view's detections, per tag.
   std::vector<std::vector<cv::Point3d>> board;
+  std::vector<std::vector<cv::Point2d>> detected;
   std::vector<std::vector<cv::Point2d>> image;
 
   void Erase(size_t tag) {
     detection.erase(detection.begin() + static_cast<std::ptrdiff_t>(tag));
     board.erase(board.begin() + static_cast<std::ptrdiff_t>(tag));
+    detected.erase(detected.begin() + static_cast<std::ptrdiff_t>(tag));
     image.erase(image.begin() + static_cast<std::ptrdiff_t>(tag));
   }
 };
@@ -57,8 +61,8 @@ double LargestCornerShift(const ViewPoints& a, const std::vector<Detection>& a_d
                                        b_detections[b.detection[j]].family == da.family))
       ++j;
     if (j == b.detection.size()) return std::numeric_limits<double>::infinity();
-    for (size_t k = 0; k < a.image[i].size(); ++k)
-      largest = std::max(largest, cv::norm(a.image[i][k] - b.image[j][k]));
+    for (size_t k = 0; k < a.detected[i].size(); ++k)
+      largest = std::max(largest, cv::norm(a.detected[i][k] - b.detected[j][k]));
   }
   return largest;
 }
@@ -171,8 +175,8 @@ bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& us
     return false;
   }
   if (deviations) {
-    fit->covariance = internal::IntrinsicCovariance(fit->camera, object, image, fit->rvecs,
-                                                    fit->tvecs, options.fit_k3);
+    fit->covariance = internal::IntrinsicCovariance(
+        fit->camera, object, image, fit->rvecs, fit->tvecs, options.fit_k3, internal::kRingCorners);
   }
   return true;
 }
@@ -320,14 +324,19 @@ std::vector<std::string> Doubts(const CameraCalibration& c, double distance_spre
         "fewer than six views were used: the calibration cannot be checked against itself (two "
         "halves of the views fitted apart); add views");
   } else if (!(p.cross_validation_worst_px <= kMaxCrossValidationPx)) {
-    out.push_back(
+    const std::string apart =
         Format(
             "two halves of the views give models that project up to %.2f px apart (median %.2f) in "
             "the central 80 %% of the image at %.2f m",
             p.cross_validation_worst_px, p.cross_validation_median_px, p.distance) +
-        Format(" (limit %.1f px): the views do not agree on the lens; add views, or "
-               "look for a view of a bent or moving board",
-               kMaxCrossValidationPx));
+        Format(" (limit %.1f px)", kMaxCrossValidationPx);
+    out.push_back(apart +
+                  (p.cross_validation_beyond_noise
+                       ? Format(", over %.0f times what the corners' noise explains: the views do "
+                                "not agree on the lens; look for a view of a bent or moving board, "
+                                "or try the other lens model",
+                                kCrossValidationSigmas)
+                       : std::string(", as the corners' noise gives so few views: add views")));
   }
   return out;
 }
@@ -427,7 +436,8 @@ void CollectBoardCorners(Calibration* c) {
       }
       c->points[v].detection.push_back(static_cast<int>(i));
       c->points[v].board.push_back(BoardTagCorners(c->board.tags[index], *d.family));
-      c->points[v].image.push_back(RingCorners(d));
+      c->points[v].detected.push_back(corners);
+      c->points[v].image.push_back(corners);
     }
   }
 }
@@ -477,6 +487,20 @@ std::string TooFewViews(const Calibration& c) {
         "in the views?",
         badly, c.options.max_view_rms_px);
   return message + ")";
+}
+
+// The corners the next fit takes: each detected corner less the bend
+// (internal::CornerBend) the lens gives it under `fit`, for the views of
+// `used` (fit's order).
+void StraightenCorners(Calibration* c, const Fit& fit, const std::vector<size_t>& used) {
+  for (size_t u = 0; u < used.size(); ++u) {
+    ViewPoints& view = c->points[used[u]];
+    for (size_t t = 0; t < view.board.size(); ++t) {
+      const std::vector<cv::Point2d> bend =
+          internal::CornerBend(fit.camera, view.board[t], fit.rvecs[u], fit.tvecs[u]);
+      for (size_t i = 0; i < bend.size(); ++i) view.image[t][i] = view.detected[t][i] - bend[i];
+    }
+  }
 }
 
 // Tags whose corners disagree with the others in their view under the
@@ -544,7 +568,7 @@ void RecordFit(const Fit& fit, const std::vector<size_t>& used, Calibration* c) 
     out.tags = static_cast<int>(c->points[v].board.size());
     const auto residuals = Residuals(c->points[v], fit, u);
     out.rms_px = Rms(residuals);
-    out.corners = Flatten(c->points[v].image);
+    out.corners = Flatten(c->points[v].detected);
     out.residuals = Flatten(residuals);
     out.rvec = fit.rvecs[u];
     out.tvec = fit.tvecs[u];
@@ -604,14 +628,22 @@ void CheckProjection(Calibration& c, const Fit& fit, const std::vector<size_t>& 
   for (size_t u = 0; u < used.size(); ++u) halves[u % 2].push_back(used[u]);
   if (halves[1].size() < 3) return;
   Fit fits[2];
+  std::vector<double> own[2];
   std::string why;
   for (int h = 0; h < 2; ++h) {
-    if (!RunFit(c.points, halves[h], size, c.options, &fits[h], &why)) return;
+    if (!RunFit(c.points, halves[h], size, c.options, &fits[h], &why, /*deviations=*/true)) return;
+    own[h] = internal::UncertaintyMap(fits[h].camera, fits[h].covariance, c.options.fit_k3,
+                                      check.distance, size, check.grid);
   }
   check.cross_validation_px = internal::CrossValidationMap(fits[0].camera, fits[1].camera,
                                                            check.distance, size, check.grid);
   internal::CentralFigures(check.cross_validation_px, size, check.grid,
                            &check.cross_validation_median_px, &check.cross_validation_worst_px);
+  for (size_t i = 0; i < own[0].size() && i < own[1].size(); ++i)
+    check.cross_validation_expected_px.push_back(std::hypot(own[0][i], own[1][i]));
+  check.cross_validation_beyond_noise =
+      internal::BeyondNoise(check.cross_validation_px, check.cross_validation_expected_px, size,
+                            check.grid, kMaxCrossValidationPx, kCrossValidationSigmas);
 }
 
 }  // namespace
@@ -635,12 +667,17 @@ std::optional<CameraCalibration> CalibrateCamera(const Board& board,
   Fit fit;
   std::string why;
   if (!RunFit(c.points, used, image_size, options, &fit, &why)) return fail(why);
+  StraightenCorners(&c, fit, used);
   used = DropTagsOffBoardPose(&c, used, fit);
-  // Then refits until nothing changes.
+  // Then refits, each to the corners straightened by the one before, until
+  // nothing changes.
   for (int round = 0; round < 5; ++round) {
     if (used.size() < 3) return fail(TooFewViews(c));
     if (!RunFit(c.points, used, image_size, options, &fit, &why)) return fail(why);
-    if (!DropPoorFits(&c, fit, &used)) break;
+    const std::vector<size_t> fitted = used;
+    const bool changed = DropPoorFits(&c, fit, &used);
+    StraightenCorners(&c, fit, fitted);
+    if (!changed) break;
   }
   if (used.size() < 3) return fail(TooFewViews(c));
   if (!RunFit(c.points, used, image_size, options, &fit, &why, /*deviations=*/true))

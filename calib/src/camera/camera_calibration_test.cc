@@ -9,6 +9,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/camera.h"
+#include "corner_bend.h"
 #include "page_view.h"
 
 namespace chromatag {
@@ -35,9 +36,11 @@ Board Grid() {
 // barrel distortion (k1 -0.25).
 CameraIntrinsics Pinhole() { return testing::BarrelCamera(); }
 
-// The board seen by `camera`, its corners moved by Gaussian noise of 0.1 px;
-// tags not wholly in the image are not seen. `id_of` may print a tag with
-// another ID.
+// The board seen by `camera` as the detector reports it: the black
+// square's corners where straight lines through its sides (bent by the
+// lens) meet, moved by Gaussian noise of 0.1 px, and the inner corners
+// placed from them by the square's homography; tags not wholly in the image
+// are not seen. `id_of` may print a tag with another ID.
 CalibrationView View(const Board& board, const cv::Vec3d& rvec, const cv::Vec3d& tvec,
                      std::mt19937* rng, std::map<int, int> id_of = {},
                      const CameraIntrinsics& camera = Pinhole()) {
@@ -53,10 +56,15 @@ CalibrationView View(const Board& board, const cv::Vec3d& rvec, const cv::Vec3d&
     Detection det;
     det.family = family.get();
     det.id = id_of.count(static_cast<int>(i)) ? id_of[static_cast<int>(i)] : board.tags[i].id;
-    for (int c = 0; c < 12; ++c) {
-      const cv::Point2d p = image[c] + cv::Point2d(noise(*rng), noise(*rng));
-      (c < 4 ? det.corners : c < 8 ? det.green_corners : det.red_corners)[c % 4] = p;
+    const std::vector<cv::Point2d> bend = internal::CornerBend(camera, corners, rvec, tvec);
+    cv::Point2d outer[4];
+    for (int c = 0; c < 4; ++c) {
+      const double dx = noise(*rng), dy = noise(*rng);
+      outer[c] = det.corners[c] = image[c] + bend[c] + cv::Point2d(dx, dy);
     }
+    const std::vector<cv::Point2d> inner =
+        internal::PlaceInnerCorners(outer, internal::InnerCornersInSquare(corners));
+    for (int c = 0; c < 8; ++c) (c < 4 ? det.green_corners : det.red_corners)[c % 4] = inner[c];
     view.detections.push_back(det);
   }
   return view;
@@ -250,6 +258,53 @@ TEST(CameraCalibrationTest, WarnsWhenViewsConstrainLittle) {
   EXPECT_EQ(doubts.rfind("fx, fy, cx and cy are not pinned down: 0 view(s) tilted", 0), 0u)
       << doubts;
   EXPECT_NE(doubts.find("fx is uncertain"), std::string::npos) << doubts;
+}
+
+// Twenty views of a flat board: the two halves of the views agree as far
+// as their noise says they should. When every other view shows the board
+// bent (its middle 1.5 mm nearer the camera than its ends, a sheet curling
+// off a table), they disagree beyond that, and the doubt says so. Six views
+// of the flat board make halves too small to agree within 0.3 px: that
+// doubt says to add views, not that the views disagree.
+TEST(CameraCalibrationTest, CrossValidationTellsDisagreeingViewsFromTooFewViews) {
+  const Board board = Grid();
+  Board bent = board;
+  for (BoardTag& tag : bent.tags) {
+    const double x = tag.translation[0] / 0.125;  // -1 to 1 along the board.
+    tag.translation[2] = 0.0015 * (x * x - 1);    // Board z points away from the camera.
+  }
+  std::vector<std::pair<cv::Vec3d, cv::Vec3d>> poses;
+  std::mt19937 rng(12);
+  const std::vector<CalibrationView> flat = VariedViews(board, 20, &rng, &poses);
+  std::vector<CalibrationView> curled = flat;
+  for (size_t v = 1; v < curled.size(); v += 2) {
+    curled[v] = View(bent, poses[v].first, poses[v].second, &rng);
+    curled[v].name = flat[v].name;
+  }
+  const auto all_doubts = [](const CameraCalibration& c) {
+    std::string text;
+    for (const std::string& d : c.doubts) text += d + "\n";
+    return text;
+  };
+  const auto good = CalibrateCamera(board, flat, {752, 480});
+  ASSERT_TRUE(good);
+  EXPECT_FALSE(good->projection.cross_validation_beyond_noise);
+  EXPECT_EQ(all_doubts(*good).find("do not agree"), std::string::npos) << all_doubts(*good);
+
+  const auto disagreeing = CalibrateCamera(board, curled, {752, 480});
+  ASSERT_TRUE(disagreeing);
+  EXPECT_TRUE(disagreeing->projection.cross_validation_beyond_noise);
+  EXPECT_NE(all_doubts(*disagreeing).find("the views do not agree on the lens"), std::string::npos)
+      << all_doubts(*disagreeing);
+
+  const std::vector<CalibrationView> six(flat.begin(), flat.begin() + 6);
+  const auto few = CalibrateCamera(board, six, {752, 480});
+  ASSERT_TRUE(few);
+  EXPECT_FALSE(few->projection.cross_validation_beyond_noise);
+  EXPECT_EQ(all_doubts(*few).find("do not agree"), std::string::npos) << all_doubts(*few);
+  std::printf("flat: cross-validation worst %.3f px\ncurled:\n%ssix views:\n%s",
+              good->projection.cross_validation_worst_px, all_doubts(*disagreeing).c_str(),
+              all_doubts(*few).c_str());
 }
 
 // A view given twice (an image copied, or a camera that did not move: the

@@ -7,6 +7,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/camera.h"
+#include "corner_bend.h"
 
 namespace chromatag::internal {
 namespace {
@@ -34,6 +35,33 @@ std::vector<cv::Point3d> Unproject(const CameraIntrinsics& camera,
     points.emplace_back(p[0], p[1], p[2]);
   }
   return points;
+}
+
+// How a tag's corners image[start, start + group) move with its four
+// measured ones (the first four): the identity for those, the homography's
+// derivative (PlaceInnerCorners) for the corners placed from them; 2 group
+// x 8.
+cv::Mat PlacedCornersJacobian(const std::vector<cv::Point3d>& object,
+                              const std::vector<cv::Point2d>& image, size_t start, size_t group) {
+  const std::vector<cv::Point3d> ring(object.begin() + start, object.begin() + start + group);
+  const std::vector<cv::Point2d> in_square = InnerCornersInSquare(ring);
+  cv::Mat jacobian = cv::Mat::zeros(2 * static_cast<int>(group), 8, CV_64F);
+  for (int k = 0; k < 8; ++k) jacobian.at<double>(k, k) = 1.0;
+  constexpr double kStep = 1e-3;  // Pixels.
+  for (int k = 0; k < 8; ++k) {
+    cv::Point2d plus[4], minus[4];
+    for (int i = 0; i < 4; ++i) plus[i] = minus[i] = image[start + i];
+    (k % 2 ? plus[k / 2].y : plus[k / 2].x) += kStep;
+    (k % 2 ? minus[k / 2].y : minus[k / 2].x) -= kStep;
+    const std::vector<cv::Point2d> a = PlaceInnerCorners(plus, in_square);
+    const std::vector<cv::Point2d> b = PlaceInnerCorners(minus, in_square);
+    if (a.size() != in_square.size() || b.size() != in_square.size()) continue;
+    for (size_t i = 0; i < in_square.size(); ++i) {
+      jacobian.at<double>(8 + 2 * static_cast<int>(i), k) = (a[i].x - b[i].x) / (2 * kStep);
+      jacobian.at<double>(9 + 2 * static_cast<int>(i), k) = (a[i].y - b[i].y) / (2 * kStep);
+    }
+  }
+  return jacobian;
 }
 
 bool InCentre(const cv::Point2d& p, cv::Size image_size) {
@@ -71,10 +99,10 @@ cv::Mat IntrinsicCovariance(const CameraIntrinsics& camera,
                             const std::vector<std::vector<cv::Point3d>>& object,
                             const std::vector<std::vector<cv::Point2d>>& image,
                             const std::vector<cv::Vec3d>& rvecs,
-                            const std::vector<cv::Vec3d>& tvecs, bool fit_k3) {
-  cv::Mat schur;
+                            const std::vector<cv::Vec3d>& tvecs, bool fit_k3, int corners_per_tag) {
+  cv::Mat schur, spread;
   double squares = 0;
-  int rows = 0, intrinsics = 0;
+  int measured = 0, intrinsics = 0;
   for (size_t v = 0; v < object.size(); ++v) {
     std::vector<cv::Point2d> projected;
     cv::Mat ji, jp;
@@ -82,19 +110,36 @@ cv::Mat IntrinsicCovariance(const CameraIntrinsics& camera,
     if (schur.empty()) {
       intrinsics = ji.cols;
       schur = cv::Mat::zeros(intrinsics, intrinsics, CV_64F);
+      spread = cv::Mat::zeros(intrinsics, intrinsics, CV_64F);
     }
+    // How a corner's error moves the intrinsics once the view's pose has
+    // taken what it can: J_i - J_p D^-1 B^T, row by row.
     const cv::Mat b = ji.t() * jp;
-    schur += ji.t() * ji - b * (jp.t() * jp).inv(cv::DECOMP_SVD) * b.t();
-    for (size_t i = 0; i < projected.size(); ++i) {
-      const cv::Point2d e = projected[i] - image[v][i];
-      squares += e.x * e.x + e.y * e.y;
+    const cv::Mat moves = ji - jp * (jp.t() * jp).inv(cv::DECOMP_SVD) * b.t();
+    schur += ji.t() * moves;
+    const size_t n = object[v].size();
+    const size_t group =
+        corners_per_tag > 4 && n % corners_per_tag == 0 ? static_cast<size_t>(corners_per_tag) : 1;
+    for (size_t start = 0; start < n; start += group) {
+      const cv::Mat rows =
+          moves.rowRange(2 * static_cast<int>(start), 2 * static_cast<int>(start + group));
+      const size_t own = group == 1 ? 1 : 4;  // The corners measured.
+      const cv::Mat carried =
+          group == 1 ? rows.t()
+                     : rows.t() * PlacedCornersJacobian(object[v], image[v], start, group);
+      spread += carried * carried.t();
+      for (size_t i = start; i < start + own; ++i) {
+        const cv::Point2d e = projected[i] - image[v][i];
+        squares += e.x * e.x + e.y * e.y;
+      }
+      measured += 2 * static_cast<int>(own);
     }
-    rows += ji.rows;
   }
   if (schur.empty()) return schur;
   const int parameters = intrinsics + 6 * static_cast<int>(object.size());
-  const double variance = squares / std::max(1, rows - parameters);
-  return schur.inv(cv::DECOMP_SVD) * variance;
+  const double variance = squares / std::max(1, measured - parameters);
+  const cv::Mat inverse = schur.inv(cv::DECOMP_SVD);
+  return inverse * spread * inverse * variance;
 }
 
 std::vector<double> UncertaintyMap(const CameraIntrinsics& camera, const cv::Mat& covariance,
@@ -183,6 +228,17 @@ void CentralFigures(const std::vector<double>& map, cv::Size image_size, cv::Siz
   std::sort(central.begin(), central.end());
   *median = central[central.size() / 2];
   *worst = unknown ? std::numeric_limits<double>::infinity() : central.back();
+}
+
+bool BeyondNoise(const std::vector<double>& difference, const std::vector<double>& expected,
+                 cv::Size image_size, cv::Size grid, double limit, double sigmas) {
+  const std::vector<cv::Point2d> centres = CellCentres(image_size, grid);
+  for (size_t i = 0; i < centres.size() && i < difference.size() && i < expected.size(); ++i) {
+    if (InCentre(centres[i], image_size) && difference[i] > limit &&
+        difference[i] > sigmas * expected[i])
+      return true;
+  }
+  return false;
 }
 
 }  // namespace chromatag::internal

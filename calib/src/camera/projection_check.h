@@ -27,16 +27,25 @@ void ProjectWithJacobians(const CameraIntrinsics& camera, const std::vector<cv::
                           cv::Mat* pose_jacobian);
 
 // The covariance of the fitted intrinsics (ProjectWithJacobians' order),
-// sigma^2 (J^T J)^-1 with every view's pose marginalised out, sigma^2 the
-// residuals' variance over 2N - P degrees of freedom. J^T J is [A B; B^T D]
-// with D block-diagonal (each view's pose touches only its own corners), so
-// the intrinsics' block of its inverse is that of the Schur complement
-// A - sum_v B_v D_v^-1 B_v^T: time linear in the views.
+// every view's pose marginalised out. Each view's points come in groups of
+// `corners_per_tag` (a tag's ring corners, BoardTagCorners' order) of which
+// only the first four are measured, the others placed from them by the
+// homography of the square (as the detector places them); with
+// `corners_per_tag` 1 (or not dividing a view's points) each point is
+// measured on its own. The fit weighs every point alike, so the covariance
+// is the sandwich S^-1 (sum_v M_v^T G G^T M_v) S^-1 sigma^2: S the reduced
+// normal matrix A - sum_v B_v D_v^-1 B_v^T of J^T J = [A B; B^T D] (D
+// block-diagonal: each view's pose touches only its own corners, so the
+// time is linear in the views), M_v = J_i - J_p D_v^-1 B_v^T how a point's
+// error moves the intrinsics once the view's pose has taken its share, G
+// how the placed points move with the measured ones, and sigma^2 the
+// measured points' residual variance over their count less the
+// parameters. With every point measured it is sigma^2 S^-1.
 cv::Mat IntrinsicCovariance(const CameraIntrinsics& camera,
                             const std::vector<std::vector<cv::Point3d>>& object,
                             const std::vector<std::vector<cv::Point2d>>& image,
                             const std::vector<cv::Vec3d>& rvecs,
-                            const std::vector<cv::Vec3d>& tvecs, bool fit_k3);
+                            const std::vector<cv::Vec3d>& tvecs, bool fit_k3, int corners_per_tag);
 
 // The cells the maps are taken on: kProjectionGrid across, and down in
 // proportion to the image.
@@ -66,6 +75,11 @@ std::vector<double> CrossValidationMap(const CameraIntrinsics& a, const CameraIn
 // the central 80 % of the image (10 % off each side).
 void CentralFigures(const std::vector<double>& map, cv::Size image_size, cv::Size grid,
                     double* median, double* worst);
+
+// Whether some cell whose centre lies in the central 80 % of the image has
+// `difference` over `limit` and over `sigmas` times `expected`.
+bool BeyondNoise(const std::vector<double>& difference, const std::vector<double>& expected,
+                 cv::Size image_size, cv::Size grid, double limit, double sigmas);
 
 }  // namespace chromatag::internal
 

@@ -81,6 +81,15 @@ struct ProjectionCheck {
   // the rotation that best matches their rays, px. Empty with fewer than six
   // used views.
   std::vector<double> cross_validation_px;
+  // The standard deviation of cross_validation_px that noise alone would
+  // give: the two halves' own projection uncertainties (as uncertainty_px,
+  // each half's), the root of the sum of their squares, px.
+  std::vector<double> cross_validation_expected_px;
+  // Whether a central cell's difference is over kMaxCrossValidationPx and
+  // over kCrossValidationSigmas times what noise explains there: the views
+  // disagree on the lens (a bent or moving board, a lens the model does not
+  // fit). Otherwise a difference over the limit means too few views.
+  bool cross_validation_beyond_noise = false;
   // Over the central 80 % of the image (10 % off each side): the median and
   // the largest cell; NaN when not computed.
   double uncertainty_median_px = 0.0, uncertainty_worst_px = 0.0;
@@ -91,6 +100,9 @@ struct ProjectionCheck {
 // figures to, px.
 inline constexpr double kMaxProjectionUncertaintyPx = 0.3;
 inline constexpr double kMaxCrossValidationPx = 0.3;
+// A cross-validation difference over this many of its expected standard
+// deviations is more than noise (ProjectionCheck::cross_validation_beyond_noise).
+inline constexpr double kCrossValidationSigmas = 3.0;
 // Used views whose boards' distances span less than this ratio (furthest
 // over nearest) are "at one distance": the fit then cannot tell the focal
 // length from the distance, nor the distortion at other depths.
