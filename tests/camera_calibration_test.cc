@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -23,14 +24,15 @@
 
 #include "calib_sim.h"
 #include "chromatag/calib/camera_calibration.h"
+#include "chromatag/detector/board.h"
 #include "chromatag/detector/camera.h"
+#include "chromatag/detector/corner_bend.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/generator/sheet.h"
 #include "chromatag/generator/sheet_request.h"
 #include "chromatag/layout/sheet_record.h"
 #include "chromatag/rig/board_file.h"
 #include "chromatag/rig/camera_file.h"
-#include "corner_bend.h"
 #include "page_view.h"
 #include "test_util.h"
 
@@ -732,8 +734,7 @@ TEST(CornerBendTest, PredictsWhereTheDetectorPutsCornersSeenThroughTheLens) {
       ASSERT_GE(index, 0);
       const std::vector<cv::Point3d> board = BoardTagCorners(printed.board.tags[index], *d.family);
       const std::vector<cv::Point2d> truth = ProjectPoints(camera, board, pose.rvec, pose.tvec);
-      const std::vector<cv::Point2d> bend =
-          internal::CornerBend(camera, board, pose.rvec, pose.tvec);
+      const std::vector<cv::Point2d> bend = CornerBend(camera, board, pose.rvec, pose.tvec);
       for (int i = 0; i < 12; ++i) {
         const cv::Point2d seen = i < 4   ? d.corners[i]
                                  : i < 8 ? d.green_corners[i - 4]
@@ -760,6 +761,40 @@ TEST(CornerBendTest, PredictsWhereTheDetectorPutsCornersSeenThroughTheLens) {
   }
   EXPECT_GT(detected[0] / count[0], 0.0);  // Outwards at the black square's corners.
   EXPECT_LT(detected[1] / count[1], 0.0);  // Inwards at the inner ones.
+}
+
+// The board's pose through the lens, from corners straightened under a
+// first pose: in the twenty views, against the true poses, a median
+// rotation error of 0.005 degrees and translation error of 0.012 mm (taken
+// as detected, the corners gave 0.010 degrees and 0.020 mm, and 0.051 mm at
+// worst).
+TEST(CornerBendTest, StraightenedCornersHalveTheBoardPosesError) {
+  const PrintedBoard printed = PrintBoard();
+  const std::vector<cv::Mat>& frames = TwentyViews(printed);
+  std::vector<double> degrees, mm;
+  for (size_t v = 0; v < frames.size(); ++v) {
+    BoardPose pose;
+    std::string error;
+    ASSERT_TRUE(EstimateBoardPose(Detect(frames[v], "view").detections, printed.board, TrueCamera(),
+                                  &pose, &error))
+        << error;
+    cv::Matx33d found, truth;
+    cv::Rodrigues(pose.rvec, found);
+    cv::Rodrigues(twenty_poses[v].rvec, truth);
+    cv::Vec3d apart;
+    cv::Rodrigues(cv::Matx33d(found.t() * truth), apart);
+    degrees.push_back(cv::norm(apart) * 180 / 3.14159265358979323846);
+    mm.push_back(cv::norm(pose.tvec - twenty_poses[v].tvec) * 1000);
+  }
+  std::sort(degrees.begin(), degrees.end());
+  std::sort(mm.begin(), mm.end());
+  std::printf(
+      "board pose error: rotation median %.4f, worst %.4f degrees; translation median "
+      "%.4f, worst %.4f mm\n",
+      degrees[10], degrees.back(), mm[10], mm.back());
+  EXPECT_LT(degrees[10], 0.0075);
+  EXPECT_LT(mm[10], 0.016);
+  EXPECT_LT(mm.back(), 0.035);
 }
 
 }  // namespace

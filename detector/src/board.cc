@@ -9,6 +9,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/camera.h"
+#include "chromatag/detector/corner_bend.h"
 
 #include "pose_fit.h"
 
@@ -272,11 +273,9 @@ cv::Matx66d BoardCovariance(const std::vector<Detection>& detections,
   return internal::PoseCovariance(tags, fits[best], rival, k);
 }
 
-}  // namespace
-
-bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& board,
-                       const CameraIntrinsics& camera, BoardPose* pose, std::string* error) {
-  if (!camera.IsValid(error) || !board.IsValid(error)) return false;
+// EstimateBoardPose on the detections' corners as they are.
+bool FitBoardPose(const std::vector<Detection>& detections, const Board& board,
+                  const CameraIntrinsics& camera, BoardPose* pose, std::string* error) {
   const cv::Matx33d k = CameraMatrix(camera);
   const std::vector<Match> matches = MatchBoardTags(detections, board, camera);
   if (matches.empty()) {
@@ -317,6 +316,27 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
   }
   SetTagsUsed(matches, agreeing[best], pose);
   pose->covariance = BoardCovariance(detections, camera, matches, agreeing, fits, best, k);
+  return true;
+}
+
+}  // namespace
+
+bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& board,
+                       const CameraIntrinsics& camera, BoardPose* pose, std::string* error) {
+  if (!camera.IsValid(error) || !board.IsValid(error)) return false;
+  if (!FitBoardPose(detections, board, camera, pose, error)) return false;
+  if (!HasDistortion(camera)) return true;
+  // The lens bends the tags' sides (corner_bend.h): the pose once more, from
+  // every board tag's corners straightened under the first.
+  std::vector<Detection> straight = detections;
+  for (Detection& d : straight) {
+    const int index = d.family ? board.Find(d.family->name(), d.id) : -1;
+    if (index < 0) continue;
+    d = Straightened(d, CornerBend(camera, BoardTagCorners(board.tags[index], *d.family),
+                                   pose->rvec, pose->tvec));
+  }
+  BoardPose refined;
+  if (FitBoardPose(straight, board, camera, &refined, nullptr)) *pose = refined;
   return true;
 }
 

@@ -9,6 +9,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/camera.h"
+#include "chromatag/detector/corner_bend.h"
 #include "chromatag/detector/pose.h"
 
 namespace chromatag {
@@ -49,26 +50,25 @@ cv::Matx33d Rotation(const cv::Vec3d& rvec) {
   return r;
 }
 
-// A detection of `tag` where camera_from_board (r, t) puts it, its corners
-// moved by Gaussian noise of `noise` pixels.
+// A detection of `tag` where camera_from_board (r, t) puts it, as the
+// detector reports it (its corners where straight lines through the sides
+// meet, CornerBend), its corners moved by Gaussian noise of `noise` pixels.
 Detection Seen(const BoardTag& tag, int id, const cv::Matx33d& r, const cv::Vec3d& t,
                const CameraIntrinsics& camera, double noise, std::mt19937* rng) {
   static const auto family = TagFamily::Load("16h5");
   Detection d;
   d.family = family.get();
   d.id = id;
-  const double cells = family->black_square_cells();
   std::normal_distribution<double> gauss(0.0, noise);
-  for (int ring = 0; ring < 3; ++ring) {
-    const double h = 0.5 * tag.size * (cells - 2 * ring) / cells;
-    const cv::Vec3d square[4] = {{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0}};
-    for (int i = 0; i < 4; ++i) {
-      const cv::Vec3d p = r * (tag.rotation * square[i] + tag.translation) + t;
-      cv::Point2d q =
-          ProjectPoints(camera, {cv::Point3d(p[0], p[1], p[2])}, cv::Vec3d(), cv::Vec3d())[0];
-      if (noise > 0) q += cv::Point2d(gauss(*rng), gauss(*rng));
-      (ring == 0 ? d.corners : ring == 1 ? d.green_corners : d.red_corners)[i] = q;
-    }
+  const std::vector<cv::Point3d> corners = BoardTagCorners(tag, *family);
+  cv::Vec3d rvec;
+  cv::Rodrigues(r, rvec);
+  const std::vector<cv::Point2d> image = ProjectPoints(camera, corners, rvec, t);
+  const std::vector<cv::Point2d> bend = CornerBend(camera, corners, rvec, t);
+  for (int i = 0; i < 12; ++i) {
+    cv::Point2d q = image[i] + bend[i];
+    if (noise > 0) q += cv::Point2d(gauss(*rng), gauss(*rng));
+    (i < 4 ? d.corners : i < 8 ? d.green_corners : d.red_corners)[i % 4] = q;
   }
   return d;
 }
@@ -79,7 +79,8 @@ double DegreesApart(const cv::Vec3d& rvec, const cv::Matx33d& truth) {
   return cv::norm(apart) * 180 / kPi;
 }
 
-// Through a pinhole camera and a fisheye lens alike.
+// Through a pinhole camera and a fisheye lens alike, from corners as the
+// detector reports them without noise.
 TEST(BoardTest, ExactCornersGiveThePoseAtEveryView) {
   const Board board = Grid(4, 3, 0.04, 0.05);
   CameraIntrinsics fisheye = Camera();
@@ -98,10 +99,12 @@ TEST(BoardTest, ExactCornersGiveThePoseAtEveryView) {
       BoardPose pose;
       std::string error;
       ASSERT_TRUE(EstimateBoardPose(detections, board, camera, &pose, &error)) << error;
-      EXPECT_LT(DegreesApart(pose.rvec, r), 1e-6);
-      EXPECT_LT(cv::norm(pose.tvec - t), 1e-8);
+      // Through the fisheye lens the corners are straightened once, under
+      // the first pose: a few millionths of a pixel are left.
+      EXPECT_LT(DegreesApart(pose.rvec, r), 1e-5);
+      EXPECT_LT(cv::norm(pose.tvec - t), 1e-7);
       EXPECT_LE(cv::norm(pose.rvec), kPi + 1e-12);
-      EXPECT_LT(pose.rms_error_px, 1e-6);
+      EXPECT_LT(pose.rms_error_px, 1e-5);
       EXPECT_EQ(pose.tags_used.size(), board.tags.size());
       EXPECT_TRUE(pose.detections_rejected.empty());
     }
@@ -134,6 +137,30 @@ TEST(BoardTest, AMisplacedTagIsLeftOutAndNamed) {
   EXPECT_EQ(pose.tags_used.size(), board.tags.size() - 2);
   EXPECT_EQ(std::count(pose.tags_used.begin(), pose.tags_used.end(), 9), 0);
   EXPECT_LT(pose.rms_error_px, 0.5);
+}
+
+// A single tag's pose, from its corners as the detector reports them
+// through the lens (no noise): the corners straightened once under the
+// first pose leave a few ten-thousandths of a pixel (as detected, the
+// fisheye's bend cost up to 0.25 degrees and 0.06 mm).
+TEST(BoardTest, ExactCornersGiveATagsPoseThroughTheLens) {
+  const Board board = Grid(4, 3, 0.04, 0.05);
+  CameraIntrinsics fisheye = Camera();
+  fisheye.model = LensModel::kFisheye;
+  fisheye.distortion = {0.05, -0.02, 0.01, -0.002};
+  for (const CameraIntrinsics& camera : {Camera(), fisheye}) {
+    for (const cv::Vec3d& rvec : {cv::Vec3d(kPi, 0, 0), cv::Vec3d(2.6, 0.4, 0.3)}) {
+      const cv::Matx33d r = Rotation(rvec);
+      const cv::Vec3d t(0.03, -0.02, 0.3);
+      const BoardTag& tag = board.tags[0];  // In a corner of the board, far from the middle.
+      TagPose pose;
+      ASSERT_TRUE(
+          EstimateTagPose(Seen(tag, tag.id, r, t, camera, 0, nullptr), camera, tag.size, &pose));
+      EXPECT_LT(DegreesApart(pose.rvec, r * tag.rotation), 1e-4);
+      EXPECT_LT(cv::norm(pose.tvec - (r * tag.translation + t)), 1e-6);
+      EXPECT_LT(pose.rms_error_px, 1e-3);
+    }
+  }
 }
 
 // One tag is enough, and gives that tag's own pose carried to the board.

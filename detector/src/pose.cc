@@ -7,23 +7,18 @@
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/camera.h"
+#include "chromatag/detector/corner_bend.h"
 
 #include "pose_fit.h"
 
 namespace chromatag {
 
-bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera, double tag_size,
-                     TagPose* pose, std::string* error) {
+namespace {
+
+// EstimateTagPose on the detection's corners as they are.
+bool FitTagPose(const Detection& detection, const CameraIntrinsics& camera, double tag_size,
+                TagPose* pose, std::string* error) {
   using namespace internal;
-  if (!camera.IsValid(error)) return false;
-  if (!(tag_size > 0.0) || !std::isfinite(tag_size)) {
-    if (error) *error = "tag size must be a positive length";
-    return false;
-  }
-  if (detection.family == nullptr) {
-    if (error) *error = "the detection has no family";
-    return false;
-  }
   // The refinement works in undistorted pixels of the same camera matrix.
   std::vector<cv::Point2d> image;
   if (!UndistortedRingCorners(detection, camera, &image, error)) return false;
@@ -50,6 +45,31 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
     return false;
   }
   pose->covariance = PoseCovariance({&noise}, fits[0], Rival(fits), k);
+  return true;
+}
+
+}  // namespace
+
+bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera, double tag_size,
+                     TagPose* pose, std::string* error) {
+  if (!camera.IsValid(error)) return false;
+  if (!(tag_size > 0.0) || !std::isfinite(tag_size)) {
+    if (error) *error = "tag size must be a positive length";
+    return false;
+  }
+  if (detection.family == nullptr) {
+    if (error) *error = "the detection has no family";
+    return false;
+  }
+  if (!FitTagPose(detection, camera, tag_size, pose, error)) return false;
+  if (!HasDistortion(camera)) return true;
+  // The lens bends the tag's sides (corner_bend.h): the pose once more, from
+  // the corners straightened under the first.
+  const std::vector<cv::Point3d> object = internal::TagRingCorners(*detection.family, tag_size);
+  TagPose straight;
+  if (FitTagPose(Straightened(detection, CornerBend(camera, object, pose->rvec, pose->tvec)),
+                 camera, tag_size, &straight, nullptr))
+    *pose = straight;
   return true;
 }
 

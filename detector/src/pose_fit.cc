@@ -217,13 +217,16 @@ double CornerChiSquare(const std::vector<const CornerNoise*>& noise, const cv::M
 // and 0.79 on two axes).
 constexpr double kRivalNoiseScale = 1.0;
 
-// The 95 % point of a chi-square with `dof` degrees of freedom (Wilson and
-// Hilferty's cube-root approximation: within 1 % from two degrees up).
-double ChiSquare95(double dof) {
+// The 95 % (and 5 %) points of a chi-square with `dof` degrees of freedom
+// (Wilson and Hilferty's cube-root approximation: within 1 % from two
+// degrees up).
+double ChiSquarePoint(double dof, double z) {
   const double a = 2.0 / (9.0 * dof);
-  const double root = 1.0 - a + 1.6449 * std::sqrt(a);
+  const double root = 1.0 - a + z * std::sqrt(a);
   return dof * root * root * root;
 }
+double ChiSquare95(double dof) { return ChiSquarePoint(dof, 1.6449); }
+double ChiSquare05(double dof) { return ChiSquarePoint(dof, -1.6449); }
 
 // (w, t) -> ROS's (t, w).
 cv::Matx66d RosOrder(const cv::Mat& covariance) {
@@ -307,11 +310,18 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
   // variance less the share the fit absorbs, over eight corner coordinates
   // a tag less the pose's six. Residuals that fail a 95 % chi-square test
   // against it (a lens model or a board that is off) take over the scale.
+  // Residuals that fall under its 5 % point lower it, on kMinTagsToLowerNoise
+  // tags or more, to no less than kLowestNoiseScale.
   const double expected = image_variance - cv::trace(inverse * middle)[0];
   const double dof = 8.0 * static_cast<double>(noise.size()) - 6.0;
   double scale = 1.0;
-  if (expected > 0 && dof > 0 && residual_ss / expected > ChiSquare95(dof) / dof)
-    scale = residual_ss / expected;
+  if (expected > 0 && dof > 0) {
+    const double ratio = residual_ss / expected;
+    if (ratio > ChiSquare95(dof) / dof)
+      scale = ratio;
+    else if (ratio < ChiSquare05(dof) / dof && noise.size() >= kMinTagsToLowerNoise)
+      scale = std::max(kLowestNoiseScale, ratio);
+  }
   covariance *= scale;
   if (rival && AngleBetween(fit.rotation, rival->rotation) > kSameSolutionRadians) {
     // The rival's share: its likelihood against the fit's, from the outer

@@ -290,8 +290,8 @@ void SideProfiles(const Quad& quad, const SideSearch& search, std::vector<Profil
         kMinProfiles, static_cast<int>(std::min<double>(length / 2.0, search.max_samples)));
     (*first)[i + 1] = (*first)[i] + samples;
     for (int j = 0; j < samples; ++j) {
-      // Keep clear of the corners, where the neighbouring side interferes.
-      const double t = 0.12 + 0.76 * j / (samples - 1);
+      const double t =
+          kSideProfilesStart + (kSideProfilesEnd - kSideProfilesStart) * j / (samples - 1);
       const double local_cell = cell_p + t * (cell_q - cell_p);
       (*spec)[(*first)[i] + j] = {p + t * (q - p), outward,
                                   std::clamp(0.5 * local_cell, 1.0, search.max_half),

@@ -39,6 +39,12 @@ inline constexpr int kFallsOutwards = -1;
 // (RefineReportedQuad).
 enum class Halfway { kEncoded, kLinearLight };
 
+// The part of each side the profiles cover, as fractions of it from its
+// first corner: clear of the corners, where the neighbouring side
+// interferes. CornerBend samples the same part.
+inline constexpr double kSideProfilesStart = 0.12;
+inline constexpr double kSideProfilesEnd = 0.88;
+
 // How RefineQuad looks for one ring's sides.
 struct SideSearch {
   ChannelWeights channel;  // kGray for the black ring's borders, kRedMinusGreen for red/green.

@@ -9,13 +9,17 @@
 
 #include "chromatag/detector/board.h"
 #include "chromatag/detector/camera.h"
-#include "corner_bend.h"
+#include "chromatag/detector/corner_bend.h"
 #include "projection_check.h"
 
 namespace chromatag {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+// A tag's ring corners (BoardTagCorners): the black square's four, then the
+// green/black square's and the red/green one's.
+constexpr int kRingCorners = 12;
 
 // One view's corners: per board tag seen, its twelve corners on the board
 // (z = 0) and in the image, as detected and as fitted: less the bend the
@@ -175,8 +179,8 @@ bool RunFit(const std::vector<ViewPoints>& points, const std::vector<size_t>& us
     return false;
   }
   if (deviations) {
-    fit->covariance = internal::IntrinsicCovariance(
-        fit->camera, object, image, fit->rvecs, fit->tvecs, options.fit_k3, internal::kRingCorners);
+    fit->covariance = internal::IntrinsicCovariance(fit->camera, object, image, fit->rvecs,
+                                                    fit->tvecs, options.fit_k3, kRingCorners);
   }
   return true;
 }
@@ -490,14 +494,14 @@ std::string TooFewViews(const Calibration& c) {
 }
 
 // The corners the next fit takes: each detected corner less the bend
-// (internal::CornerBend) the lens gives it under `fit`, for the views of
+// (CornerBend) the lens gives it under `fit`, for the views of
 // `used` (fit's order).
 void StraightenCorners(Calibration* c, const Fit& fit, const std::vector<size_t>& used) {
   for (size_t u = 0; u < used.size(); ++u) {
     ViewPoints& view = c->points[used[u]];
     for (size_t t = 0; t < view.board.size(); ++t) {
       const std::vector<cv::Point2d> bend =
-          internal::CornerBend(fit.camera, view.board[t], fit.rvecs[u], fit.tvecs[u]);
+          CornerBend(fit.camera, view.board[t], fit.rvecs[u], fit.tvecs[u]);
       for (size_t i = 0; i < bend.size(); ++i) view.image[t][i] = view.detected[t][i] - bend[i];
     }
   }

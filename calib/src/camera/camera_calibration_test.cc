@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -9,7 +10,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/camera.h"
-#include "corner_bend.h"
+#include "chromatag/detector/corner_bend.h"
 #include "page_view.h"
 
 namespace chromatag {
@@ -56,14 +57,13 @@ CalibrationView View(const Board& board, const cv::Vec3d& rvec, const cv::Vec3d&
     Detection det;
     det.family = family.get();
     det.id = id_of.count(static_cast<int>(i)) ? id_of[static_cast<int>(i)] : board.tags[i].id;
-    const std::vector<cv::Point2d> bend = internal::CornerBend(camera, corners, rvec, tvec);
-    cv::Point2d outer[4];
+    const std::vector<cv::Point2d> bend = CornerBend(camera, corners, rvec, tvec);
+    std::array<cv::Point2d, 4> outer;
     for (int c = 0; c < 4; ++c) {
       const double dx = noise(*rng), dy = noise(*rng);
       outer[c] = det.corners[c] = image[c] + bend[c] + cv::Point2d(dx, dy);
     }
-    const std::vector<cv::Point2d> inner =
-        internal::PlaceInnerCorners(outer, internal::InnerCornersInSquare(corners));
+    const std::vector<cv::Point2d> inner = PlaceInnerCorners(outer, InnerCornersInSquare(corners));
     for (int c = 0; c < 8; ++c) (c < 4 ? det.green_corners : det.red_corners)[c % 4] = inner[c];
     view.detections.push_back(det);
   }

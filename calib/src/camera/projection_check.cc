@@ -1,13 +1,14 @@
 #include "projection_check.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/camera.h"
-#include "corner_bend.h"
+#include "chromatag/detector/corner_bend.h"
 
 namespace chromatag::internal {
 namespace {
@@ -49,7 +50,7 @@ cv::Mat PlacedCornersJacobian(const std::vector<cv::Point3d>& object,
   for (int k = 0; k < 8; ++k) jacobian.at<double>(k, k) = 1.0;
   constexpr double kStep = 1e-3;  // Pixels.
   for (int k = 0; k < 8; ++k) {
-    cv::Point2d plus[4], minus[4];
+    std::array<cv::Point2d, 4> plus, minus;
     for (int i = 0; i < 4; ++i) plus[i] = minus[i] = image[start + i];
     (k % 2 ? plus[k / 2].y : plus[k / 2].x) += kStep;
     (k % 2 ? minus[k / 2].y : minus[k / 2].x) -= kStep;
