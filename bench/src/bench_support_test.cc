@@ -680,6 +680,38 @@ TEST(CameraSetTest, EveryDetectorsPoseMatchesTheTruth) {
   }
 }
 
+// The covariance assumed for a detector that gives none is the corners'
+// assumed noise carried through the pose: it grows with the square of the
+// figure assumed, and a tag seen from further (the same square, smaller in
+// the image) is known less well.
+TEST(MetricsTest, AssumedPoseCovarianceFollowsTheAssumedNoise) {
+  const cv::Matx33d k(800, 0, 400, 0, 800, 300, 0, 0, 1);
+  // camera_from_tag: the tag 20 degrees about x, 0.5 and 1 m away.
+  const auto seen = [&](double distance) {
+    FoundTag tag;
+    cv::Matx33d r;
+    cv::Rodrigues(cv::Vec3d(20 * kPi / 180, 0, 0), r);
+    const cv::Point3d square[4] = {{-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}, {-0.5, -0.5, 0}};
+    for (int i = 0; i < 4; ++i) {
+      const cv::Vec3d p =
+          r * cv::Vec3d(square[i].x, square[i].y, 0) * 0.1 + cv::Vec3d(0, 0, distance);
+      // The spec's tag frame has y up; the image's y runs down.
+      tag.corners[i] =
+          cv::Point2d(k(0, 0) * p[0] / p[2] + k(0, 2), -k(1, 1) * p[1] / p[2] + k(1, 2));
+    }
+    return tag;
+  };
+  cv::Matx66d one, two, far;
+  ASSERT_TRUE(AssumedPoseCovariance(seen(0.5), k, 0.1, 1.0, &one));
+  ASSERT_TRUE(AssumedPoseCovariance(seen(0.5), k, 0.1, 2.0, &two));
+  ASSERT_TRUE(AssumedPoseCovariance(seen(1.0), k, 0.1, 1.0, &far));
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_GT(one(i, i), 0.0) << i;
+    EXPECT_NEAR(two(i, i), 4 * one(i, i), 1e-6 * two(i, i)) << i;
+  }
+  EXPECT_GT(far(2, 2), 3 * one(2, 2));  // Depth: about the distance squared.
+}
+
 TEST(MetricsTest, PoseErrorIsTheAngleAndTheShareOfTheDistance) {
   TagTruth truth;
   truth.translation = cv::Vec3d(0, 0, 10);

@@ -67,6 +67,9 @@ uint64_t DetectAndScore(const Frame& frame, int d, TagDetector* detector,
     PoseEstimate pose;
     if (detector->Pose(tag, k, 1.0, &pose)) {
       PoseError(pose, *own, &out.rotation_error_deg, &out.translation_error_pct);
+      if (d == kAprilTag)
+        pose.has_covariance =
+            AssumedPoseCovariance(tag, k, 1.0, kAssumedCornerSigmaPx, &pose.covariance);
       PoseNormalisedError(pose, *own, &out.pose_z, &out.pose_nees);
     }
     if (d == kChromaTag && detector->TagDetector::Pose(tag, k, 1.0, &pose)) {

@@ -11,6 +11,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "chromatag/detector/corner_bend.h"
 #include "chromatag/detector/detector.h"
 #include "chromatag/detector/pose.h"
 
@@ -249,8 +250,11 @@ void ChromaTagDetector::Detect(const cv::Mat& bgr, std::vector<FoundTag>* found)
   }
 }
 
-bool ChromaTagDetector::Pose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
-                             PoseEstimate* pose) const {
+namespace {
+
+// EstimateTagPose on `tag`'s twelve ring corners and their covariance.
+bool RingCornerPose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+                    PoseEstimate* pose) {
   const auto family = TagFamily::Load(tag.family);
   if (!family || !tag.has_inner_corners) return false;
   Detection detection;
@@ -272,6 +276,36 @@ bool ChromaTagDetector::Pose(const FoundTag& tag, const cv::Matx33d& k, double t
   pose->translation = estimate.tvec;
   pose->has_covariance = true;
   pose->covariance = estimate.covariance;
+  return true;
+}
+
+}  // namespace
+
+bool ChromaTagDetector::Pose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+                             PoseEstimate* pose) const {
+  return RingCornerPose(tag, k, tag_size, pose);
+}
+
+bool AssumedPoseCovariance(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+                           double sigma_px, cv::Matx66d* covariance) {
+  // ChromaTag's 16h5 proportions place the inner corners: only the black
+  // square's four carry information.
+  FoundTag hand = tag;
+  hand.family = "16h5";
+  const double cell = 1.0 / TagFamily::Load(hand.family)->black_square_cells();
+  std::vector<cv::Point2d> in_square;
+  for (double inset : {cell, 2 * cell}) {
+    for (const cv::Point2d& p : {cv::Point2d(inset, inset), cv::Point2d(1 - inset, inset),
+                                 cv::Point2d(1 - inset, 1 - inset), cv::Point2d(inset, 1 - inset)})
+      in_square.push_back(p);
+  }
+  const std::vector<cv::Point2d> inner = PlaceInnerCorners(tag.corners, in_square);
+  std::copy(inner.begin(), inner.end(), hand.inner_corners.begin());
+  hand.has_inner_corners = true;
+  hand.corner_covariance = sigma_px * sigma_px * cv::Matx<double, 8, 8>::eye();
+  PoseEstimate pose;
+  if (!RingCornerPose(hand, k, tag_size, &pose)) return false;
+  *covariance = pose.covariance;
   return true;
 }
 

@@ -109,9 +109,10 @@ std::string ConditionRecallSection(const Context& c);
 std::string PrintRecallSection(const Context& c);  // Camera set only; empty otherwise.
 std::string CastRecallSection(const Context& c);   // Camera set only; empty otherwise.
 std::string PoseSection(const Context& c);         // Camera set only; empty otherwise.
-// How well ChromaTag's pose covariance predicts its errors, over the tags
-// `keep` keeps (per axis in ROS order, and the 95 % ellipsoid).
-CovarianceTally CalibrationOfPoses(const Context& c,
+// How well detector `d`'s pose covariance (ChromaTag's own, AprilTag 3's
+// assumed) predicts its errors, over its own tags that `keep` keeps (per
+// axis in ROS order, and the 95 % ellipsoid).
+CovarianceTally CalibrationOfPoses(const Context& c, int d,
                                    const std::function<bool(const TagTruth&)>& keep);
 std::string PoseUncertaintySection(const Context& c);  // Camera set only; empty otherwise.
 std::string MissTable(const Context& c);               // Table 4(b), from the miss analysis.

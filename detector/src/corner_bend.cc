@@ -64,9 +64,9 @@ std::vector<cv::Point2d> CornerBend(const CameraIntrinsics& camera,
   for (int s = 0; s < 4; ++s) {
     const cv::Point3d a = ring_corners[s], b = ring_corners[(s + 1) % 4];
     for (int j = 0; j < kSidePoints; ++j) {
-      const double t = internal::kSideProfilesStart + (internal::kSideProfilesEnd -
-                                                       internal::kSideProfilesStart) *
-                                                          j / (kSidePoints - 1);
+      const double t =
+          internal::kSideProfilesStart +
+          (internal::kSideProfilesEnd - internal::kSideProfilesStart) * j / (kSidePoints - 1);
       along.push_back(a + t * (b - a));
     }
   }

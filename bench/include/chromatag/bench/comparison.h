@@ -25,6 +25,11 @@ inline constexpr int kNumDetectors = 3;
 
 inline constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
+// The corner noise a user of AprilTag 3 is taken to assume for its poses'
+// covariance, px per coordinate: about its median corner error on the
+// camera set (0.76 px), rounded up.
+inline constexpr double kAssumedCornerSigmaPx = 1.0;
+
 struct DetectorRecord {
   bool ran = false;      // False for a detector left out of the run.
   double time_us = 0.0;  // Wall time of the Detect call, one thread.
@@ -35,8 +40,10 @@ struct DetectorRecord {
   // distance; NaN otherwise.
   double rotation_error_deg = std::numeric_limits<double>::quiet_NaN();
   double translation_error_pct = std::numeric_limits<double>::quiet_NaN();
-  // And where the pose has a covariance (ChromaTag), its error in the
-  // covariance's terms (PoseNormalisedError); NaN otherwise.
+  // And its error in the terms of its covariance (PoseNormalisedError):
+  // ChromaTag's own; for AprilTag 3, which gives none, the covariance of
+  // kAssumedCornerSigmaPx per corner coordinate (AssumedPoseCovariance);
+  // NaN otherwise.
   std::array<double, 6> pose_z = {kNoValue, kNoValue, kNoValue, kNoValue, kNoValue, kNoValue};
   double pose_nees = kNoValue;
 };

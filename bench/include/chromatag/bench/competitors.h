@@ -79,6 +79,14 @@ std::unique_ptr<TagDetector> MakeAprilTagDetector(
 std::unique_ptr<TagDetector> MakeArucoDetector(const std::vector<std::string>& families = {"16h5"},
                                                std::string* error = nullptr);
 
+// The covariance a user of a detector that gives none could put on its
+// pose (what apriltag_ros would need instead of its zeros): ChromaTag's
+// (EstimateTagPose) for `tag`'s four corners taken as a detection made by
+// hand, each coordinate off by `sigma_px` independently, the inner corners
+// placed from the four (they add nothing). False when it cannot be had.
+bool AssumedPoseCovariance(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
+                           double sigma_px, cv::Matx66d* covariance);
+
 // This project's detector (default DetectorOptions, the given families, as
 // `chromatag detect --family all` for both; or the options given). The last frame's summary
 // (per-stage times and rejections) is kept for Tables 2 and 4.
