@@ -65,11 +65,11 @@ TEST(PoseFilterTest, SmoothingLowersTheJitterOfASweepWithoutAFlip) {
       "jitter: rotation %.3f -> %.3f deg, translation %.4f -> %.4f tag sizes; worst rotation "
       "error %.2f -> %.2f deg\n",
       raw_r * 180 / kPi, r * 180 / kPi, raw_t, t, worst_raw_degrees, worst_degrees);
-  // Measured: rotation 0.369 -> 0.188 degrees (0.51), translation 0.0126 ->
-  // 0.0059 tag sizes (0.47). The rotation's is just short of half: near
-  // face-on, at the sweep's ends, the frames' tilts are doubtful and weigh
-  // little, and the filter coasts.
-  EXPECT_LE(r, 0.55 * raw_r);
+  // Measured: rotation 0.369 -> 0.180 degrees (0.49), translation 0.0126 ->
+  // 0.0059 tag sizes (0.47). The rotation's is barely half: near face-on, at
+  // the sweep's ends, the frames' tilts are doubtful and weigh little, and
+  // the filter coasts.
+  EXPECT_LE(r, 0.5 * raw_r);
   EXPECT_LE(t, 0.5 * raw_t);
   // No flip: the mirrored tilt is 8 to 48 degrees away.
   EXPECT_LT(worst_degrees, 4.0);
