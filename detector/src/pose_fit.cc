@@ -228,6 +228,23 @@ double ChiSquarePoint(double dof, double z) {
 double ChiSquare95(double dof) { return ChiSquarePoint(dof, 1.6449); }
 double ChiSquare05(double dof) { return ChiSquarePoint(dof, -1.6449); }
 
+// How much the corners' noise is scaled for the pose's covariance, from the
+// fit's residuals (sum of squares `residual_ss`) against what the noise
+// would leave (`expected`), over eight corner coordinates a tag less the
+// pose's six: residuals that fail a 95 % chi-square test (a lens model or a
+// board that is off) take over the scale; residuals under its 5 % point
+// lower it, on kMinTagsToLowerNoise tags or more, to no less than
+// kLowestNoiseScale.
+double NoiseScale(double residual_ss, double expected, size_t tags) {
+  const double dof = 8.0 * static_cast<double>(tags) - 6.0;
+  if (!(expected > 0) || !(dof > 0)) return 1.0;
+  const double ratio = residual_ss / expected;
+  if (ratio > ChiSquare95(dof) / dof) return ratio;
+  if (ratio < ChiSquare05(dof) / dof && tags >= kMinTagsToLowerNoise)
+    return std::max(kLowestNoiseScale, ratio);
+  return 1.0;
+}
+
 // (w, t) -> ROS's (t, w).
 cv::Matx66d RosOrder(const cv::Mat& covariance) {
   cv::Matx66d out;
@@ -307,21 +324,9 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
     return cv::Matx66d::eye() * std::numeric_limits<double>::infinity();
   cv::Mat covariance = inverse * middle * inverse;
   // The residuals the corners' noise would leave: the image points'
-  // variance less the share the fit absorbs, over eight corner coordinates
-  // a tag less the pose's six. Residuals that fail a 95 % chi-square test
-  // against it (a lens model or a board that is off) take over the scale.
-  // Residuals that fall under its 5 % point lower it, on kMinTagsToLowerNoise
-  // tags or more, to no less than kLowestNoiseScale.
-  const double expected = image_variance - cv::trace(inverse * middle)[0];
-  const double dof = 8.0 * static_cast<double>(noise.size()) - 6.0;
-  double scale = 1.0;
-  if (expected > 0 && dof > 0) {
-    const double ratio = residual_ss / expected;
-    if (ratio > ChiSquare95(dof) / dof)
-      scale = ratio;
-    else if (ratio < ChiSquare05(dof) / dof && noise.size() >= kMinTagsToLowerNoise)
-      scale = std::max(kLowestNoiseScale, ratio);
-  }
+  // variance less the share the fit absorbs.
+  const double scale =
+      NoiseScale(residual_ss, image_variance - cv::trace(inverse * middle)[0], noise.size());
   covariance *= scale;
   if (rival && AngleBetween(fit.rotation, rival->rotation) > kSameSolutionRadians) {
     // The rival's share: its likelihood against the fit's, from the outer

@@ -274,6 +274,41 @@ std::vector<std::string> Warnings(const CameraCalibration& c) {
   return out;
 }
 
+// The projection check's doubts (CameraCalibration::doubts): the
+// uncertainty or the cross-validation over its limit, or no
+// cross-validation.
+void ProjectionDoubts(const ProjectionCheck& p, std::vector<std::string>* doubts) {
+  std::vector<std::string>& out = *doubts;
+  if (!(p.uncertainty_worst_px <= kMaxProjectionUncertaintyPx)) {
+    out.push_back(
+        Format(
+            "the projection is uncertain: up to %.2f px (median %.2f) in the central 80 %% of the "
+            "image at %.2f m",
+            p.uncertainty_worst_px, p.uncertainty_median_px, p.distance) +
+        Format(" (limit %.1f px); add views, tilted, covering the image",
+               kMaxProjectionUncertaintyPx));
+  }
+  if (p.cross_validation_px.empty()) {
+    out.push_back(
+        "fewer than six views were used: the calibration cannot be checked against itself (two "
+        "halves of the views fitted apart); add views");
+  } else if (!(p.cross_validation_worst_px <= kMaxCrossValidationPx)) {
+    const std::string apart =
+        Format(
+            "two halves of the views give models that project up to %.2f px apart (median %.2f) in "
+            "the central 80 %% of the image at %.2f m",
+            p.cross_validation_worst_px, p.cross_validation_median_px, p.distance) +
+        Format(" (limit %.1f px)", kMaxCrossValidationPx);
+    out.push_back(apart +
+                  (p.cross_validation_beyond_noise
+                       ? Format(", over %.0f times what the corners' noise explains: the views do "
+                                "not agree on the lens; look for a view of a bent or moving board, "
+                                "or try the other lens model",
+                                kCrossValidationSigmas)
+                       : std::string(", as the corners' noise gives so few views: add views")));
+  }
+}
+
 // What the fit does not pin down (CameraCalibration::doubts): the focal
 // length and principal point without tilted views, and the parameters
 // whose standard deviations are over their limits.
@@ -313,35 +348,7 @@ std::vector<std::string> Doubts(const CameraCalibration& c, double distance_spre
         "at one depth; add views with the board nearer and further",
         distance_spread, kMinDistanceSpread));
   }
-  const ProjectionCheck& p = c.projection;
-  if (!(p.uncertainty_worst_px <= kMaxProjectionUncertaintyPx)) {
-    out.push_back(
-        Format(
-            "the projection is uncertain: up to %.2f px (median %.2f) in the central 80 %% of the "
-            "image at %.2f m",
-            p.uncertainty_worst_px, p.uncertainty_median_px, p.distance) +
-        Format(" (limit %.1f px); add views, tilted, covering the image",
-               kMaxProjectionUncertaintyPx));
-  }
-  if (p.cross_validation_px.empty()) {
-    out.push_back(
-        "fewer than six views were used: the calibration cannot be checked against itself (two "
-        "halves of the views fitted apart); add views");
-  } else if (!(p.cross_validation_worst_px <= kMaxCrossValidationPx)) {
-    const std::string apart =
-        Format(
-            "two halves of the views give models that project up to %.2f px apart (median %.2f) in "
-            "the central 80 %% of the image at %.2f m",
-            p.cross_validation_worst_px, p.cross_validation_median_px, p.distance) +
-        Format(" (limit %.1f px)", kMaxCrossValidationPx);
-    out.push_back(apart +
-                  (p.cross_validation_beyond_noise
-                       ? Format(", over %.0f times what the corners' noise explains: the views do "
-                                "not agree on the lens; look for a view of a bent or moving board, "
-                                "or try the other lens model",
-                                kCrossValidationSigmas)
-                       : std::string(", as the corners' noise gives so few views: add views")));
-  }
+  ProjectionDoubts(c.projection, &out);
   return out;
 }
 
