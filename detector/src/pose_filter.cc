@@ -60,10 +60,14 @@ bool PoseFilterOptions::IsValid(std::string* error) const {
   };
   if (!(translation_acceleration > 0) || !std::isfinite(translation_acceleration) ||
       !(rotation_acceleration > 0) || !std::isfinite(rotation_acceleration))
-    return fail("the accelerations must be positive");
-  if (!(gate_chi2 > 0) || !std::isfinite(gate_chi2)) return fail("the gate must be positive");
+    return fail(
+        "translation_acceleration and rotation_acceleration must be positive and finite (m/s and "
+        "rad/s a second)");
+  if (!(gate_chi2 > 0) || !std::isfinite(gate_chi2))
+    return fail("gate_chi2 must be positive and finite (a squared Mahalanobis distance)");
   if (frames_to_jump < 1) return fail("frames_to_jump must be 1 or more");
-  if (!(max_gap_s > 0) || !std::isfinite(max_gap_s)) return fail("the gap must be positive");
+  if (!(max_gap_s > 0) || !std::isfinite(max_gap_s))
+    return fail("max_gap_s must be positive and finite (seconds)");
   return true;
 }
 

@@ -115,6 +115,7 @@ void BindDetector(py::module_& m);     // Detector, draw_detections, draw_board_
 void BindGenerator(py::module_& m);    // render_tag, generate, families, palettes
 void BindVerify(py::module_& m);       // TagVerdict, SheetVerdict, verify, verify_print
 void BindCalibration(py::module_& m);  // read_camera
+void BindFilter(py::module_& m);       // PoseFilter, FilteredPose
 
 }  // namespace chromatag::python
 

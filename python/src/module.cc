@@ -31,11 +31,13 @@ PYBIND11_MODULE(_chromatag, m) {
   BindGenerator(m);
   BindVerify(m);
   BindCalibration(m);
+  BindFilter(m);
 
   // What pickling does, said by every class at every protocol.
   for (const char* name : {"Detection", "BoardTag", "Board"}) PickleAtEveryProtocol(m.attr(name));
   RefusePickling(m.attr("Detector"),
                  "build a Detector in each process, from the same options or config file");
-  for (const char* name : {"Pose", "BoardPose", "TagVerdict", "SheetVerdict"})
+  for (const char* name : {"Pose", "BoardPose", "FilteredPose", "TagVerdict", "SheetVerdict"})
     RefusePickling(m.attr(name), "it is a result; keep the numbers it holds");
+  RefusePickling(m.attr("PoseFilter"), "it follows one stream; start one in each process");
 }

@@ -166,6 +166,43 @@ def test_pose_from_camera_and_tag_size():
     assert (frame != before).any(axis=2).sum() > 200
 
 
+def test_pose_filter_smooths_a_still_tag_through_noise():
+    frame, _ = scene(cell_px=8)
+    k = np.array([[500.0, 0, 240], [0, 500.0, 200], [0, 0, 1]])
+    detector = chromatag.Detector(camera_matrix=k, tag_size=0.06)
+    rng = np.random.default_rng(5)
+    smoother = chromatag.PoseFilter()
+    assert not smoother.started
+    raw, filtered = [], []
+    for i in range(40):
+        noisy = np.clip(frame + rng.normal(0, 14, frame.shape), 0, 255).astype(np.uint8)
+        tags = detector.detect(noisy)
+        assert len(tags) == 1
+        out = smoother.update(i / 30.0, tags[0].pose)
+        assert isinstance(out, chromatag.FilteredPose) and out.used
+        assert out.restarted == (i == 0)
+        assert out.covariance.shape == (6, 6) and out.rotation.shape == (3, 3)
+        if i >= 10:  # The filter settling.
+            raw.append(tags[0].pose.tvec[2])
+            filtered.append(out.tvec[2])
+    assert smoother.started
+    for protocol in range(pickle.HIGHEST_PROTOCOL + 1):
+        with pytest.raises(TypeError, match="cannot pickle 'PoseFilter' object"):
+            pickle.dumps(smoother, protocol=protocol)
+    # The tag does not move: the filtered distance wanders less than each frame's own.
+    assert np.std(filtered) < 0.8 * np.std(raw)
+    assert abs(np.mean(filtered) - np.mean(raw)) < 3 * np.std(raw)
+    smoother.reset()
+    assert not smoother.started
+
+
+def test_pose_filter_refuses_bad_options_and_poses():
+    with pytest.raises(chromatag.Error, match="acceleration"):
+        chromatag.PoseFilter(rotation_acceleration=-1)
+    with pytest.raises(chromatag.Error, match="pose must be a chromatag.Pose or a chromatag.BoardPose"):
+        chromatag.PoseFilter().update(0.0, [0, 0, 1])
+
+
 def test_detection_compares_pickles_and_reads_as_the_cli_json():
     frame, _ = scene(cell_px=12)
     k = np.array([[500.0, 0, 240], [0, 500.0, 200], [0, 0, 1]])
