@@ -60,7 +60,8 @@ struct CalibrationViewResult {
   cv::Vec3d rvec, tvec;   // camera_from_board for the view.
   double tilt_deg = 0.0;  // Between the board's normal and the optical axis.
   // Used views: every used corner as detected and its residual (fitted
-  // projection minus detected), pixels.
+  // projection minus the corner straightened for the lens's bend,
+  // chromatag/detector/corner_bend.h), pixels.
   std::vector<cv::Point2d> corners;
   std::vector<cv::Point2d> residuals;
 };
