@@ -522,7 +522,7 @@ void WriteCsvHeader(std::ostream& out) {
   const char* keys[] = {"chromatag", "apriltag", "aruco"};
   for (const char* key : keys) {
     out << "," << key << "_us," << key << "_found," << key << "_false," << key << "_duplicates,"
-        << key << "_corner_px";
+        << key << "_corner_px," << key << "_outward_px";
   }
   out << ",chromatag_alone_us,calibrated_found,calibrated_false,calibrated_duplicates";
   for (int s = 0; s < kNumStages; ++s) out << ",us_" << StageName(static_cast<Stage>(s));
@@ -554,11 +554,12 @@ void WriteDetectionColumns(std::ostream& out, const FrameRecord& r) {
     double mean = 0;
     for (double e : d.score.corner_error_px) mean += e / 4;
     if (!d.ran) {
-      out << ",,,,,";
+      out << ",,,,,,";
       continue;
     }
     out << "," << d.time_us << "," << d.score.found << "," << d.score.false_positives << ","
-        << d.score.duplicates << "," << (d.score.found ? std::to_string(mean) : "");
+        << d.score.duplicates << "," << (d.score.found ? std::to_string(mean) : "") << ","
+        << (d.score.found ? std::to_string(d.score.mean_radial_offset_px) : "");
   }
   out << ",";
   if (!std::isnan(r.chromatag_alone_us)) out << r.chromatag_alone_us;
