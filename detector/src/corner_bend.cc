@@ -13,34 +13,6 @@ namespace {
 // Points along each side of the square, over the part the detector samples.
 constexpr int kSidePoints = 16;
 
-// A total least squares line through `points`: a point on it and its unit
-// normal.
-void FitLine(const cv::Point2d* points, int n, cv::Point2d* centre, cv::Point2d* normal) {
-  cv::Point2d mean(0, 0);
-  for (int i = 0; i < n; ++i) mean += points[i] / static_cast<double>(n);
-  double xx = 0, xy = 0, yy = 0;
-  for (int i = 0; i < n; ++i) {
-    const cv::Point2d d = points[i] - mean;
-    xx += d.x * d.x;
-    xy += d.x * d.y;
-    yy += d.y * d.y;
-  }
-  // The normal is the direction of least spread.
-  const double angle = 0.5 * std::atan2(2 * xy, xx - yy);
-  *centre = mean;
-  *normal = cv::Point2d(-std::sin(angle), std::cos(angle));
-}
-
-// Where the lines (a point and a normal each) meet; false when parallel.
-bool Meet(const cv::Point2d& pa, const cv::Point2d& na, const cv::Point2d& pb,
-          const cv::Point2d& nb, cv::Point2d* at) {
-  const double det = na.x * nb.y - na.y * nb.x;
-  if (std::abs(det) < 1e-12) return false;
-  const double ca = na.dot(pa), cb = nb.dot(pb);
-  *at = cv::Point2d((ca * nb.y - cb * na.y) / det, (na.x * cb - nb.x * ca) / det);
-  return std::isfinite(at->x) && std::isfinite(at->y);
-}
-
 bool Finite(const std::vector<cv::Point2d>& points) {
   for (const cv::Point2d& p : points)
     if (!std::isfinite(p.x) || !std::isfinite(p.y)) return false;
@@ -73,14 +45,18 @@ std::vector<cv::Point2d> CornerBend(const CameraIntrinsics& camera,
   const std::vector<cv::Point2d> seen = ProjectPoints(camera, along, rvec, tvec);
   const std::vector<cv::Point2d> truth = ProjectPoints(camera, ring_corners, rvec, tvec);
   if (!Finite(seen) || !Finite(truth)) return bend;
-  cv::Point2d centre[4], normal[4];
-  for (int s = 0; s < 4; ++s) FitLine(&seen[s * kSidePoints], kSidePoints, &centre[s], &normal[s]);
-  // Corner i is where side i - 1 (ending at it) meets side i (starting).
-  std::array<cv::Point2d, 4> outer;
-  for (int i = 0; i < 4; ++i) {
-    const int before = (i + 3) % 4;
-    if (!Meet(centre[before], normal[before], centre[i], normal[i], &outer[i])) return bend;
+  // Each side's line as the detector fits it, and the corners where they
+  // meet (corner i on sides i - 1 and i).
+  std::array<internal::Line, 4> sides;
+  std::vector<cv::Point2d> side;
+  std::vector<double> residual, sorted;
+  for (int s = 0; s < 4; ++s) {
+    side.assign(seen.begin() + s * kSidePoints, seen.begin() + (s + 1) * kSidePoints);
+    if (!internal::FitLine(&side, &residual, &sorted, &sides[s])) return bend;
   }
+  internal::Quad outer;
+  if (!internal::QuadFromSides(sides, &outer)) return bend;
+  if (!Finite({outer.begin(), outer.end()})) return bend;
   const std::vector<cv::Point2d> inner =
       PlaceInnerCorners(outer, InnerCornersInSquare(ring_corners));
   if (!Finite(inner)) return bend;

@@ -25,16 +25,7 @@
 #include "kernels/scalar.h"
 
 namespace chromatag::internal {
-namespace {
 
-constexpr int kMinProfiles = 5;             // Per side, however short.
-constexpr int kReportedOuterProfiles = 10;  // Per side, for the reported corners.
-
-// Total least squares line through `points`, then once more without points
-// farther than three median residuals (at least half a pixel) from it.
-// Works in place (the kept points are moved to the front): it runs for every
-// side of every ring, and allocating its scratch cost more than the fit: the
-// residuals go into the caller's buffers.
 bool FitLine(std::vector<cv::Point2d>* points, std::vector<double>* residual_buffer,
              std::vector<double>* sorted_buffer, Line* line) {
   std::vector<double>& residual = *residual_buffer;
@@ -68,6 +59,11 @@ bool FitLine(std::vector<cv::Point2d>* points, std::vector<double>* residual_buf
   }
   return true;
 }
+
+namespace {
+
+constexpr int kMinProfiles = 5;             // Per side, however short.
+constexpr int kReportedOuterProfiles = 10;  // Per side, for the reported corners.
 
 // The uncertainty of `line`, fitted to `points` (at least three): the
 // residuals' variance (two degrees of freedom taken by the fit) over the

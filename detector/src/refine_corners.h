@@ -86,6 +86,14 @@ struct SideFitBuffers {
   std::array<SideFit, 4>* side_fits = nullptr;
 };
 
+// Total least squares line through `points`, then once more without points
+// farther than three median residuals (at least half a pixel) from it.
+// Works in place (the kept points are moved to the front): it runs for every
+// side of every ring, and allocating its scratch cost more than the fit: the
+// residuals go into the caller's buffers.
+bool FitLine(std::vector<cv::Point2d>* points, std::vector<double>* residual_buffer,
+             std::vector<double>* sorted_buffer, Line* line);
+
 // The covariance of the four corners where the sides meet (corner i on sides
 // i - 1 and i), as x0, y0, x1, y1, ...: each side's offset and angle errors
 // carried to the corners it ends at, independent from side to side. px^2.
