@@ -273,9 +273,11 @@ cv::Matx66d BoardCovariance(const std::vector<Detection>& detections,
   return internal::PoseCovariance(tags, fits[best], rival, k);
 }
 
-// EstimateBoardPose on the detections' corners as they are.
+// EstimateBoardPose on the detections' corners as they are; the covariance
+// only `with_covariance`.
 bool FitBoardPose(const std::vector<Detection>& detections, const Board& board,
-                  const CameraIntrinsics& camera, BoardPose* pose, std::string* error) {
+                  const CameraIntrinsics& camera, bool with_covariance, BoardPose* pose,
+                  std::string* error) {
   const cv::Matx33d k = CameraMatrix(camera);
   const std::vector<Match> matches = MatchBoardTags(detections, board, camera);
   if (matches.empty()) {
@@ -315,7 +317,8 @@ bool FitBoardPose(const std::vector<Detection>& detections, const Board& board,
       pose->ambiguity = std::min(1.0, fit.rms_px / other.rms_px);
   }
   SetTagsUsed(matches, agreeing[best], pose);
-  pose->covariance = BoardCovariance(detections, camera, matches, agreeing, fits, best, k);
+  if (with_covariance)
+    pose->covariance = BoardCovariance(detections, camera, matches, agreeing, fits, best, k);
   return true;
 }
 
@@ -324,8 +327,9 @@ bool FitBoardPose(const std::vector<Detection>& detections, const Board& board,
 bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& board,
                        const CameraIntrinsics& camera, BoardPose* pose, std::string* error) {
   if (!camera.IsValid(error) || !board.IsValid(error)) return false;
-  if (!FitBoardPose(detections, board, camera, pose, error)) return false;
-  if (!HasDistortion(camera)) return true;
+  const bool distorted = HasDistortion(camera);
+  if (!FitBoardPose(detections, board, camera, !distorted, pose, error)) return false;
+  if (!distorted) return true;
   // The lens bends the tags' sides (corner_bend.h): the pose once more, from
   // every board tag's corners straightened under the first.
   std::vector<Detection> straight = detections;
@@ -335,9 +339,9 @@ bool EstimateBoardPose(const std::vector<Detection>& detections, const Board& bo
     d = Straightened(d, CornerBend(camera, BoardTagCorners(board.tags[index], *d.family),
                                    pose->rvec, pose->tvec));
   }
-  BoardPose refined;
-  if (FitBoardPose(straight, board, camera, &refined, nullptr)) *pose = refined;
-  return true;
+  if (FitBoardPose(straight, board, camera, true, pose, nullptr)) return true;
+  // Straightened corners that fit no pose: the first, with its covariance.
+  return FitBoardPose(detections, board, camera, true, pose, error);
 }
 
 }  // namespace chromatag

@@ -15,9 +15,10 @@ namespace chromatag {
 
 namespace {
 
-// EstimateTagPose on the detection's corners as they are.
+// EstimateTagPose on the detection's corners as they are; the covariance
+// only `with_covariance`.
 bool FitTagPose(const Detection& detection, const CameraIntrinsics& camera, double tag_size,
-                TagPose* pose, std::string* error) {
+                bool with_covariance, TagPose* pose, std::string* error) {
   using namespace internal;
   // The refinement works in undistorted pixels of the same camera matrix.
   std::vector<cv::Point2d> image;
@@ -39,6 +40,7 @@ bool FitTagPose(const Detection& detection, const CameraIntrinsics& camera, doub
   pose->tvec = fits[0].translation;
   pose->rms_error_px = fits[0].rms_px;
   pose->ambiguity = Ambiguity(fits);
+  if (!with_covariance) return true;
   CornerNoise noise;
   if (!TagCornerNoise(detection, camera, object, &noise)) {
     if (error) *error = "a corner lies beyond the range of the camera's lens model";
@@ -61,16 +63,18 @@ bool EstimateTagPose(const Detection& detection, const CameraIntrinsics& camera,
     if (error) *error = "the detection has no family";
     return false;
   }
-  if (!FitTagPose(detection, camera, tag_size, pose, error)) return false;
-  if (!HasDistortion(camera)) return true;
-  // The lens bends the tag's sides (corner_bend.h): the pose once more, from
-  // the corners straightened under the first.
+  const bool distorted = HasDistortion(camera);
+  if (!FitTagPose(detection, camera, tag_size, !distorted, pose, error)) return false;
+  if (!distorted) return true;
+  // The lens bends the tag's sides (corner_bend.h): the pose once more, with
+  // its covariance, from the corners straightened under the first.
   const std::vector<cv::Point3d> object = internal::TagRingCorners(*detection.family, tag_size);
-  TagPose straight;
-  if (FitTagPose(Straightened(detection, CornerBend(camera, object, pose->rvec, pose->tvec)),
-                 camera, tag_size, &straight, nullptr))
-    *pose = straight;
-  return true;
+  const Detection straight =
+      Straightened(detection, CornerBend(camera, object, pose->rvec, pose->tvec));
+  if (FitTagPose(straight, camera, tag_size, true, pose, nullptr)) return true;
+  // Straightened corners beyond the lens model's range: the pose from the
+  // corners as they are, with its covariance.
+  return FitTagPose(detection, camera, tag_size, true, pose, error);
 }
 
 PoseSigma SigmaOf(const cv::Matx66d& covariance) {
