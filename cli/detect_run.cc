@@ -109,31 +109,23 @@ std::optional<Outcome> Run::Next(size_t next, Tally* tally) {
 
 void Run::WriteSmoothed(Outcome* outcome) {
   PendingFrame& p = *outcome->pending;
+  const double time_s = p.record.timestamp.value_or(0.0);  // Videos and cameras have one.
   for (Detection& d : p.detections) {
     if (!d.has_pose) continue;
     const FilteredPose f = tag_filters_[{p.source, d.family->name(), d.id}].Update(
-        p.timestamp, d.pose.rvec, d.pose.tvec, d.pose.covariance);
+        time_s, d.pose.rvec, d.pose.tvec, d.pose.covariance);
     d.pose.rvec = f.rvec;
     d.pose.tvec = f.tvec;
     d.pose.covariance = f.covariance;
   }
   if (p.board_pose) {
     const FilteredPose f = board_filters_[p.source].Update(
-        p.timestamp, p.board_pose->rvec, p.board_pose->tvec, p.board_pose->covariance);
+        time_s, p.board_pose->rvec, p.board_pose->tvec, p.board_pose->covariance);
     p.board_pose->rvec = f.rvec;
     p.board_pose->tvec = f.tvec;
     p.board_pose->covariance = f.covariance;
   }
-  const Board* board = board_ ? &*board_ : nullptr;
-  if (!options_.json) {
-    outcome->out =
-        TableLines(sources_[p.source].name, p.frame_index, p.detections, board, p.board_pose);
-  } else {
-    p.record.board = board;
-    p.record.board_pose = p.board_pose ? &*p.board_pose : nullptr;
-    p.record.rejected = options_.rejected ? &p.rejected : nullptr;
-    outcome->out = FrameJson(p.record, p.detections) + "\n";
-  }
+  outcome->out = FrameText(p.record, p.detections, p.board_pose, p.rejected);
   outcome->pending.reset();
 }
 
@@ -361,49 +353,40 @@ Outcome Run::Process(Task& task, DetectionResult* result) const {
   std::string overlay;
   if (!options_.overlay_dir.empty() || options_.show)
     overlay = Draw(source, task, *result, d, board_pose, &outcome);
-  const Board* board = board_ ? &*board_ : nullptr;
+  const FrameJsonRecord record = RecordOf(source, task, *result, overlay);
   if (options_.smooth) {
     // The printer filters the poses in frame order, then writes the frame.
-    outcome.pending = Pending(task, *result, board_pose, overlay);
+    outcome.pending =
+        PendingFrame{task.source, record, result->detections, board_pose,
+                     options_.rejected ? result->rejected : std::vector<RejectedCandidate>()};
     return outcome;
   }
-  if (!options_.json) {
-    outcome.out = TableLines(source.name, task.frame_index, result->detections, board, board_pose);
-    return outcome;
-  }
-  FrameJsonRecord record;
-  record.file = source.name;
-  record.frame = task.frame_index;
-  record.width = frame.cols;
-  record.height = frame.rows;
-  record.time_us = result->summary.total_time_us;
-  if (source.kind != SourceKind::kImage) record.timestamp = task.timestamp;
-  record.overlay = overlay;
-  record.board = board;
-  record.board_pose = board_pose ? &*board_pose : nullptr;
-  record.rejected = options_.rejected ? &result->rejected : nullptr;
-  outcome.out = FrameJson(record, result->detections) + "\n";
+  outcome.out = FrameText(record, result->detections, board_pose, result->rejected);
   return outcome;
 }
 
-PendingFrame Run::Pending(const Task& task, const DetectionResult& result,
-                          const std::optional<BoardPose>& board_pose,
-                          const std::string& overlay) const {
-  PendingFrame p;
-  p.source = task.source;
-  p.frame_index = task.frame_index;
-  p.timestamp = task.timestamp;
-  p.detections = result.detections;
-  p.board_pose = board_pose;
-  if (options_.rejected) p.rejected = result.rejected;
-  p.record.file = sources_[task.source].name;
-  p.record.frame = task.frame_index;
-  p.record.width = task.frame.cols;
-  p.record.height = task.frame.rows;
-  p.record.time_us = result.summary.total_time_us;
-  p.record.timestamp = task.timestamp;
-  p.record.overlay = overlay;
-  return p;
+FrameJsonRecord Run::RecordOf(const Source& source, const Task& task, const DetectionResult& result,
+                              const std::string& overlay) const {
+  FrameJsonRecord record;
+  record.file = source.name;
+  record.frame = task.frame_index;
+  record.width = task.frame.cols;
+  record.height = task.frame.rows;
+  record.time_us = result.summary.total_time_us;
+  if (source.kind != SourceKind::kImage) record.timestamp = task.timestamp;
+  record.overlay = overlay;
+  return record;
+}
+
+std::string Run::FrameText(FrameJsonRecord record, const std::vector<Detection>& detections,
+                           const std::optional<BoardPose>& board_pose,
+                           const std::vector<RejectedCandidate>& rejected) const {
+  const Board* board = board_ ? &*board_ : nullptr;
+  if (!options_.json) return TableLines(record.file, record.frame, detections, board, board_pose);
+  record.board = board;
+  record.board_pose = board_pose ? &*board_pose : nullptr;
+  record.rejected = options_.rejected ? &rejected : nullptr;
+  return FrameJson(record, detections) + "\n";
 }
 
 std::optional<BoardPose> Run::BoardPoseIn(const Source& source, const Task& task,

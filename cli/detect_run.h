@@ -65,12 +65,10 @@ struct Task {
 // the poses in frame order and then writes the frame.
 struct PendingFrame {
   size_t source = 0;
-  int frame_index = 0;
-  double timestamp = 0;
+  FrameJsonRecord record;  // Its board, board_pose and rejected set when written.
   std::vector<Detection> detections;
   std::optional<BoardPose> board_pose;
   std::vector<RejectedCandidate> rejected;
-  FrameJsonRecord record;  // Its board, board_pose and rejected set when written.
 };
 
 struct Outcome {
@@ -131,10 +129,14 @@ class Run {
   void ReadVideo(size_t i);
   void Work();
   Outcome Process(Task& task, DetectionResult* result) const;
-  // --smooth: what the printer needs of the frame (PendingFrame).
-  PendingFrame Pending(const Task& task, const DetectionResult& result,
-                       const std::optional<BoardPose>& board_pose,
-                       const std::string& overlay) const;
+  // The frame's JSON record, without its board, board pose and rejected
+  // candidates (FrameText sets them).
+  FrameJsonRecord RecordOf(const Source& source, const Task& task, const DetectionResult& result,
+                           const std::string& overlay) const;
+  // What stdout gets for the frame: its table lines, or its JSON line.
+  std::string FrameText(FrameJsonRecord record, const std::vector<Detection>& detections,
+                        const std::optional<BoardPose>& board_pose,
+                        const std::vector<RejectedCandidate>& rejected) const;
   // The board's pose in a frame, if seen; a board tag seen twice fails the
   // frame in *outcome instead.
   std::optional<BoardPose> BoardPoseIn(const Source& source, const Task& task,

@@ -556,14 +556,7 @@ TEST(DetectorSceneTest, PoseMatchesTheSceneCamera) {
   options.width = 400;
   options.height = 320;
   const Scene scene = RenderScene({tag}, options);
-  DetectorOptions detector_options;
-  CameraIntrinsics camera;
-  camera.fx = camera.fy = tag.black_square_px * tag.distance;  // As RenderScene places it.
-  camera.cx = tag.centre.x;
-  camera.cy = tag.centre.y;
-  detector_options.camera = camera;
-  detector_options.tag_size = 1.0;
-  auto detector = Detector::Create(detector_options);
+  auto detector = Detector::Create(testing::PoseOptionsFor(tag, tag.centre));
   const DetectionResult result = detector->Detect(scene.bgr);
   ASSERT_EQ(result.detections.size(), 1u);
   const Detection& d = result.detections[0];
@@ -624,14 +617,7 @@ TEST(DetectorSceneTest, PoseIsRightAtEveryView) {
     const cv::Point2d principal(options.width / 2.0, options.height / 2.0);
     tag.centre = principal + view.offset;
     const Scene scene = RenderScene({tag}, options);
-    DetectorOptions detector_options;
-    CameraIntrinsics camera;
-    camera.fx = camera.fy = tag.black_square_px * tag.distance;  // As RenderScene places it.
-    camera.cx = principal.x;
-    camera.cy = principal.y;
-    detector_options.camera = camera;
-    detector_options.tag_size = 1.0;
-    auto detector = Detector::Create(detector_options);
+    auto detector = Detector::Create(testing::PoseOptionsFor(tag, principal));
     const DetectionResult result = detector->Detect(scene.bgr);
     const std::string what =
         "size " + std::to_string(view.size_px) + " rotation " + std::to_string(view.rotation_deg) +

@@ -25,14 +25,7 @@ PoseSweep RenderPoseSweep(int frames) {
   options.blur_in_linear_light = true;
   const cv::Point2d principal(options.width / 2.0, options.height / 2.0);
   tag.centre = principal;
-  DetectorOptions detector_options;
-  CameraIntrinsics camera;
-  camera.fx = camera.fy = tag.black_square_px * tag.distance;  // As RenderScene places it.
-  camera.cx = principal.x;
-  camera.cy = principal.y;
-  detector_options.camera = camera;
-  detector_options.tag_size = 1.0;
-  const auto detector = Detector::Create(detector_options);
+  const auto detector = Detector::Create(PoseOptionsFor(tag, principal));
   for (int f = 0; f < frames; ++f) {
     const double s = f / std::max(1.0, frames - 1.0);
     tag.tilt_deg = 14 - 10 * std::cos(2 * kPi * s);

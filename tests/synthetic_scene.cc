@@ -201,6 +201,17 @@ void ApplyCamera(const SceneOptions& options, cv::Mat* bgr) {
   }
 }
 
+DetectorOptions PoseOptionsFor(const SceneTag& tag, const cv::Point2d& principal) {
+  DetectorOptions options;
+  CameraIntrinsics camera;
+  camera.fx = camera.fy = tag.black_square_px * tag.distance;  // As RenderScene places it.
+  camera.cx = principal.x;
+  camera.cy = principal.y;
+  options.camera = camera;
+  options.tag_size = 1.0;
+  return options;
+}
+
 Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options) {
   double smallest = 1e300;
   for (const auto& tag : tags) smallest = std::min(smallest, tag.black_square_px);

@@ -12,6 +12,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "chromatag/detector/options.h"
+
 namespace chromatag::testing {
 
 struct SceneTag {
@@ -82,6 +84,11 @@ struct Scene {
 };
 
 Scene RenderScene(const std::vector<SceneTag>& tags, const SceneOptions& options);
+
+// Detector options with the pinhole camera RenderScene sees `tag` through
+// (principal point `principal`, its centre in the image) and a tag size of
+// one black square: poses come out in tag sizes.
+DetectorOptions PoseOptionsFor(const SceneTag& tag, const cv::Point2d& principal);
 
 // What RenderScene does to the rendered frame (8-bit BGR), in place: the
 // camera of `options` (light, blur, cast, noise, mosaic, tone, JPEG); its
