@@ -157,7 +157,7 @@ cv::Matx<double, 8, 8> ReportedCornerCovariance(const std::array<SideFit, 4>& si
   return sq(m.scatter) * CornerCovariance(sides, linear) + sq(m.share) * apart * apart.t() +
          (sq(m.floor_px) + sq(m.uneven_each * uneven)) * Matx88::eye() +
          sq(m.uneven_shift * uneven) * (shift_x * shift_x.t() + shift_y * shift_y.t()) +
-         (sq(m.grow_px) + sq(m.uneven_grow * uneven)) * grow * grow.t();
+         sq(m.grow_px) * grow * grow.t();
 }
 
 // The edge point on the profile across the side at `middle`, searched within
@@ -352,6 +352,14 @@ double CellWidth(const Candidate& candidate) {
 
 }  // namespace
 
+double ResolvedShare(double ring_share, double cell, double spread) {
+  if (!(spread > 0.0)) return ring_share;
+  const double resolved = std::clamp(
+      (cell / spread - kUnresolvedRingCells) / (kResolvedRingCells - kUnresolvedRingCells), 0.0,
+      1.0);
+  return resolved * ring_share + (1.0 - resolved);
+}
+
 bool RefineOuterQuad(const ImageView& image, SideFitBuffers* buffers, Candidate* candidate) {
   const double cell = CellWidth(*candidate);
   if (!(cell > 1.0)) return false;
@@ -379,6 +387,28 @@ bool RefineOuterQuad(const ImageView& image, SideFitBuffers* buffers, Candidate*
   return true;
 }
 
+namespace {
+
+// The share between the black ring's encoded-average [0] and linear-light
+// [1] borders at which its inner square's side is `ratio` of its outer one's
+// (sides, the square roots of the areas, are linear in the share), as far
+// as the ring is resolved (ResolvedShare).
+double RingShare(const Quad outer[2], const Quad inner[2], double ratio, double cell,
+                 double spread) {
+  double outer_side[2], inner_side[2];
+  for (int way = 0; way < 2; ++way) {
+    outer_side[way] = std::sqrt(QuadArea(outer[way]));
+    inner_side[way] = std::sqrt(QuadArea(inner[way]));
+  }
+  const double change = (inner_side[1] - inner_side[0]) - ratio * (outer_side[1] - outer_side[0]);
+  double share = 0.0;
+  if (std::abs(change) > 1e-6)
+    share = std::clamp((ratio * outer_side[0] - inner_side[0]) / change, 0.0, 1.0);
+  return ResolvedShare(share, cell, spread);
+}
+
+}  // namespace
+
 bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad,
                         cv::Matx<double, 8, 8>* covariance) {
   const double side = std::sqrt(QuadArea(*quad));
@@ -390,13 +420,16 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
   const Quad inner_start = InsetSquare(UnitSquareToQuad(*quad), 1.0 / cells);
   Quad inner[2] = {inner_start, inner_start};
   std::array<SideFit, 4> side_fits;
+  bool inner_found = true;
   // The outer border at the encoded average is `quad` itself, as
   // RefineOuterQuad left it.
   for (int way = 0; way < 2; ++way) {
     const Halfway halfway = way == 0 ? Halfway::kEncoded : Halfway::kLinearLight;
     // Fewer profiles than the stages' searches: this runs on every detection,
-    // and the lines average them.
-    SideSearch out{kGray, kRisesOutwards, kMinGrayContrast, cell, kReportedOuterProfiles, 1.5};
+    // and the lines average them. Up to 2.5 px either side of the encoded
+    // average: a lens blur of 2 px puts the edge in linear light 1.3 px
+    // outside it, where a 1.5 px search found no edge on any profile.
+    SideSearch out{kGray, kRisesOutwards, kMinGrayContrast, cell, kReportedOuterProfiles, 2.5};
     SideSearch in{kGray, kFallsOutwards, kMinGreenBlackContrast, cell, kMinProfiles, 2.5};
     out.halfway = in.halfway = halfway;
     // The linear-light outer sides' scatter stands for both conventions'
@@ -404,20 +437,18 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
     buffers->side_fits = way == 1 && covariance ? &side_fits : nullptr;
     const bool outer_found = way == 0 || RefineQuad(image, out, buffers, &outer[way]);
     buffers->side_fits = nullptr;
-    if (!outer_found || !RefineQuad(image, in, buffers, &inner[way])) return false;
+    if (!outer_found) return false;
+    inner_found = inner_found && RefineQuad(image, in, buffers, &inner[way]);
   }
-  // Sides (square roots of the areas), linear in the share: the share at
-  // which the inner square's side is (cells - 2) / cells of the outer's.
-  double outer_side[2], inner_side[2];
-  for (int way = 0; way < 2; ++way) {
-    outer_side[way] = std::sqrt(QuadArea(outer[way]));
-    inner_side[way] = std::sqrt(QuadArea(inner[way]));
-  }
-  const double ratio = static_cast<double>(cells - 2) / cells;
-  const double change = (inner_side[1] - inner_side[0]) - ratio * (outer_side[1] - outer_side[0]);
-  double share = 0.0;
-  if (std::abs(change) > 1e-6)
-    share = std::clamp((ratio * outer_side[0] - inner_side[0]) / change, 0.0, 1.0);
+  // The ring's inner square is the outer one inset by a cell in the tag's
+  // plane: under perspective its side is not (cells - 2) / cells of the
+  // outer's (a near tag's far half is smaller), and taking it so put the
+  // corners of tags of 150 px and more 0.2 px inwards on the camera set.
+  const double ratio = std::sqrt(QuadArea(inner_start) / QuadArea(*quad));
+  const double spread = 0.5 * (std::sqrt(QuadArea(outer[1])) - std::sqrt(QuadArea(outer[0])));
+  // Without its inner border (a blur that leaves the ring no black), the
+  // ring cannot tell: the share is a camera's.
+  const double share = inner_found ? RingShare(outer, inner, ratio, cell, spread) : 1.0;
   for (int i = 0; i < 4; ++i) (*quad)[i] = outer[0][i] + share * (outer[1][i] - outer[0][i]);
   if (covariance) *covariance = ReportedCornerCovariance(side_fits, outer[0], outer[1]);
   return true;

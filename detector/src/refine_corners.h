@@ -100,27 +100,26 @@ bool FitLine(std::vector<cv::Point2d>* points, std::vector<double>* residual_buf
 cv::Matx<double, 8, 8> CornerCovariance(const std::array<SideFit, 4>& sides, const Quad& quad);
 
 // What the reported corners' errors are made of, as standard deviations
-// (px, or shares), fitted by maximum likelihood to the corner errors
-// against the truth of the camera set's tags of 30 px and more seen at up
-// to 60 degrees (4,000 frames; docs/pose.md, "Uncertainty"), then scatter,
-// floor_px, uneven_each and uneven_shift lowered by a fifth to a quarter
-// (from 0.6, 0.027, 0.49 and 0.65), which brought the pose covariance's
-// spread on every axis above 0.8 on those frames: the edge
-// points' scatter about the sides (CornerCovariance, which counts the
-// neighbouring profiles as independent and so overstates it), the share
-// between the two edge conventions (RefineReportedQuad), a floor on each
-// coordinate, the whole quad grown or shrunk (the tone curve and blur move
-// every edge the same way), and terms that grow with how unevenly the two
-// conventions move the four sides (px): a motion blur widens only the sides
-// across the motion, and shifts, grows and jitters the corners.
+// (px, or shares): the edge points' scatter about the sides
+// (CornerCovariance, which counts the neighbouring profiles as independent
+// and so overstates it), the share between the two edge conventions
+// (RefineReportedQuad), a floor on each coordinate, the whole quad grown or
+// shrunk (the tone curve and blur move every edge the same way), and terms
+// that grow with how unevenly the two conventions move the four sides (px):
+// a motion blur widens only the sides across the motion, and shifts and
+// jitters the corners. Fitted by maximum likelihood to the corner errors
+// against the truth of the camera set's tags of 30 px and more (8,000
+// frames, 4,257 tags; docs/pose.md, "Uncertainty"), then the scatter, the
+// uneven sides' jitter and their shift lowered by a quarter to a third
+// (from 0.65, 0.4 and 0.65), which brought the pose covariance's spread on
+// every axis above 0.8 on those frames.
 struct CornerNoiseModel {
-  double scatter = 0.5;
-  double share = 0.33;
-  double floor_px = 0.02;
-  double grow_px = 0.156;
-  double uneven_each = 0.4;
+  double scatter = 0.45;
+  double share = 0.25;
+  double floor_px = 0.034;
+  double grow_px = 0.092;
+  double uneven_each = 0.3;
   double uneven_shift = 0.5;
-  double uneven_grow = 2.28;
 };
 inline constexpr CornerNoiseModel kCornerNoise;
 
@@ -179,12 +178,33 @@ bool RefineInnerQuads(const ImageView& image, SideFitBuffers* buffers, Candidate
 // right), software that resizes or warps an sRGB image blurs its encoded
 // values (the encoded average is right). The black ring is one cell wide:
 // its outer and inner borders, each located both ways, are mixed in the
-// share that gives it that width, and the outer corners in the same share.
-// False (quad untouched) when a border cannot be located. On success,
+// share that gives it that width (as far as the ring is resolved:
+// ResolvedShare; a camera's share, linear light, when the inner border
+// cannot be located), and the outer corners in the same share. False (quad
+// untouched) when the outer border cannot be located in linear light. On
+// success,
 // *covariance (when given) is the corners' covariance (CornerCovariance's
 // order and units): ReportedCornerCovariance.
 bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad,
                         cv::Matx<double, 8, 8>* covariance = nullptr);
+
+// The black ring tells the two blurs apart only while it is resolved: when
+// the blur is a large part of a cell, its middle never reaches black, and its
+// inner border (green against that raised black, a small step) drifts
+// inwards either way, so the ring always looks too wide and the share it
+// gives falls to 0 (the encoded average), wrong for a camera's frames by up
+// to a pixel. How far the outer border in linear light lies outside the one at
+// the encoded average (`spread`, px) grows with the blur; where a cell is
+// kUnresolvedRingCells spreads or fewer, the share is a camera's (1, linear
+// light), and it moves linearly to the ring's own (`ring_share`) at
+// kResolvedRingCells. The bounds are where a one-dimensional model of the ring
+// (lens blur of 0.5-2 px, cells of 2.5-12 px) showed the ring's share going
+// wrong and right. A frame blurred in software that much and that small (its
+// ring unresolved) is reported too large: a 24 px tag blurred by 2 px, by
+// 1.2 px per side (RefineQuadTest.AnUnresolvedRingTakesACamerasBlur).
+inline constexpr double kUnresolvedRingCells = 7.0;
+inline constexpr double kResolvedRingCells = 11.0;
+double ResolvedShare(double ring_share, double cell, double spread);
 
 }  // namespace chromatag::internal
 

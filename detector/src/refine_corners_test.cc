@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -115,11 +116,51 @@ TEST(RefineQuadTest, MovesOntoTheEdgesOfABlackSquare) {
   }
 }
 
+// A tag's black ring (1 of `cells` cells) with green inside it and white
+// outside: `truth` is its outer quad, the green quad is it inset by a cell
+// in the tag's plane. Blurred by `blur` px in linear light then
+// sRGB-encoded, as a camera makes it (`lens`), or blurred in its encoded
+// values, as software resizing does.
+cv::Mat RenderRing(const Quad& truth, int cells, bool lens, double blur) {
+  const Quad green = InsetSquare(UnitSquareToQuad(truth), 1.0 / cells);
+  const cv::Mat sharp = testing::RenderQuadsAntialiased(
+      {120, 120}, {green, truth}, {cv::Vec3b(60, 150, 70), cv::Vec3b(5, 5, 5)},
+      cv::Vec3b(230, 230, 230));
+  cv::Mat f;
+  sharp.convertTo(f, CV_32FC3, 1.0 / 255);
+  if (lens) {
+    f.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+      for (int c = 0; c < 3; ++c)
+        p[c] = p[c] <= 0.04045f ? p[c] / 12.92f : std::pow((p[c] + 0.055f) / 1.055f, 2.4f);
+    });
+  }
+  cv::GaussianBlur(f, f, cv::Size(0, 0), blur);
+  if (lens) {
+    f.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+      for (int c = 0; c < 3; ++c)
+        p[c] = p[c] <= 0.0031308f ? 12.92f * p[c] : 1.055f * std::pow(p[c], 1 / 2.4f) - 0.055f;
+    });
+  }
+  cv::Mat image;
+  f.convertTo(image, CV_8UC3, 255.0);
+  return image;
+}
+
+// The mean of the four corners' offsets outwards from the quad's centre,
+// px: negative for a square found too small.
+double MeanOutwards(const Quad& found, const Quad& truth) {
+  const cv::Point2d centre = 0.25 * (truth[0] + truth[1] + truth[2] + truth[3]);
+  double sum = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d outwards = truth[i] - centre;
+    sum += (found[NearestCorner(found, truth[i])] - truth[i]).dot(outwards) / cv::norm(outwards);
+  }
+  return 0.25 * sum;
+}
+
 // Where an image was blurred decides where its edges lie between their
-// levels. A tag's black ring (1 of 6 cells, green inside, white outside)
-// blurred by 1.5 px in linear light then sRGB-encoded, as a camera makes
-// it, and the same blurred in its encoded values, as software resizing
-// does: RefineReportedQuad places the black square within 0.15 px in both,
+// levels. A tag's black ring (1 of 6 cells of 8 px) blurred by 1.5 px either
+// way: RefineReportedQuad places the black square within 0.15 px in both,
 // while the encoded average alone finds the camera's about 0.9 px too small.
 TEST(RefineQuadTest, ReportedCornersFollowWhereTheImageWasBlurred) {
   Scratch scratch;
@@ -129,30 +170,7 @@ TEST(RefineQuadTest, ReportedCornersFollowWhereTheImageWasBlurred) {
           std::string(lens ? "lens" : "software") + ", " + std::to_string(degrees) + " degrees";
       const cv::Point2d centre(60.3, 59.6);
       const Quad truth = RotatedSquare(centre, 48.0, degrees);
-      const Quad green = RotatedSquare(centre, 32.0, degrees);
-      const cv::Mat sharp = testing::RenderQuadsAntialiased(
-          {120, 120}, {green, truth}, {cv::Vec3b(60, 150, 70), cv::Vec3b(5, 5, 5)},
-          cv::Vec3b(230, 230, 230));
-      cv::Mat f;
-      sharp.convertTo(f, CV_32FC3, 1.0 / 255);
-      const auto decode = [](cv::Mat* m) {
-        m->forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
-          for (int c = 0; c < 3; ++c)
-            p[c] = p[c] <= 0.04045f ? p[c] / 12.92f : std::pow((p[c] + 0.055f) / 1.055f, 2.4f);
-        });
-      };
-      const auto encode = [](cv::Mat* m) {
-        m->forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
-          for (int c = 0; c < 3; ++c)
-            p[c] = p[c] <= 0.0031308f ? 12.92f * p[c] : 1.055f * std::pow(p[c], 1 / 2.4f) - 0.055f;
-        });
-      };
-      if (lens) decode(&f);
-      cv::GaussianBlur(f, f, cv::Size(0, 0), 1.5);
-      if (lens) encode(&f);
-      cv::Mat image;
-      f.convertTo(image, CV_8UC3, 255.0);
-      const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+      const ImageView view(RenderRing(truth, 6, lens, 1.5), PixelOrder::kBgr, ColorTable::Get());
       Quad encoded = truth;
       ASSERT_TRUE(RefineQuad(view, BlackOnWhite(8.0), &scratch.side_fit, &encoded)) << what;
       Quad reported = encoded;  // As the stages leave it.
@@ -176,6 +194,76 @@ TEST(RefineQuadTest, ReportedCornersFollowWhereTheImageWasBlurred) {
       }
     }
   }
+}
+
+// A small tag under a heavy blur: cells of 4 px, a lens blur of 1.5 and 2
+// px. The ring's middle never reaches black, so its own share would put the
+// corners of the 2 px blur 1.1 px inside the square; the reported square is
+// the camera's, its corners within 0.35 px outwards or inwards. The same
+// ring blurred in software is reported too large (its corners up to 1.8 px
+// outwards), as ResolvedShare says.
+TEST(RefineQuadTest, AnUnresolvedRingTakesACamerasBlur) {
+  Scratch scratch;
+  for (double blur : {1.5, 2.0}) {
+    for (bool lens : {true, false}) {
+      const std::string what =
+          std::string(lens ? "lens" : "software") + " blur " + std::to_string(blur);
+      const Quad truth = RotatedSquare({60.3, 59.6}, 24.0, 17.0);
+      const ImageView view(RenderRing(truth, 6, lens, blur), PixelOrder::kBgr, ColorTable::Get());
+      Quad reported = truth;
+      ASSERT_TRUE(RefineQuad(view, BlackOnWhite(4.0), &scratch.side_fit, &reported)) << what;
+      ASSERT_TRUE(RefineReportedQuad(view, 6, &scratch.side_fit, &reported)) << what;
+      const double outwards = MeanOutwards(reported, truth);
+      if (lens) {
+        EXPECT_LT(std::abs(outwards), 0.35) << what;
+      } else {
+        EXPECT_GT(outwards, 0.0) << what;
+        EXPECT_LT(outwards, 2.0) << what;
+      }
+    }
+  }
+}
+
+// A near tag seen steeply: its far half is much smaller than its near half,
+// so the ring's inner square is not 4/6 of the outer one's side. With the
+// ring's own proportion under that perspective, the lens-blurred ring puts
+// the black square within 0.15 px.
+TEST(RefineQuadTest, ReportedCornersHoldUnderStrongPerspective) {
+  Scratch scratch;
+  const Quad truth = {{{22.0, 30.0}, {98.0, 22.0}, {104.0, 100.0}, {28.0, 84.0}}};
+  ASSERT_TRUE(IsConvexClockwise(truth));
+  const ImageView view(RenderRing(truth, 6, true, 1.0), PixelOrder::kBgr, ColorTable::Get());
+  Quad reported = truth;
+  ASSERT_TRUE(RefineQuad(view, BlackOnWhite(10.0), &scratch.side_fit, &reported));
+  ASSERT_TRUE(RefineReportedQuad(view, 6, &scratch.side_fit, &reported));
+  for (int i = 0; i < 4; ++i)
+    EXPECT_LT(cv::norm(reported[NearestCorner(reported, truth[i])] - truth[i]), 0.15) << i;
+}
+
+// A black square on white has no inner border: the ring cannot tell the
+// blurs apart, and the corners are the camera's (linear light).
+TEST(RefineQuadTest, ABorderWithoutRingIsReportedAsACameraSeesIt) {
+  Scratch scratch;
+  const Quad truth = RotatedSquare({60.3, 59.6}, 48.0, 11.0);
+  const ImageView view(RenderRing(truth, 1, true, 1.5), PixelOrder::kBgr, ColorTable::Get());
+  Quad reported = truth;
+  ASSERT_TRUE(RefineQuad(view, BlackOnWhite(8.0), &scratch.side_fit, &reported));
+  ASSERT_TRUE(RefineReportedQuad(view, 6, &scratch.side_fit, &reported));
+  EXPECT_LT(std::abs(MeanOutwards(reported, truth)), 0.1);
+}
+
+// The ring's own share where it is resolved, a camera's (1) where it is not,
+// linear between.
+TEST(RefineQuadTest, ResolvedShareTrustsTheRingAsFarAsItIsResolved) {
+  const double spread = 0.5;
+  EXPECT_DOUBLE_EQ(ResolvedShare(0.2, kResolvedRingCells * spread, spread), 0.2);
+  EXPECT_DOUBLE_EQ(ResolvedShare(0.2, 30 * spread, spread), 0.2);
+  EXPECT_DOUBLE_EQ(ResolvedShare(0.2, kUnresolvedRingCells * spread, spread), 1.0);
+  EXPECT_DOUBLE_EQ(ResolvedShare(0.2, 2 * spread, spread), 1.0);
+  const double middle = 0.5 * (kUnresolvedRingCells + kResolvedRingCells);
+  EXPECT_NEAR(ResolvedShare(0.2, middle * spread, spread), 0.6, 1e-12);
+  // No spread (the two conventions agree): nothing to tell apart.
+  EXPECT_DOUBLE_EQ(ResolvedShare(0.2, 4.0, 0.0), 0.2);
 }
 
 // Each side's offset error moves the two corners it ends at together along
