@@ -197,13 +197,16 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
 // the encoded average (`spread`, px) grows with the blur; where a cell is
 // kUnresolvedRingCells spreads or fewer, the share is a camera's (1, linear
 // light), and it moves linearly to the ring's own (`ring_share`) at
-// kResolvedRingCells. The bounds are where a one-dimensional model of the ring
-// (lens blur of 0.5-2 px, cells of 2.5-12 px) showed the ring's share going
-// wrong and right. A frame blurred in software that much and that small (its
+// kResolvedRingCells. A one-dimensional model of the ring (lens blur of 0.5-2
+// px, cells of 2.5-12 px) showed its share going wrong below 7.3 and right
+// above 8.6; the bounds are set between what the camera set's small tags
+// (pure lens blur) and the board test's far tags (a page resampled in
+// encoded values, then a lens blur) each measured best. A frame blurred in
+// software that much and that small (its
 // ring unresolved) is reported too large: a 24 px tag blurred by 2 px, by
 // 1.2 px per side (RefineQuadTest.AnUnresolvedRingTakesACamerasBlur).
-inline constexpr double kUnresolvedRingCells = 7.0;
-inline constexpr double kResolvedRingCells = 11.0;
+inline constexpr double kUnresolvedRingCells = 6.5;
+inline constexpr double kResolvedRingCells = 9.5;
 double ResolvedShare(double ring_share, double cell, double spread);
 
 }  // namespace chromatag::internal
