@@ -74,7 +74,7 @@ void BindFilter(py::module_& m) {
       "from the prediction (the mirrored tilt) is left out, frames_to_jump of them in a row\n"
       "that agree are a move. One filter per tag or board.")
       .def(py::init(&MakeFilter), py::kw_only(), py::arg("translation_acceleration") = 0.05,
-           py::arg("rotation_acceleration") = 0.07, py::arg("gate_chi2") = 22.46,
+           py::arg("rotation_acceleration") = 0.08, py::arg("gate_chi2") = 22.46,
            py::arg("frames_to_jump") = 5, py::arg("max_gap_s") = 1.0,
            "How fast the motion may change (the velocity's change over a second, one standard\n"
            "deviation: m/s and rad/s a second; the defaults suit slow, smooth motion), the\n"

@@ -22,10 +22,10 @@ struct PoseFilterOptions {
   // a walking pace, a tag turning at 10 degrees a second); a hand-held
   // camera moves faster (0.5 m/s and 2 rad/s a second): with the defaults,
   // its quick turns are left out and then jumped to. On the rendered sweep
-  // of PoseFilterTest a rotation acceleration of 0.05 to 0.07 smooths most
-  // (0.03 lags behind the sweep's turns, 0.1 follows the frames' jitter).
+  // of PoseFilterTest a rotation acceleration of 0.08 to 0.09 smooths most
+  // (0.05 lags behind the sweep's turns, 0.15 follows the frames' jitter).
   double translation_acceleration = 0.05;
-  double rotation_acceleration = 0.07;
+  double rotation_acceleration = 0.08;
   // A frame whose pose lies further from the prediction than this squared
   // Mahalanobis distance (the two covariances added; chi-square with six
   // degrees of freedom: 22.46 is its 99.9 % point) is left out...
