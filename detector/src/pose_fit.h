@@ -110,9 +110,9 @@ inline constexpr double kSharedGrowShare = 0.5;
 // share (the tone curve, the lens model, the frame's blur) the pose absorbs
 // and the residuals do not show. On the calibration benchmark's board views
 // (calib_comparison, 10 trials, seeds 1 to 3) the residuals' median was
-// 0.13 of the model's; without the lowering, the spread of error over sigma
-// was 0.37-0.58 per axis with every pose inside its 95 % ellipsoid; with it,
-// 0.71-1.11 and 92-96 %.
+// 0.14 of the model's; without the lowering, the spread of error over sigma
+// was 0.41-0.61 per axis with every pose inside its 95 % ellipsoid; with it,
+// 0.76-1.06 and 96-97 %.
 inline constexpr size_t kMinTagsToLowerNoise = 6;
 inline constexpr double kLowestNoiseScale = 0.25;
 
