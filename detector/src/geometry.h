@@ -17,6 +17,8 @@ using Quad = std::array<cv::Point2d, 4>;  // Clockwise on screen (x right, y dow
 // Unsigned areas in square pixels.
 double PolygonArea(const std::vector<cv::Point2f>& polygon);
 double QuadArea(const Quad& quad);
+// The side of the square of the same area as `quad`.
+inline double QuadSide(const Quad& quad) { return std::sqrt(QuadArea(quad)); }
 // Area centroid of a simple polygon; NaN if degenerate.
 cv::Point2f PolygonCentroid(const cv::Point2f* polygon, size_t n);
 template <size_t N>

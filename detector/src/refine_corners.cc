@@ -346,8 +346,7 @@ namespace {
 
 // One cell: the width of the black ring, between the outer and green quads.
 double CellWidth(const Candidate& candidate) {
-  return 0.5 * (std::sqrt(QuadArea(candidate.quads[kBlackWhite])) -
-                std::sqrt(QuadArea(candidate.quads[kGreenBlack])));
+  return 0.5 * (QuadSide(candidate.quads[kBlackWhite]) - QuadSide(candidate.quads[kGreenBlack]));
 }
 
 }  // namespace
@@ -397,8 +396,8 @@ double RingShare(const Quad outer[2], const Quad inner[2], double ratio, double 
                  double spread) {
   double outer_side[2], inner_side[2];
   for (int way = 0; way < 2; ++way) {
-    outer_side[way] = std::sqrt(QuadArea(outer[way]));
-    inner_side[way] = std::sqrt(QuadArea(inner[way]));
+    outer_side[way] = QuadSide(outer[way]);
+    inner_side[way] = QuadSide(inner[way]);
   }
   const double change = (inner_side[1] - inner_side[0]) - ratio * (outer_side[1] - outer_side[0]);
   double share = 0.0;
@@ -411,8 +410,7 @@ double RingShare(const Quad outer[2], const Quad inner[2], double ratio, double 
 
 bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad,
                         cv::Matx<double, 8, 8>* covariance) {
-  const double side = std::sqrt(QuadArea(*quad));
-  const double cell = side / cells;
+  const double cell = QuadSide(*quad) / cells;
   if (!(cell > 1.0)) return false;
   // The black ring's outer (black/white) and inner (green/black) borders,
   // each with its edges at the encoded average [0] and in linear light [1].
@@ -428,7 +426,7 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
     // Fewer profiles than the stages' searches: this runs on every detection,
     // and the lines average them. Up to 2.5 px either side of the encoded
     // average: a lens blur of 2 px puts the edge in linear light 1.3 px
-    // outside it, where a 1.5 px search found no edge on any profile.
+    // outside it, beyond a search of 1.5 px.
     SideSearch out{kGray, kRisesOutwards, kMinGrayContrast, cell, kReportedOuterProfiles, 2.5};
     SideSearch in{kGray, kFallsOutwards, kMinGreenBlackContrast, cell, kMinProfiles, 2.5};
     out.halfway = in.halfway = halfway;
@@ -442,10 +440,11 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
   }
   // The ring's inner square is the outer one inset by a cell in the tag's
   // plane: under perspective its side is not (cells - 2) / cells of the
-  // outer's (a near tag's far half is smaller), and taking it so put the
-  // corners of tags of 150 px and more 0.2 px inwards on the camera set.
-  const double ratio = std::sqrt(QuadArea(inner_start) / QuadArea(*quad));
-  const double spread = 0.5 * (std::sqrt(QuadArea(outer[1])) - std::sqrt(QuadArea(outer[0])));
+  // outer's (a near tag's far half is smaller; on the camera set's tags of
+  // 150 px and more that proportion is off by up to 2 %, 0.2 px at the
+  // corners).
+  const double ratio = QuadSide(inner_start) / QuadSide(*quad);
+  const double spread = 0.5 * (QuadSide(outer[1]) - QuadSide(outer[0]));
   // Without its inner border (a blur that leaves the ring no black), the
   // ring cannot tell: the share is a camera's.
   const double share = inner_found ? RingShare(outer, inner, ratio, cell, spread) : 1.0;

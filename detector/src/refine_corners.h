@@ -109,10 +109,10 @@ cv::Matx<double, 8, 8> CornerCovariance(const std::array<SideFit, 4>& sides, con
 // a motion blur widens only the sides across the motion, and shifts and
 // jitters the corners. Fitted by maximum likelihood to the corner errors
 // against the truth of the camera set's tags of 30 px and more (8,000
-// frames, 4,257 tags; docs/pose.md, "Uncertainty"), then the scatter, the
-// uneven sides' jitter and their shift lowered by a quarter to a third
-// (from 0.65, 0.4 and 0.65), which brought the pose covariance's spread on
-// every axis above 0.8 on those frames.
+// frames, 4,257 tags; docs/pose.md, "Uncertainty"): scatter 0.65, uneven
+// jitter 0.4 and shift 0.65, the rest as below; then those three lowered by
+// a quarter to a third, which brings the pose covariance's spread on every
+// axis to 0.8 or more on those frames.
 struct CornerNoiseModel {
   double scatter = 0.45;
   double share = 0.25;
@@ -137,9 +137,10 @@ cv::Vec<double, 8> QuadGrowth(const Quad& quad);
 cv::Matx<double, 8, 8> ReportedCornerCovariance(const std::array<SideFit, 4>& sides,
                                                 const Quad& encoded, const Quad& linear);
 
-// Corners reported without RefineReportedQuad (a border it could not
-// locate): standard deviation per coordinate, px (the camera set's corner
-// errors without the linear-light move are about this large).
+// Corners reported without RefineReportedQuad (a cell of a pixel or less, or
+// an outer border it could not locate in linear light): standard deviation
+// per coordinate, px (corners at the encoded average are about this far
+// off on the camera set).
 inline constexpr double kUnrefinedCornerSigmaPx = 0.5;
 // The edge point on one profile: where `channel` passes halfway between the
 // two levels (in linear light for the gray channel with Halfway::kLinearLight:
@@ -181,10 +182,13 @@ bool RefineInnerQuads(const ImageView& image, SideFitBuffers* buffers, Candidate
 // share that gives it that width (as far as the ring is resolved:
 // ResolvedShare; a camera's share, linear light, when the inner border
 // cannot be located), and the outer corners in the same share. False (quad
-// untouched) when the outer border cannot be located in linear light. On
-// success,
-// *covariance (when given) is the corners' covariance (CornerCovariance's
-// order and units): ReportedCornerCovariance.
+// untouched) when a cell is a pixel or less, or the outer border cannot be
+// located in linear light. On success, *covariance (when given) is the
+// corners' covariance (CornerCovariance's order and units):
+// ReportedCornerCovariance; its doubt about the share is the same whether
+// the ring measured it or a camera's was taken (on a frame blurred in
+// software, an unresolved ring's corners lie about four of its standard
+// deviations out).
 bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffers, Quad* quad,
                         cv::Matx<double, 8, 8>* covariance = nullptr);
 
@@ -202,9 +206,11 @@ bool RefineReportedQuad(const ImageView& image, int cells, SideFitBuffers* buffe
 // above 8.6; the bounds are set between what the camera set's small tags
 // (pure lens blur) and the board test's far tags (a page resampled in
 // encoded values, then a lens blur) each measured best. A frame blurred in
-// software that much and that small (its
-// ring unresolved) is reported too large: a 24 px tag blurred by 2 px, by
-// 1.2 px per side (RefineQuadTest.AnUnresolvedRingTakesACamerasBlur).
+// software that much and that small (its ring unresolved) is reported too
+// large: a 24 px tag blurred by 2 px, by 1.2 px per side
+// (RefineQuadTest.AnUnresolvedRingTakesACamerasBlur). `cell` and `spread`
+// are the whole quad's: a steep tag's far side may be less resolved than
+// they say.
 inline constexpr double kUnresolvedRingCells = 6.5;
 inline constexpr double kResolvedRingCells = 9.5;
 double ResolvedShare(double ring_share, double cell, double spread);
