@@ -7,8 +7,6 @@
 
 #include <filesystem>
 
-#include <opencv2/calib3d.hpp>
-
 #include "chromatag/detector/draw.h"
 #include "chromatag/rig/board_file.h"
 #include "common.h"
@@ -191,12 +189,7 @@ void BindBoardPose(py::module_& m) {
           "tvec", [](const PyBoardPose& p) { return Vector(p.pose.tvec.val, 3); },
           "the board frame's origin in the camera frame")
       .def_property_readonly(
-          "rotation",
-          [](const PyBoardPose& p) {
-            cv::Matx33d r;
-            cv::Rodrigues(p.pose.rvec, r);
-            return Matrix33(r);
-          },
+          "rotation", [](const PyBoardPose& p) { return RotationMatrix(p.pose.rvec); },
           "3 x 3 rotation matrix of camera_from_board (rvec as a matrix)")
       .def_readonly("tags_used", &PyBoardPose::tags_used, "IDs of the tags the pose fits")
       .def_readonly("tags_rejected", &PyBoardPose::tags_rejected,

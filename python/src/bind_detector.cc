@@ -8,7 +8,6 @@
 #include <optional>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/calib3d.hpp>
 
 #include "chromatag/detector/config.h"
 #include "chromatag/detector/detection_json.h"
@@ -349,12 +348,7 @@ void BindPose(py::module_& m) {
           "tvec", [](const TagPose& p) { return Vector(p.tvec.val, 3); },
           "the tag's centre in the camera frame")
       .def_property_readonly(
-          "rotation",
-          [](const TagPose& p) {
-            cv::Matx33d r;
-            cv::Rodrigues(p.rvec, r);
-            return Matrix33(r);
-          },
+          "rotation", [](const TagPose& p) { return RotationMatrix(p.rvec); },
           "3 x 3 rotation matrix of camera_from_tag (rvec as a matrix); the tag frame: x\n"
           "right, y up, z out of the tag, origin at its centre")
       .def_readonly("rms_error_px", &TagPose::rms_error_px,

@@ -2,8 +2,6 @@
 // over the frames of a video (detector/pose_filter.h).
 #include <string>
 
-#include <opencv2/calib3d.hpp>
-
 #include "chromatag/detector/pose_filter.h"
 #include "common.h"
 
@@ -46,12 +44,7 @@ void BindFilter(py::module_& m) {
       .def_property_readonly(
           "tvec", [](const FilteredPose& p) { return Vector(p.tvec.val, 3); }, "as Pose.tvec")
       .def_property_readonly(
-          "rotation",
-          [](const FilteredPose& p) {
-            cv::Matx33d r;
-            cv::Rodrigues(p.rvec, r);
-            return Matrix33(r);
-          },
+          "rotation", [](const FilteredPose& p) { return RotationMatrix(p.rvec); },
           "3 x 3 rotation matrix (rvec as a matrix)")
       .def_property_readonly(
           "covariance", [](const FilteredPose& p) { return SquareMatrix(p.covariance.val, 6); },
@@ -67,15 +60,19 @@ void BindFilter(py::module_& m) {
                std::to_string(p.tvec[1]) + ", " + std::to_string(p.tvec[2]) +
                "], used=" + (p.used ? "True" : "False") + ")";
       });
+  const PoseFilterOptions defaults;
   py::class_<PoseFilter>(
       m, "PoseFilter",
       "A tag's or a board's pose followed over the frames of a video: a Kalman filter on the\n"
       "pose and its velocity, each frame counting as much as its covariance says; a frame far\n"
       "from the prediction (the mirrored tilt) is left out, frames_to_jump of them in a row\n"
       "that agree are a move. One filter per tag or board.")
-      .def(py::init(&MakeFilter), py::kw_only(), py::arg("translation_acceleration") = 0.05,
-           py::arg("rotation_acceleration") = 0.08, py::arg("gate_chi2") = 22.46,
-           py::arg("frames_to_jump") = 5, py::arg("max_gap_s") = 1.0,
+      .def(py::init(&MakeFilter), py::kw_only(),
+           py::arg("translation_acceleration") = defaults.translation_acceleration,
+           py::arg("rotation_acceleration") = defaults.rotation_acceleration,
+           py::arg("gate_chi2") = defaults.gate_chi2,
+           py::arg("frames_to_jump") = defaults.frames_to_jump,
+           py::arg("max_gap_s") = defaults.max_gap_s,
            "How fast the motion may change (the velocity's change over a second, one standard\n"
            "deviation: m/s and rad/s a second; the defaults suit slow, smooth motion), the\n"
            "squared Mahalanobis distance beyond which a frame is left out, how many such frames\n"

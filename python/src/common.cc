@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "chromatag/base/input_file.h"
@@ -95,6 +96,12 @@ py::array_t<double> Matrix33(const cv::Matx33d& m) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) view(r, c) = m(r, c);
   return out;
+}
+
+py::array_t<double> RotationMatrix(const cv::Vec3d& rvec) {
+  cv::Matx33d r;
+  cv::Rodrigues(rvec, r);
+  return Matrix33(r);
 }
 
 py::array_t<double> SquareMatrix(const double* values, int n) {

@@ -48,6 +48,8 @@ py::array_t<double, py::array::c_style | py::array::forcecast> SmallNumbers(
 py::array_t<double> Points(const cv::Point2d* points, int n);
 py::array_t<double> Vector(const double* values, int n);
 py::array_t<double> Matrix33(const cv::Matx33d& m);
+// A Rodrigues vector as its 3 x 3 rotation matrix.
+py::array_t<double> RotationMatrix(const cv::Vec3d& rvec);
 // An n x n row-major matrix as a numpy array.
 py::array_t<double> SquareMatrix(const double* values, int n);
 
