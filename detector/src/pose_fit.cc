@@ -209,29 +209,14 @@ double CornerChiSquare(const std::vector<const CornerNoise*>& noise, const cv::M
 }
 
 // How much larger the corners' covariance is taken when weighing the rival
-// solution: kSmallTagRivalNoiseScale when the largest tag's black square is
-// kSmallTagPx across or less, 1 (as it is) from kLargeTagPx, linear between.
-// A small tag's corner errors have heavier tails than the covariance's
-// Gaussian (a pixel's sampling, JPEG's blocks), and a Gaussian likelihood
-// gives the mirrored tilt too little weight. Measured on the camera set
-// (per-axis spread of error over sigma): with 1 throughout, tags under
-// 30 px, which now and then take the mirrored tilt, reached 2.5, 9.5 and
-// 1.3 about x, y and z; with 4 under 30 px, 0.82, 0.85 and 0.98, the
-// larger tags' figures as they were. With 4 throughout, the larger tags'
-// covariance grew cautious (0.77 and 0.79 on two axes).
-constexpr double kSmallTagRivalNoiseScale = 4.0;
-constexpr double kSmallTagPx = 30.0, kLargeTagPx = 40.0;
-
-double RivalNoiseScale(const std::vector<const CornerNoise*>& noise) {
-  double side = 0.0;
-  for (const CornerNoise* tag : noise) {
-    double mean = 0.0;
-    for (int i = 0; i < 4; ++i) mean += 0.25 * cv::norm(tag->image[(i + 1) % 4] - tag->image[i]);
-    side = std::max(side, mean);
-  }
-  const double small = std::clamp((kLargeTagPx - side) / (kLargeTagPx - kSmallTagPx), 0.0, 1.0);
-  return 1.0 + (kSmallTagRivalNoiseScale - 1.0) * small;
-}
+// solution. Corner errors have heavier tails than the covariance's Gaussian
+// (a pixel's sampling, JPEG's blocks), and a Gaussian likelihood gives the
+// mirrored tilt too little weight. Measured on the camera set (per-axis
+// spread of error over sigma): with 1, tags under 30 px, which now and then
+// take the mirrored tilt, reach 5.9, 5.4 and 1.3 about x, y and z; with 4,
+// 0.95, 0.82 and 0.93, and the larger tags' figures move by 0.01 at most
+// (their rival is seldom near).
+constexpr double kRivalNoiseScale = 4.0;
 
 // The 95 % (and 5 %) points of a chi-square with `dof` degrees of freedom
 // (Wilson and Hilferty's cube-root approximation: within 1 % from two
@@ -346,10 +331,10 @@ cv::Matx66d PoseCovariance(const std::vector<const CornerNoise*>& noise, const P
   covariance *= scale;
   if (rival && AngleBetween(fit.rotation, rival->rotation) > kSameSolutionRadians) {
     // The rival's share: its likelihood against the fit's, from the outer
-    // corners' misfit under each (the covariance scaled by RivalNoiseScale).
+    // corners' misfit under each (the covariance scaled by kRivalNoiseScale).
     const double gap = (CornerChiSquare(noise, rival->rotation, rival->translation, k) -
                         CornerChiSquare(noise, fit.rotation, fit.translation, k)) /
-                       (scale * RivalNoiseScale(noise));
+                       (scale * kRivalNoiseScale);
     const double share = 1.0 / (1.0 + std::exp(std::min(0.5 * gap, 700.0)));
     cv::Vec3d w;
     cv::Rodrigues(Orthonormal(rival->rotation * fit.rotation.t()), w);
