@@ -31,6 +31,8 @@ void SwitchOption(const std::string& off, const std::string& on, DetectorOptions
     b->two_step_rises = false;
   } else if (off == "colour_split_read") {
     b_switches->colour_split_read = false;
+  } else if (off == "misfit_ratio_read") {
+    b_switches->misfit_ratio_read = false;
   } else {
     (off == "quads_from_scans" ? b_switches->quads_from_scans
      : off == "grow_regions"   ? b_switches->grow_regions
@@ -78,7 +80,7 @@ int main(int argc, char** argv) {
                      "the detector's addition (or DetectorOptions switch, on by default) that the "
                      "second setting turns off")
           ->check(CLI::IsMember({"quads_from_scans", "grow_regions", "refine_corners",
-                                 "two_step_rises", "colour_split_read"}));
+                                 "two_step_rises", "colour_split_read", "misfit_ratio_read"}));
   CLI::Option* on_option =
       app.add_option("--on", on,
                      "the DetectorOptions switch, off by default, that the second setting turns on")

@@ -36,6 +36,10 @@ struct FamilyDecoder {
   // Whether a read the blur model refuses gets the colour-by-colour soft
   // read (StageSwitches::colour_split_read; always on for users).
   bool colour_split_read = true;
+  // Whether a close-code read every other rule refuses gets the
+  // likelihood-ratio read (StageSwitches::misfit_ratio_read; always on for
+  // users).
+  bool misfit_ratio_read = true;
 };
 
 // The swapped prints' codes of `family` (FamilyDecoder::swapped_codes).

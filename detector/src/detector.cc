@@ -273,6 +273,7 @@ std::unique_ptr<Detector> internal::DetectorAccess::Create(const DetectorOptions
     entry.swapped_codes = internal::SwappedCodes(*entry.family);
     entry.oriented_codes = internal::OrientedCodes(*entry.family);
     entry.colour_split_read = switches.colour_split_read;
+    entry.misfit_ratio_read = switches.misfit_ratio_read;
     impl->families.push_back(std::move(entry));
   }
   // options() names the families as the library does ("16h5" for "tag16h5"),

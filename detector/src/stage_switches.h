@@ -2,8 +2,8 @@
 // that a benchmark can measure what each one buys (bench/pair_timing --off).
 // Not in DetectorOptions: they are always on for users. The Detector keeps
 // them; the stages that test refine_corners (PolyToQuad, NestedAndRefined,
-// DecodeCandidate) take them whole, and Decode's colour split finds its
-// switch in each family's FamilyDecoder.
+// DecodeCandidate) take them whole, and Decode's colour split and
+// likelihood-ratio reads find theirs in each family's FamilyDecoder.
 #ifndef CHROMATAG_DETECTOR_SRC_STAGE_SWITCHES_H_
 #define CHROMATAG_DETECTOR_SRC_STAGE_SWITCHES_H_
 
@@ -34,6 +34,11 @@ struct StageSwitches {
   // Decode's second soft read (ColourSplitRead in decode.cc), which scores
   // each colour's split of the cells against that colour's own gap.
   bool colour_split_read = true;
+
+  // Decode's last read for families of close codes (MisfitRatioRead in
+  // decode.cc): the likelihood-ratio test between every code and swapped
+  // print, for reads the other rules refuse.
+  bool misfit_ratio_read = true;
 };
 
 // Detector::Create with some of the detector's additions turned off.

@@ -20,7 +20,13 @@ void JudgeBGap(const char* colour, Shade one, Shade zero, double gap, double dec
   const double b0 = c.shades[static_cast<int>(zero)].lab.b;
   const double design =
       palette.lab[static_cast<int>(one)].b - palette.lab[static_cast<int>(zero)].b;
-  if (gap <= 0) {
+  // A split this small either way is no order at all: the shades print alike.
+  if (std::abs(gap) < o.thin_b_gap / 2) {
+    AddFinding(findings, Grade::kFail,
+               Format("%s shades print alike: %s at b* %.1f, %s at b* %.1f (the palette has them "
+                      "%.1f apart)",
+                      colour, ShadeName(one), b1, ShadeName(zero), b0, std::abs(design)));
+  } else if (gap <= 0) {
     AddFinding(
         findings, Grade::kFail,
         Format("%s shades printed swapped: %s at b* %.1f, %s at b* %.1f (the palette has them "
