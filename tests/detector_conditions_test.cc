@@ -262,6 +262,13 @@ int RightDetections(const Detector& detector, const Scene& scene, const std::str
   return right;
 }
 
+// Both families with some of the detector's additions switched off.
+std::unique_ptr<Detector> BothFamiliesDetectorWith(const internal::StageSwitches& switches) {
+  DetectorOptions options;
+  options.families = {"16h5", "36h11"};
+  return internal::CreateDetector(options, switches);
+}
+
 // 55 px 36h11 tags in 0.8 and 0.5 of the light. Split on b* alone, 20 and 10
 // of 28 IDs decoded; on the shade value b* + L* (decode.cc), 27 and 23.
 // Without JPEG all 28 decode.
@@ -320,12 +327,10 @@ Scene FadedCastScene(double size, cv::Vec3d gain, double exposure, int jpeg_qual
 // no wrong ID. Measured without and with it, of 28: a warm cast at 55 px
 // 12 -> 21, a green cast at 65 px 11 -> 22.
 TEST(DetectorConditionsTest, FadedPrintsUnderACastInDimLightThroughJpegAreReadColourByColour) {
-  DetectorOptions options;
-  options.families = {"16h5", "36h11"};
   internal::StageSwitches no_split;
   no_split.colour_split_read = false;
-  const auto with_split = internal::CreateDetector(options, {});
-  const auto without_split = internal::CreateDetector(options, no_split);
+  const auto with_split = BothFamiliesDetector();
+  const auto without_split = BothFamiliesDetectorWith(no_split);
   for (const auto& [name, size, gain, at_least] :
        {std::tuple{"warm cast", 55.0, cv::Vec3d(1.3, 1, 0.73), 20},
         std::tuple{"green cast", 65.0, cv::Vec3d(0.65, 1, 0.66), 21}}) {
@@ -679,12 +684,10 @@ TEST(DetectorConditionsTest, PrintsWhoseRedsPrintAlikeNeverReadAsAnotherId) {
 // of the light 17 -> 23, no wrong ID; the same tags printed with their shades
 // swapped (10-23 of them reach Decode) are all refused.
 TEST(DetectorConditionsTest, SmallFadedTagsAreReadByTheLikelihoodRatioOfEveryPattern) {
-  DetectorOptions options;
-  options.families = {"16h5", "36h11"};
   internal::StageSwitches no_ratio;
   no_ratio.misfit_ratio_read = false;
-  const auto with_ratio = internal::CreateDetector(options, {});
-  const auto without_ratio = internal::CreateDetector(options, no_ratio);
+  const auto with_ratio = BothFamiliesDetector();
+  const auto without_ratio = BothFamiliesDetectorWith(no_ratio);
   for (const auto& [size, exposure, quality, seed, at_least] :
        {std::tuple{26.0, 1.0, 75, 1u, 11}, std::tuple{32.0, 0.7, 75, 2u, 18},
         std::tuple{22.0, 0.4, 0, 2u, 21}}) {

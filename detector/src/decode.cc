@@ -407,47 +407,60 @@ void KeepShareFit(const cv::Vec4d* rows, const double* rhs, int n, const cv::Vec
   }
 }
 
+// The blur model's equations at one share k: each payload cell's
+// coefficients of the four shades' levels (rows[j]) and its shade value less
+// the black ring's known share (rhs[j]), j < n, and their normal equations:
+// b(cell) = (1 - 4k) level(own) + k sum level(neighbours), linear in the
+// four levels once the black ring's is known.
+struct ShareEquations {
+  std::array<cv::Vec4d, kMaxBlurGrid * kMaxBlurGrid> rows;
+  std::array<double, kMaxBlurGrid * kMaxBlurGrid> rhs;
+  int n = 0;
+  cv::Matx44d ata = cv::Matx44d::zeros();
+  cv::Vec4d atb = cv::Vec4d(0, 0, 0, 0);
+};
+
+void BuildShareEquations(int d, const GridShades& shade, const PayloadGrid& grid, double black,
+                         float k, ShareEquations* eq) {
+  const int w = d + 2;
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const int i = (row + 1) * w + col + 1;
+      cv::Vec4d a(0, 0, 0, 0);
+      double known = 0;
+      a[shade[i]] += 1.0 - 4.0 * k;
+      for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
+        if (shade[neighbour] == 4)
+          known += k * black;
+        else
+          a[shade[neighbour]] += k;
+      }
+      const double y = grid[i].shade - known;
+      eq->ata += a * a.t();
+      eq->atb += y * a;
+      eq->rows[eq->n] = a;
+      eq->rhs[eq->n++] = y;
+    }
+  }
+}
+
 // With `merge_reds`, both reds are fitted as one level (a print whose reds
 // print alike) and only the greens' gap is asked for.
 BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& grid,
                      bool merge_reds = false) {
-  const int d = family.payload_width(), w = d + 2;
-  if (w > kMaxBlurGrid) return {};
+  const int d = family.payload_width();
+  if (d + 2 > kMaxBlurGrid) return {};
   GridShades shade;
   const double black = ShadesOfGrid(family, pattern, grid, merge_reds, &shade);
   BlurFit best;
-  std::array<cv::Vec4d, kMaxBlurGrid * kMaxBlurGrid> rows;
-  std::array<double, kMaxBlurGrid * kMaxBlurGrid> rhs;
   for (float k : kBlurShares) {
     if (k > grid.max_blur_share + kBlurShares[1]) break;
-    // b(cell) = (1 - 4k) level(own) + k sum level(neighbours): linear in the
-    // four levels once the black ring's is known. Normal equations, 4 x 4.
-    cv::Matx44d ata = cv::Matx44d::zeros();
-    cv::Vec4d atb(0, 0, 0, 0);
-    int n = 0;
-    for (int row = 0; row < d; ++row) {
-      for (int col = 0; col < d; ++col) {
-        const int i = (row + 1) * w + col + 1;
-        cv::Vec4d a(0, 0, 0, 0);
-        double known = 0;
-        a[shade[i]] += 1.0 - 4.0 * k;
-        for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
-          if (shade[neighbour] == 4)
-            known += k * black;
-          else
-            a[shade[neighbour]] += k;
-        }
-        const double y = grid[i].shade - known;
-        ata += a * a.t();
-        atb += y * a;
-        rows[n] = a;
-        rhs[n++] = y;
-      }
-    }
-    if (merge_reds) ata(1, 1) = 1.0;  // Red-1's level, unused, solves to 0.
+    ShareEquations eq;
+    BuildShareEquations(d, shade, grid, black, k, &eq);
+    if (merge_reds) eq.ata(1, 1) = 1.0;  // Red-1's level, unused, solves to 0.
     // Singular (a shade missing from the pattern): zero levels, no gap.
-    const cv::Vec4d level = ata.solve(atb, cv::DECOMP_CHOLESKY);
-    KeepShareFit(rows.data(), rhs.data(), n, level, merge_reds, &best);
+    const cv::Vec4d level = eq.ata.solve(eq.atb, cv::DECOMP_CHOLESKY);
+    KeepShareFit(eq.rows.data(), eq.rhs.data(), eq.n, level, merge_reds, &best);
   }
   return best;
 }
@@ -854,27 +867,12 @@ double OrderedMisfit(const TagFamily& family, Code pattern, const PayloadGrid& g
   double best = std::numeric_limits<double>::infinity();
   for (float k : kBlurShares) {
     if (k > grid.max_blur_share + kBlurShares[1]) break;
-    cv::Matx44d ata = cv::Matx44d::zeros();
-    cv::Vec4d atb(0, 0, 0, 0);
+    ShareEquations eq;
+    BuildShareEquations(d, shade, grid, black, k, &eq);
+    const cv::Matx44d& ata = eq.ata;
+    const cv::Vec4d& atb = eq.atb;
     double yy = 0;
-    for (int row = 0; row < d; ++row) {
-      for (int col = 0; col < d; ++col) {
-        const int i = (row + 1) * w + col + 1;
-        cv::Vec4d a(0, 0, 0, 0);
-        double known = 0;
-        a[shade[i]] += 1.0 - 4.0 * k;
-        for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
-          if (shade[neighbour] == 4)
-            known += k * black;
-          else
-            a[shade[neighbour]] += k;
-        }
-        const double y = grid[i].shade - known;
-        ata += a * a.t();
-        atb += y * a;
-        yy += y * y;
-      }
-    }
+    for (int j = 0; j < eq.n; ++j) yy += eq.rhs[j] * eq.rhs[j];
     for (int v = 0; v < 4; ++v) {
       // Solve in the variant's unknowns (the merge's first columns); the
       // unused ones are pinned to zero.
