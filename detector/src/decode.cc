@@ -10,6 +10,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "blur_model.h"
 #include "candidate.h"
 #include "geometry.h"
 #include "kernels/kernels.h"
@@ -117,7 +118,6 @@ constexpr float kCrosstalk[] = {0.08f, 0.16f};
 //   and lost 2; of the 16,000 swapped prints of the stress frames
 //   (detector_conditions_test) 3 decode, as without it (a wider blur of
 //   3.5 px lost 10 camera-set tags and still let the same 3 through).
-constexpr float kBlurShares[] = {0.f, 0.03f, 0.06f, 0.09f, 0.12f};
 constexpr double kMaxCellMisfit = 0.3;
 constexpr int kMaxSwappedRivalBits = 3;
 constexpr double kMinSwappedRivalRatio = 1.5;
@@ -157,20 +157,6 @@ double RingMisfit(const TagFamily& family, const cv::Matx33d& image_from_tag,
 // split at each colour's midpoint gave 357 wrong bits in b*
 // alone, 238 with L* added at weight 1 (275 at 0.5).
 constexpr float kShadeLightness = 1.0f;
-
-struct CellSample {
-  float a = 0;
-  float shade = 0;  // b* + kShadeLightness L*.
-};
-
-// The payload's cells and the black ring around them, (d + 2)^2 row by row,
-// with the largest blur share (kBlurShares) the cells' size allows.
-struct PayloadGrid {
-  std::vector<CellSample> cells;
-  float max_blur_share = 1.f;
-  CellSample& operator[](int i) { return cells[i]; }
-  const CellSample& operator[](int i) const { return cells[i]; }
-};
 
 // The share of a neighbour's colour that reaches a cell's sampled middle
 // (kCellSampleReach either side of its centre) through a blur of
@@ -334,135 +320,6 @@ std::vector<float> Sharpened(const PayloadGrid& grid, int d, float k) {
     }
   }
   return b;
-}
-
-// How far `pattern` (bits in the observed orientation) is from explaining
-// the payload's shade values under blur (see kBlurShares): the smallest, over the blur
-// shares, of the worst cell's misfit over the smaller shade gap; infinite if
-// no share gives both colours' shades in their order. `grid`: the payload
-// and the black ring around it, (d + 2)^2 cells row by row.
-struct BlurFit {
-  double worst = std::numeric_limits<double>::infinity();  // Worst cell over the gap.
-  double rms = std::numeric_limits<double>::infinity();    // Root mean square over the gap.
-  // At the blur share of the best rms: the smaller colour's gap between its
-  // two shades' levels over the larger's.
-  double gap_balance = 0;
-  // The smallest root mean square misfit in shade units over every share,
-  // the shades' order not asked for.
-  double abs_rms = std::numeric_limits<double>::infinity();
-};
-
-constexpr int kMaxBlurGrid = 10;  // Payloads of up to 8 x 8 cells (36h11 has 6).
-using GridShades = std::array<int, kMaxBlurGrid * kMaxBlurGrid>;
-
-// The shade `pattern` gives each cell of the grid (d + 2 across, the black
-// ring included): 0 red-0, 1 red-1, 2 green-0, 3 green-1, 4 black; with
-// `merge_reds` both reds are 0. Returns the black ring's mean shade value.
-double ShadesOfGrid(const TagFamily& family, Code pattern, const PayloadGrid& grid, bool merge_reds,
-                    GridShades* shade) {
-  const int d = family.payload_width(), w = d + 2;
-  shade->fill(4);
-  double black = 0;
-  int ring = 0;
-  for (int row = -1; row <= d; ++row) {
-    for (int col = -1; col <= d; ++col) {
-      const int i = (row + 1) * w + col + 1;
-      if (row < 0 || col < 0 || row == d || col == d) {
-        black += grid[i].shade;
-        ++ring;
-        continue;
-      }
-      const bool bit = (pattern >> (d * d - 1 - (row * d + col))) & 1u;
-      const bool red = family.CellColorAt(row, col) == CellColor::kRed;
-      (*shade)[i] = red ? (bit && !merge_reds ? 1 : 0) : (bit ? 3 : 2);
-    }
-  }
-  black /= ring;
-  return black;
-}
-
-// Adds to *best what the four shades' levels `level` make of the cells'
-// equations (coefficients rows[j], values rhs[j], j < n) at one blur share:
-// the worst cell's and the root mean square misfit over the smaller gap
-// between a colour's two shades (without the reds' gap with `merge_reds`),
-// and the misfit in shade units. A share whose levels put a colour's shades
-// out of their order adds only the last.
-void KeepShareFit(const cv::Vec4d* rows, const double* rhs, int n, const cv::Vec4d& level,
-                  bool merge_reds, BlurFit* best) {
-  double worst = 0, sse = 0;
-  for (int j = 0; j < n; ++j) {
-    const double r = rows[j].dot(level) - rhs[j];
-    worst = std::max(worst, std::abs(r));
-    sse += r * r;
-  }
-  best->abs_rms = std::min(best->abs_rms, std::sqrt(sse / n));
-  // Red-1 lies above red-0, green-1 below green-0 (spec section 3).
-  const double red_gap = merge_reds ? std::numeric_limits<double>::infinity() : level[1] - level[0];
-  const double gap = std::min(red_gap, level[2] - level[3]);
-  if (!(gap > 0)) return;
-  best->worst = std::min(best->worst, worst / gap);
-  if (std::sqrt(sse / n) / gap < best->rms) {
-    best->rms = std::sqrt(sse / n) / gap;
-    best->gap_balance = gap / std::max(level[1] - level[0], level[2] - level[3]);
-  }
-}
-
-// The blur model's equations at one share k: each payload cell's
-// coefficients of the four shades' levels (rows[j]) and its shade value less
-// the black ring's known share (rhs[j]), j < n, and their normal equations:
-// b(cell) = (1 - 4k) level(own) + k sum level(neighbours), linear in the
-// four levels once the black ring's is known.
-struct ShareEquations {
-  std::array<cv::Vec4d, kMaxBlurGrid * kMaxBlurGrid> rows;
-  std::array<double, kMaxBlurGrid * kMaxBlurGrid> rhs;
-  int n = 0;
-  cv::Matx44d ata = cv::Matx44d::zeros();
-  cv::Vec4d atb = cv::Vec4d(0, 0, 0, 0);
-};
-
-void BuildShareEquations(int d, const GridShades& shade, const PayloadGrid& grid, double black,
-                         float k, ShareEquations* eq) {
-  const int w = d + 2;
-  for (int row = 0; row < d; ++row) {
-    for (int col = 0; col < d; ++col) {
-      const int i = (row + 1) * w + col + 1;
-      cv::Vec4d a(0, 0, 0, 0);
-      double known = 0;
-      a[shade[i]] += 1.0 - 4.0 * k;
-      for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
-        if (shade[neighbour] == 4)
-          known += k * black;
-        else
-          a[shade[neighbour]] += k;
-      }
-      const double y = grid[i].shade - known;
-      eq->ata += a * a.t();
-      eq->atb += y * a;
-      eq->rows[eq->n] = a;
-      eq->rhs[eq->n++] = y;
-    }
-  }
-}
-
-// With `merge_reds`, both reds are fitted as one level (a print whose reds
-// print alike) and only the greens' gap is asked for.
-BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& grid,
-                     bool merge_reds = false) {
-  const int d = family.payload_width();
-  if (d + 2 > kMaxBlurGrid) return {};
-  GridShades shade;
-  const double black = ShadesOfGrid(family, pattern, grid, merge_reds, &shade);
-  BlurFit best;
-  for (float k : kBlurShares) {
-    if (k > grid.max_blur_share + kBlurShares[1]) break;
-    ShareEquations eq;
-    BuildShareEquations(d, shade, grid, black, k, &eq);
-    if (merge_reds) eq.ata(1, 1) = 1.0;  // Red-1's level, unused, solves to 0.
-    // Singular (a shade missing from the pattern): zero levels, no gap.
-    const cv::Vec4d level = eq.ata.solve(eq.atb, cv::DECOMP_CHOLESKY);
-    KeepShareFit(eq.rows.data(), eq.rhs.data(), eq.n, level, merge_reds, &best);
-  }
-  return best;
 }
 
 // The swapped prints (FamilyDecoder::swapped_codes) within
@@ -819,81 +676,38 @@ bool AlikeRedsRivalFitsBetter(const FamilyDecoder& entry, Code code, Code observ
 }
 
 // The last read of a family of close codes (16h5), for a read every rule
-// above refuses: a likelihood-ratio test between every pattern a tag could
-// show. Each code of the family (each kept ID in each orientation) and each
-// swapped print is fitted to the payload's shade values with the blur model,
-// each colour's two shades in their order (OrderedMisfit: the sum of squared
-// misfits in shade units). The best fit is taken when it is a code within
-// kMaxRatioReadBits of the observed bits and every other pattern (another
-// ID, another orientation, a swapped print) fits worse by at least
-// kMinMisfitRatioTest times the cells' noise variance, estimated from the
-// best fit's misfit (n - 5 degrees of freedom: four levels and a share; at
-// least kMinShadeNoise squared). Where the rules above weigh one cell or one
-// colour's gap, this weighs every cell against the noise the tag shows, so a
-// faded print's reds, read at a few units apart, count for what their noise
-// allows and no more. Measured with every 16h5 read logged (the test
-// statistic computed offline) on the camera set's 8,000 frames, the classic
-// set's 10,000 and the 3,000 swapped-print stress frames of
-// detector_conditions_test (74,148 reads of swapped prints), ring misfit
-// within kMaxSoftRingMisfitCells:
-// - the largest statistic of a wrong pattern within two bits of the observed
-//   bits: 8.6 (a swapped print), 1.4 on the camera set, 0.3 on the classic
-//   one; at three bits 11.9 (a 16 px classic-set tag), 5.4 and 4.9;
-// - the tags the rules above refused that it reads: at 15 (two bits) and 30
-//   (three), 13 of the camera set's faded 16h5 tags under 30 px, 4 of
-//   30-50 px on the iccv17 prints; at four bits it found none more.
+// above refuses, whether for its margin, a correction or a swapped print: a
+// likelihood-ratio test between every pattern a tag could show. Each code of
+// the family (each kept ID in each orientation) and each swapped print is
+// fitted to the payload's shade values with the blur model, each colour's two
+// shades in their order (OrderedMisfit: the sum of squared misfits in shade
+// units). The best fit is taken when it is a code within kMaxRatioReadBits
+// of the observed bits and every other pattern (another ID, another
+// orientation, a swapped print) fits worse by at least kMinMisfitRatioTest
+// times the cells' noise variance, estimated from the best fit's misfit over
+// n - 5 (four levels and a share; fewer levels where a colour's shades were
+// merged; at least kMinShadeNoise squared). Where the rules above weigh one
+// cell or one colour's gap, this weighs every cell against the noise the tag
+// shows, so a faded print's reds, read at a few units apart, count for what
+// their noise allows and no more. Unlike the soft reads it asks nothing of
+// the balance of the two colours' gaps: a print whose reds print alike is
+// read from its greens where they single out one code by that margin (no
+// read of such prints named a wrong ID; `chromatag verify` fails them as
+// printing their reds alike). Measured with every 16h5 read logged (the test
+// statistic computed offline), ring misfit within kMaxSoftRingMisfitCells,
+// the largest statistic of a wrong pattern:
+// - within two bits of the observed bits: 8.6 on the 3,000 swapped-print
+//   stress frames of detector_conditions_test (74,148 reads, every one of a
+//   swapped print), 1.4 on the camera set's 8,000 frames, 0.3 on the classic
+//   set's 10,000;
+// - at three bits: 4.9 on the stress frames, 5.4 on the camera set, 11.9 on
+//   the classic set (a 16 px tag).
+// At 15 (two bits) and 30 (three) it reads 13 of the camera set's faded 16h5
+// tags under 30 px and 4 of 30-50 px on the iccv17 prints that the rules
+// above refused; at four bits it found none more.
 constexpr int kMaxRatioReadBits = 3;
 constexpr double kMinMisfitRatioTest(int bits) { return bits <= 2 ? 15.0 : 30.0; }
 constexpr double kMinShadeNoise = 0.5;
-
-// The least sum of squared misfits of `pattern` to the payload's shade
-// values under the blur model (FitBlurModel's equations), over the blur
-// shares, with each colour's shades in their order (red-1 at or above red-0,
-// green-0 at or above green-1): a colour whose levels come out of order is
-// fitted as one level, the constrained least squares' optimum then lying on
-// that bound.
-double OrderedMisfit(const TagFamily& family, Code pattern, const PayloadGrid& grid) {
-  const int d = family.payload_width(), w = d + 2;
-  if (w > kMaxBlurGrid) return std::numeric_limits<double>::infinity();
-  GridShades shade;
-  const double black = ShadesOfGrid(family, pattern, grid, /*merge_reds=*/false, &shade);
-  // The four shades' levels as 4, 3 (a colour merged) or 2 unknowns.
-  static const cv::Matx44d kMerge[4] = {
-      cv::Matx44d::eye(),
-      {1, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0},   // The reds as one.
-      {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0},   // The greens as one.
-      {1, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0}};  // Both.
-  static const int kUnknowns[4] = {4, 3, 3, 2};
-  double best = std::numeric_limits<double>::infinity();
-  for (float k : kBlurShares) {
-    if (k > grid.max_blur_share + kBlurShares[1]) break;
-    ShareEquations eq;
-    BuildShareEquations(d, shade, grid, black, k, &eq);
-    const cv::Matx44d& ata = eq.ata;
-    const cv::Vec4d& atb = eq.atb;
-    double yy = 0;
-    for (int j = 0; j < eq.n; ++j) yy += eq.rhs[j] * eq.rhs[j];
-    for (int v = 0; v < 4; ++v) {
-      // Solve in the variant's unknowns (the merge's first columns); the
-      // unused ones are pinned to zero.
-      const cv::Matx44d& m = kMerge[v];
-      cv::Matx44d reduced = m.t() * ata * m;
-      cv::Vec4d rhs = m.t() * atb;
-      for (int u = kUnknowns[v]; u < 4; ++u) {
-        for (int c = 0; c < 4; ++c) reduced(u, c) = reduced(c, u) = 0;
-        reduced(u, u) = 1;
-        rhs[u] = 0;
-      }
-      cv::Vec4d x;
-      if (!cv::solve(reduced, rhs, x, cv::DECOMP_CHOLESKY)) continue;
-      const cv::Vec4d level = m * x;
-      if (level[1] < level[0] - 1e-9 || level[2] < level[3] - 1e-9) continue;
-      const double sse = yy - 2 * level.dot(atb) + level.dot(ata * level);
-      best = std::min(best, std::max(0.0, sse));
-    }
-  }
-  return best;
-}
 
 // The patterns are fitted nearest the observed bits first, and the read is
 // given up at the first that fits within the test's bar: most reads that come
@@ -912,21 +726,25 @@ bool MisfitRatioRead(const FamilyDecoder& entry, Code observed, const PayloadGri
   for (size_t i = 0; i < num_patterns; ++i)
     order[i] = {HammingDistance(pattern_at(i), observed), i};
   std::sort(order.begin(), order.end());
-  // The best code within kMaxRatioReadBits.
+  // The best code within kMaxRatioReadBits; the misfits fitted on the way
+  // (the nearest patterns) are kept for the test.
+  std::vector<double> misfit(num_patterns, -1.0);
   double best = std::numeric_limits<double>::infinity();
   size_t best_index = num_patterns;
   for (const auto& [bits, i] : order) {
     if (bits > kMaxRatioReadBits) break;
     if (i >= num_codes) continue;
-    const double misfit = OrderedMisfit(family, pattern_at(i), grid);
-    if (misfit < best) best = misfit, best_index = i;
+    misfit[i] = OrderedMisfit(family, pattern_at(i), grid);
+    if (misfit[i] < best) best = misfit[i], best_index = i;
   }
   if (best_index == num_patterns) return false;
   const int read_bits = HammingDistance(pattern_at(best_index), observed);
   const double noise = std::max(best / (family.num_bits() - 5), kMinShadeNoise * kMinShadeNoise);
   const double bar = best + kMinMisfitRatioTest(read_bits) * noise;
   for (const auto& [bits, i] : order) {
-    if (i != best_index && !(OrderedMisfit(family, pattern_at(i), grid) >= bar)) return false;
+    if (i == best_index) continue;
+    const double m = misfit[i] >= 0 ? misfit[i] : OrderedMisfit(family, pattern_at(i), grid, bar);
+    if (!(m >= bar)) return false;
   }
   *match = {family.kept_ids()[best_index / 4], static_cast<int>(best_index % 4), read_bits};
   return true;
@@ -1071,7 +889,9 @@ bool BlurModelAccepts(const DetectorOptions& options, const FamilyDecoder& entry
 
 // The reads for a family of close codes (16h5): the hard read under the
 // blur model (BlurModelAccepts); one it refuses otherwise than as a swapped
-// print gets the soft read, its margin the hard read's.
+// print gets the soft read, its margin the hard read's; and one still
+// refused, as a swapped print too, the likelihood-ratio read
+// (MisfitRatioRead).
 bool CloseCodeRead(const DetectorOptions& options, const FamilyDecoder& entry,
                    const std::vector<float>& b, bool decoded, double ring_misfit,
                    CellReader* reader, ReadState* read, RejectReason* why) {

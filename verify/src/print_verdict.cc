@@ -20,8 +20,10 @@ void JudgeBGap(const char* colour, Shade one, Shade zero, double gap, double dec
   const double b0 = c.shades[static_cast<int>(zero)].lab.b;
   const double design =
       palette.lab[static_cast<int>(one)].b - palette.lab[static_cast<int>(zero)].b;
-  // A split this small either way is no order at all: the shades print alike.
-  if (std::abs(gap) < o.thin_b_gap / 2) {
+  // A split under half a thin one either way that does not decode is no
+  // order at all: the shades print alike (a swapped print's split is the
+  // design's, the other way). One that decodes is only thin.
+  if (std::abs(gap) < o.thin_b_gap / 2 && (gap <= 0 || decision < need)) {
     AddFinding(findings, Grade::kFail,
                Format("%s shades print alike: %s at b* %.1f, %s at b* %.1f (the palette has them "
                       "%.1f apart)",
