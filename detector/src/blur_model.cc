@@ -174,8 +174,7 @@ BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& g
   return best;
 }
 
-double OrderedMisfit(const TagFamily& family, Code pattern, const PayloadGrid& grid,
-                     double bound) {
+double OrderedMisfit(const TagFamily& family, Code pattern, const PayloadGrid& grid, double bound) {
   if (family.payload_width() + 2 > kMaxBlurGrid) return std::numeric_limits<double>::infinity();
   const PatternEquations eq = EquationsOf(family, pattern, grid);
   // The four shades' levels as 4, 3 (a colour merged) or 2 unknowns: the
