@@ -40,20 +40,102 @@ double ShadesOfGrid(const TagFamily& family, Code pattern, const PayloadGrid& gr
   return black;
 }
 
-// Adds to *best what the four shades' levels `level` make of the cells'
-// equations (coefficients rows[j], values rhs[j], j < n) at one blur share:
-// the worst cell's and the root mean square misfit over the smaller gap
-// between a colour's two shades (without the reds' gap with `merge_reds`),
-// and the misfit in shade units. A share whose levels put a colour's shades
-// out of their order adds only the last.
-void KeepShareFit(const cv::Vec4d* rows, const double* rhs, int n, const cv::Vec4d& level,
-                  bool merge_reds, BlurFit* best) {
+// The blur model's equations for one pattern, in the share k. Cell j's
+// coefficients of the four shades' levels are (1 - 4k) e_j + k n_j (e_j its
+// own shade, n_j its neighbours' shades counted, c_j its neighbours in the
+// black ring) and its value y_j - k black c_j; summed over the cells, the
+// normal equations are polynomials in k:
+//   ata(k) = (1 - 4k)^2 own + (1 - 4k) k cross + k^2 around,
+//   atb(k) = (1 - 4k) (own_y - k black own_c) + k (around_y - k black around_c),
+//   yy(k) = yy - 2 k black y_c + k^2 black^2 cc.
+struct PatternEquations {
+  // EquationsOf sets every field of the first n cells.
+  struct Cell {
+    int own;
+    cv::Vec4d around;
+    double ring, value;
+  };
+  std::array<Cell, (kMaxBlurGrid - 2) * (kMaxBlurGrid - 2)> cells;
+  int n = 0;
+  cv::Matx44d own = cv::Matx44d::zeros(), cross = cv::Matx44d::zeros(),
+              around = cv::Matx44d::zeros();
+  cv::Vec4d own_y, around_y, own_c, around_c;
+  double yy = 0, y_c = 0, cc = 0, black = 0;
+
+  cv::Matx44d Ata(double k) const {
+    return (1 - 4 * k) * (1 - 4 * k) * own + (1 - 4 * k) * k * cross + k * k * around;
+  }
+  cv::Vec4d Atb(double k) const {
+    const double kb = k * black;
+    return (1 - 4 * k) * (own_y - kb * own_c) + k * (around_y - kb * around_c);
+  }
+  double Yy(double k) const {
+    const double kb = k * black;
+    return yy - 2 * kb * y_c + kb * kb * cc;
+  }
+  // Cell j's misfit at share k with the shades' levels `level`.
+  double Misfit(int j, double k, const cv::Vec4d& level) const {
+    const Cell& c = cells[j];
+    return (1 - 4 * k) * level[c.own] + k * c.around.dot(level) - (c.value - k * black * c.ring);
+  }
+};
+
+// Fills *eq for `pattern` (ShadesOfGrid's shades; with `merge_reds` both reds
+// are red-0).
+void EquationsOf(const TagFamily& family, Code pattern, const PayloadGrid& grid, bool merge_reds,
+                 PatternEquations* eq) {
+  const int d = family.payload_width(), w = d + 2;
+  GridShades shade;
+  eq->n = 0;
+  eq->own = eq->cross = eq->around = cv::Matx44d::zeros();
+  eq->own_y = eq->around_y = eq->own_c = eq->around_c = cv::Vec4d(0, 0, 0, 0);
+  eq->yy = eq->y_c = eq->cc = 0;
+  eq->black = ShadesOfGrid(family, pattern, grid, merge_reds, &shade);
+  for (int row = 0; row < d; ++row) {
+    for (int col = 0; col < d; ++col) {
+      const int i = (row + 1) * w + col + 1;
+      PatternEquations::Cell& cell = eq->cells[eq->n++];
+      cell.own = shade[i];
+      cell.around = cv::Vec4d(0, 0, 0, 0);
+      cell.ring = 0;
+      for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
+        if (shade[neighbour] == 4)
+          ++cell.ring;
+        else
+          cell.around[shade[neighbour]] += 1;
+      }
+      cell.value = grid[i].shade;
+      cv::Vec4d e(0, 0, 0, 0);
+      e[cell.own] = 1;
+      const double y = cell.value, c = cell.ring;
+      eq->own += e * e.t();
+      eq->cross += e * cell.around.t() + cell.around * e.t();
+      eq->around += cell.around * cell.around.t();
+      eq->own_y += y * e;
+      eq->around_y += y * cell.around;
+      eq->own_c += c * e;
+      eq->around_c += c * cell.around;
+      eq->yy += y * y;
+      eq->y_c += y * c;
+      eq->cc += c * c;
+    }
+  }
+}
+
+// Adds to *best what the four shades' levels `level` make of the cells at
+// share k: the worst cell's and the root mean square misfit over the
+// smaller gap between a colour's two shades (without the reds' gap with
+// `merge_reds`), and the misfit in shade units. A share whose levels put a
+// colour's shades out of their order adds only the last.
+void KeepShareFit(const PatternEquations& eq, double k, const cv::Vec4d& level, bool merge_reds,
+                  BlurFit* best) {
   double worst = 0, sse = 0;
-  for (int j = 0; j < n; ++j) {
-    const double r = rows[j].dot(level) - rhs[j];
+  for (int j = 0; j < eq.n; ++j) {
+    const double r = eq.Misfit(j, k, level);
     worst = std::max(worst, std::abs(r));
     sse += r * r;
   }
+  const int n = eq.n;
   best->abs_rms = std::min(best->abs_rms, std::sqrt(sse / n));
   // Red-1 lies above red-0, green-1 below green-0 (spec section 3).
   const double red_gap = merge_reds ? std::numeric_limits<double>::infinity() : level[1] - level[0];
@@ -66,117 +148,30 @@ void KeepShareFit(const cv::Vec4d* rows, const double* rhs, int n, const cv::Vec
   }
 }
 
-// The blur model's equations at one share k: each payload cell's
-// coefficients of the four shades' levels (rows[j]) and its shade value less
-// the black ring's known share (rhs[j]), j < n, and their normal equations:
-// b(cell) = (1 - 4k) level(own) + k sum level(neighbours), linear in the
-// four levels once the black ring's is known.
-struct ShareEquations {
-  std::array<cv::Vec4d, kMaxBlurGrid * kMaxBlurGrid> rows;
-  std::array<double, kMaxBlurGrid * kMaxBlurGrid> rhs;
-  int n = 0;
-  cv::Matx44d ata = cv::Matx44d::zeros();
-  cv::Vec4d atb = cv::Vec4d(0, 0, 0, 0);
-};
-
-void BuildShareEquations(int d, const GridShades& shade, const PayloadGrid& grid, double black,
-                         float k, ShareEquations* eq) {
-  const int w = d + 2;
-  eq->n = 0;
-  eq->ata = cv::Matx44d::zeros();
-  eq->atb = cv::Vec4d(0, 0, 0, 0);
-  for (int row = 0; row < d; ++row) {
-    for (int col = 0; col < d; ++col) {
-      const int i = (row + 1) * w + col + 1;
-      cv::Vec4d a(0, 0, 0, 0);
-      double known = 0;
-      a[shade[i]] += 1.0 - 4.0 * k;
-      for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
-        if (shade[neighbour] == 4)
-          known += k * black;
-        else
-          a[shade[neighbour]] += k;
-      }
-      const double y = grid[i].shade - known;
-      eq->ata += a * a.t();
-      eq->atb += y * a;
-      eq->rows[eq->n] = a;
-      eq->rhs[eq->n++] = y;
-    }
-  }
-}
-
-// The blur model's normal equations for one pattern as polynomials in the
-// share k. Cell j's coefficients are (1 - 4k) e_j + k n_j (e_j its own
-// shade, n_j its neighbours' shades counted, c_j its neighbours in the black
-// ring) and its value y_j - k black c_j, so
-//   ata(k) = (1 - 4k)^2 own + (1 - 4k) k cross + k^2 around,
-//   atb(k) = (1 - 4k) (own_y - k black own_c) + k (around_y - k black around_c),
-//   yy(k) = yy - 2 k black y_c + k^2 black^2 cc.
-struct PatternEquations {
-  cv::Matx44d own = cv::Matx44d::zeros(), cross = cv::Matx44d::zeros(),
-              around = cv::Matx44d::zeros();
-  cv::Vec4d own_y, around_y, own_c, around_c;
-  double yy = 0, y_c = 0, cc = 0, black = 0;
-};
-
-PatternEquations EquationsOf(const TagFamily& family, Code pattern, const PayloadGrid& grid) {
-  const int d = family.payload_width(), w = d + 2;
-  GridShades shade;
-  PatternEquations eq;
-  eq.black = ShadesOfGrid(family, pattern, grid, /*merge_reds=*/false, &shade);
-  for (int row = 0; row < d; ++row) {
-    for (int col = 0; col < d; ++col) {
-      const int i = (row + 1) * w + col + 1;
-      cv::Vec4d e(0, 0, 0, 0), n(0, 0, 0, 0);
-      e[shade[i]] = 1;
-      double c = 0;
-      for (int neighbour : {i - 1, i + 1, i - w, i + w}) {
-        if (shade[neighbour] == 4)
-          ++c;
-        else
-          n[shade[neighbour]] += 1;
-      }
-      const double y = grid[i].shade;
-      eq.own += e * e.t();
-      eq.cross += e * n.t() + n * e.t();
-      eq.around += n * n.t();
-      eq.own_y += y * e;
-      eq.around_y += y * n;
-      eq.own_c += c * e;
-      eq.around_c += c * n;
-      eq.yy += y * y;
-      eq.y_c += y * c;
-      eq.cc += c * c;
-    }
-  }
-  return eq;
-}
-
 }  // namespace
 
 BlurFit FitBlurModel(const TagFamily& family, Code pattern, const PayloadGrid& grid,
                      bool merge_reds) {
-  const int d = family.payload_width();
-  if (d + 2 > kMaxBlurGrid) return {};
-  GridShades shade;
-  const double black = ShadesOfGrid(family, pattern, grid, merge_reds, &shade);
+  if (family.payload_width() + 2 > kMaxBlurGrid) return {};
+  PatternEquations eq;
+  EquationsOf(family, pattern, grid, merge_reds, &eq);
   BlurFit best;
-  ShareEquations eq;
-  for (float k : kBlurShares) {
-    if (k > grid.max_blur_share + kBlurShares[1]) break;
-    BuildShareEquations(d, shade, grid, black, k, &eq);
-    if (merge_reds) eq.ata(1, 1) = 1.0;  // Red-1's level, unused, solves to 0.
+  for (float share : kBlurShares) {
+    if (share > grid.max_blur_share + kBlurShares[1]) break;
+    const double k = share;
+    cv::Matx44d ata = eq.Ata(k);
+    if (merge_reds) ata(1, 1) = 1.0;  // Red-1's level, unused, solves to 0.
     // Singular (a shade missing from the pattern): zero levels, no gap.
-    const cv::Vec4d level = eq.ata.solve(eq.atb, cv::DECOMP_CHOLESKY);
-    KeepShareFit(eq.rows.data(), eq.rhs.data(), eq.n, level, merge_reds, &best);
+    const cv::Vec4d level = ata.solve(eq.Atb(k), cv::DECOMP_CHOLESKY);
+    KeepShareFit(eq, k, level, merge_reds, &best);
   }
   return best;
 }
 
 double OrderedMisfit(const TagFamily& family, Code pattern, const PayloadGrid& grid, double bound) {
   if (family.payload_width() + 2 > kMaxBlurGrid) return std::numeric_limits<double>::infinity();
-  const PatternEquations eq = EquationsOf(family, pattern, grid);
+  PatternEquations eq;
+  EquationsOf(family, pattern, grid, /*merge_reds=*/false, &eq);
   // The four shades' levels as 4, 3 (a colour merged) or 2 unknowns: the
   // merge's first columns; the unused ones are pinned to zero.
   static const cv::Matx44d kMerge[4] = {
@@ -188,10 +183,10 @@ double OrderedMisfit(const TagFamily& family, Code pattern, const PayloadGrid& g
   double best = std::numeric_limits<double>::infinity();
   for (float share : kBlurShares) {
     if (share > grid.max_blur_share + kBlurShares[1]) break;
-    const double k = share, own = 1.0 - 4.0 * k, kb = k * eq.black;
-    const cv::Matx44d ata = own * own * eq.own + own * k * eq.cross + k * k * eq.around;
-    const cv::Vec4d atb = own * (eq.own_y - kb * eq.own_c) + k * (eq.around_y - kb * eq.around_c);
-    const double yy = eq.yy - 2 * kb * eq.y_c + kb * kb * eq.cc;
+    const double k = share;
+    const cv::Matx44d ata = eq.Ata(k);
+    const cv::Vec4d atb = eq.Atb(k);
+    const double yy = eq.Yy(k);
     for (int v = 0; v < 4; ++v) {
       const cv::Matx44d& m = kMerge[v];
       cv::Matx44d reduced = m.t() * ata * m;
