@@ -60,6 +60,15 @@ int ComputedATwoStepRedFloor() {
                                      ColorTable::kFastAUnitsPerA));
 }
 
+int ComputedDimYLimit() {
+  // FastY reads each channel at the centre of its top six bits, a few per
+  // cent from the accurate Y; the limit sits 25 % above the Y of
+  // kDimTwoStepMaxL (no colour darker than that is kept out, with or
+  // without a white balance: FindADiffTwoStepTest.DimGateHoldsEveryDimColour).
+  const double f = (kDimTwoStepMaxL + 16.0) / 116.0;
+  return static_cast<int>(std::ceil(1.25 * f * f * f * 32768.0));
+}
+
 int ComputedAGreenLimit(const DetectorOptions& options) {
   return static_cast<int>(std::ceil((TwoStepGreenA(options) + ColorTable::kFastAErrorBound) *
                                     ColorTable::kFastAUnitsPerA));
@@ -84,6 +93,8 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
                      0,
                      0,
                      0,
+                     0,
+                     0,
                      0};
   if (RowScanComputesA(image, options)) {
     // The computed a* (ColorTable::FastA units) has thresholds of its own.
@@ -91,6 +102,8 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
     sampler.step_thresh = ComputedARiseThreshold(kTwoStepShare * options.adiff_thresh);
     sampler.green_limit = options.two_step_rises ? ComputedAGreenLimit(options) : -32768;
     sampler.red_floor = ComputedATwoStepRedFloor();
+    sampler.dim_two_step_thresh = ComputedARiseThreshold(kDimTwoStepShare * options.adiff_thresh);
+    sampler.dim_y_limit = ComputedDimYLimit();
     return image.kernels().scan_row_computed_a(sampler, image.table().fast_a_tables(), rises);
   }
   // The coarse table is within kCoarseErrorBound of the accurate a*, so a
@@ -107,6 +120,9 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
           : INT_MIN;
   sampler.red_floor =
       static_cast<int>(std::floor(kTwoStepCastMinRedA)) - ColorTable::kCoarseErrorBound - 1;
+  sampler.dim_two_step_thresh =
+      static_cast<int>(std::floor(kDimTwoStepShare * options.adiff_thresh)) -
+      2 * ColorTable::kCoarseErrorBound;
   return image.kernels().scan_row_coarse(sampler, coarse, rises);
 }
 

@@ -193,6 +193,74 @@ TEST(FindADiffTwoStepTest, RisesThatOnlyACastExplainsAreSeedsInACast) {
   EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kInACast, Seed::kSeed}));
 }
 
+// Dim light: a rise over two samples from green into a red darker than
+// kDimTwoStepMaxL seeds above kDimTwoStepShare of ADiffThresh (as a seed that
+// must show a tag's colours in its own light); the same rise in lighter
+// colours does not. On every kernel path.
+TEST(FindADiffTwoStepTest, InDimLightALowerRiseSeeds) {
+  const ColorTable& table = ColorTable::Get();
+  const DetectorOptions options;
+  for (float lightness : {30.f, 55.f}) {
+    const Rgb8 green = LabToSrgb8({lightness, -12.5f, 10}), blend = LabToSrgb8({lightness, 0, 10}),
+               red = LabToSrgb8({lightness, 11.5f, 10});
+    // The colours as the detector reads them: a rise under ADiffThresh but
+    // over the dim light's bar, each step over kTwoStepShare of it.
+    auto a_of = [&](const Rgb8& c) { return table.A(c.r, c.g, c.b); };
+    const float rise = a_of(red) - a_of(green);
+    ASSERT_GT(rise, kDimTwoStepShare * options.adiff_thresh) << lightness;
+    ASSERT_LT(rise, options.adiff_thresh) << lightness;
+    ASSERT_GT(a_of(blend) - a_of(green), kTwoStepShare * options.adiff_thresh);
+    ASSERT_GT(a_of(red) - a_of(blend), kTwoStepShare * options.adiff_thresh);
+    ASSERT_EQ(table.L(red.r, red.g, red.b) < kDimTwoStepMaxL, lightness < 40.f);
+    const cv::Mat image = Stripes({{40, green}, {44, blend}, {120, red}});
+    for (KernelPath path : {KernelPath::kAvx512, KernelPath::kAvx2, KernelPath::kScalar}) {
+      if (!Kernels::Available(path)) continue;
+      const ImageView view(image, PixelOrder::kBgr, table, Kernels::ForPath(path));
+      std::vector<Seed> kinds;
+      const std::vector<cv::Point> seeds = Seeds(view, options, {}, 4, &kinds);
+      if (lightness < 40.f) {
+        EXPECT_EQ(seeds, (std::vector<cv::Point>{{44, 4}})) << static_cast<int>(path);
+        EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kInACast})) << static_cast<int>(path);
+      } else {
+        EXPECT_TRUE(seeds.empty()) << static_cast<int>(path) << ": " << seeds.size();
+      }
+    }
+  }
+}
+
+// The kernel's luminance gate for the dim light's bar (ComputedDimYLimit)
+// lets through every colour darker than kDimTwoStepMaxL by the accurate L*,
+// with the default table and with white balances folded in; and it is a
+// gate: most colours of L* 50 and up are kept out.
+TEST(FindADiffTwoStepTest, DimGateHoldsEveryDimColour) {
+  for (const ColorTable::Gains& gains :
+       {ColorTable::Gains{1.0, 1.0, 1.0}, ColorTable::Gains{0.6, 1.0, 1.0},
+        ColorTable::Gains{1.0, 0.7, 0.5}, ColorTable::Gains{0.5, 0.6, 1.0}}) {
+    const ColorTable table(gains);
+    const int limit = ComputedDimYLimit();
+    long dim = 0, dim_kept_out = 0, light = 0, light_let_through = 0;
+    for (int r = 0; r < 256; ++r) {
+      for (int g = 0; g < 256; ++g) {
+        for (int b = 0; b < 256; ++b) {
+          const float l = table.L(r, g, b);
+          const bool below = table.FastY(r, g, b) < limit;
+          if (l < kDimTwoStepMaxL) {
+            ++dim;
+            dim_kept_out += !below;
+          } else if (l >= 50.f) {
+            ++light;
+            light_let_through += below;
+          }
+        }
+      }
+    }
+    EXPECT_GT(dim, 0);
+    EXPECT_EQ(dim_kept_out, 0) << "gains " << gains[0] << " " << gains[1] << " " << gains[2];
+    EXPECT_LT(light_let_through, light / 100)
+        << "gains " << gains[0] << " " << gains[1] << " " << gains[2];
+  }
+}
+
 // Rows of random colours, many short runs and some long ones, at widths
 // that end each of the vector paths' blocks anywhere.
 cv::Mat RandomRows(int width, cv::RNG* rng) {
@@ -255,6 +323,7 @@ TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
               };
               const int thresh = ComputedARiseThreshold(adiff);
               const int step_thresh = ComputedARiseThreshold(kTwoStepShare * adiff);
+              const int dim_thresh = ComputedARiseThreshold(kDimTwoStepShare * adiff);
               for (int i = 1; i < count; ++i) {
                 const float two_before = i >= 2 ? a_at(i - 2) : std::nanf("");
                 const uint8_t* p = row + 12 * i;
@@ -266,7 +335,9 @@ TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
                 const bool two_step = options.two_step_rises && i >= 2 &&
                                       fast_at(i - 2) < ComputedAGreenLimit(options) &&
                                       fast_at(i) > ComputedATwoStepRedFloor() &&
-                                      sat(fast_at(i) - fast_at(i - 2)) > thresh &&
+                                      (sat(fast_at(i) - fast_at(i - 2)) > thresh ||
+                                       (sat(fast_at(i) - fast_at(i - 2)) > dim_thresh &&
+                                        table.FastY(p[ri], p[1], p[bi]) < ComputedDimYLimit())) &&
                                       rise > step_thresh &&
                                       sat(fast_at(i - 1) - fast_at(i - 2)) > step_thresh;
                 if (rise > thresh || two_step) computed.push_back(i);

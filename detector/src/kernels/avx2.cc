@@ -170,6 +170,8 @@ CHROMATAG_AVX2 inline int CoarseRowAvx2(const RowSampler& s, int32_t* coarse) {
 CHROMATAG_AVX2 inline int RisesAvx2(const RowSampler& s, const int32_t* coarse, int* first,
                                     int* rises, int n) {
   const __m256i threshold = _mm256_set1_epi32(s.threshold);
+  // No luminance here: every rise over the dim light's lower bar is listed.
+  const __m256i two_step_thresh = _mm256_set1_epi32(s.dim_two_step_thresh);
   const __m256i step_thresh = _mm256_set1_epi32(s.step_thresh);
   const __m256i green_limit = _mm256_set1_epi32(s.green_limit);
   const __m256i red_floor = _mm256_set1_epi32(s.red_floor);
@@ -182,7 +184,7 @@ CHROMATAG_AVX2 inline int RisesAvx2(const RowSampler& s, const int32_t* coarse, 
     const __m256i two_step = _mm256_and_si256(
         _mm256_and_si256(_mm256_and_si256(_mm256_cmpgt_epi32(green_limit, two_before),
                                           _mm256_cmpgt_epi32(a, red_floor)),
-                         _mm256_cmpgt_epi32(_mm256_sub_epi32(a, two_before), threshold)),
+                         _mm256_cmpgt_epi32(_mm256_sub_epi32(a, two_before), two_step_thresh)),
         _mm256_and_si256(_mm256_cmpgt_epi32(rise, step_thresh),
                          _mm256_cmpgt_epi32(_mm256_sub_epi32(before, two_before), step_thresh)));
     const __m256i seeds = _mm256_or_si256(_mm256_cmpgt_epi32(rise, threshold), two_step);

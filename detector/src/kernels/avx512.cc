@@ -10,6 +10,7 @@
 
 #include <immintrin.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -136,9 +137,10 @@ CHROMATAG_AVX512 inline __m512i LinearOf(const FastALanes& l, __m512i index) {
   return _mm512_permutex2var_epi16(l.linear_low, index, l.linear_high);
 }
 
-// The computed a* (ColorTable::FastA) of a block's 32 samples.
+// The computed a* (ColorTable::FastA) of a block's 32 samples, and their
+// luminance (ColorTable::FastY) in *luminance.
 CHROMATAG_AVX512 inline __m512i ComputedA32(const FastALanes& l, __m512i bytes01, __m512i bytes2,
-                                            int r_offset) {
+                                            int r_offset, __m512i* luminance) {
   const __m512i linear0 = LinearOf(l, _mm512_srli_epi16(bytes01, 2));
   const __m512i linear2 = LinearOf(l, _mm512_srli_epi16(bytes2, 2));
   __m512i linear[3];  // R, G, B
@@ -151,32 +153,38 @@ CHROMATAG_AVX512 inline __m512i ComputedA32(const FastALanes& l, __m512i bytes01
     x = _mm512_add_epi16(x, _mm512_mulhrs_epi16(linear[c], l.x_weight[c]));
     y = _mm512_add_epi16(y, _mm512_mulhrs_epi16(linear[c], l.y_weight[c]));
   }
+  *luminance = y;
   return _mm512_sub_epi16(FastF(l, x), FastF(l, y));
 }
 
 // The sampler's thresholds in every lane.
 struct RiseThresholds {
-  __m512i rise, step, green, red;
+  __m512i rise, step, green, red, dim_two_step, dim_y;
 };
 CHROMATAG_AVX512 inline RiseThresholds MakeRiseThresholds(const RowSampler& s) {
   return {_mm512_set1_epi16(static_cast<int16_t>(s.threshold)),
           _mm512_set1_epi16(static_cast<int16_t>(s.step_thresh)),
           _mm512_set1_epi16(static_cast<int16_t>(s.green_limit)),
-          _mm512_set1_epi16(static_cast<int16_t>(s.red_floor))};
+          _mm512_set1_epi16(static_cast<int16_t>(s.red_floor)),
+          _mm512_set1_epi16(static_cast<int16_t>(s.dim_two_step_thresh)),
+          _mm512_set1_epi16(static_cast<int16_t>(std::clamp(s.dim_y_limit, 0, 65535)))};
 }
 
-// The samples of the block from sample i on (a* `a`, the previous block's
-// `previous`) that may seed, as bits, the row's first two samples and those
-// past its end left out.
+// The samples of the block from sample i on (a* `a`, luminance `luminance`,
+// the previous block's a* `previous`) that may seed, as bits, the row's
+// first two samples and those past its end left out.
 CHROMATAG_AVX512 inline uint32_t RisesIn32(const RowSampler& s, const RowLanes& lanes,
                                            const RiseThresholds& t, int i, __m512i a,
-                                           __m512i previous) {
+                                           __m512i luminance, __m512i previous) {
   const __m512i before = _mm512_permutex2var_epi16(a, lanes.previous_index, previous);
   const __m512i two_before = _mm512_permutex2var_epi16(a, lanes.two_before_index, previous);
   const __m512i rise = _mm512_subs_epi16(a, before);
+  const __m512i two_step_rise = _mm512_subs_epi16(a, two_before);
+  const uint32_t total = _mm512_cmpgt_epi16_mask(two_step_rise, t.rise) |
+                         (_mm512_cmpgt_epi16_mask(two_step_rise, t.dim_two_step) &
+                          _mm512_cmplt_epu16_mask(luminance, t.dim_y));
   uint32_t two_step = _mm512_cmplt_epi16_mask(two_before, t.green) &
-                      _mm512_cmpgt_epi16_mask(a, t.red) &
-                      _mm512_cmpgt_epi16_mask(_mm512_subs_epi16(a, two_before), t.rise) &
+                      _mm512_cmpgt_epi16_mask(a, t.red) & total &
                       _mm512_cmpgt_epi16_mask(rise, t.step) &
                       _mm512_cmpgt_epi16_mask(_mm512_subs_epi16(before, two_before), t.step);
   if (i == 0) two_step &= ~3u;  // The first two samples have none two before them.
@@ -206,9 +214,11 @@ CHROMATAG_AVX512 int SampleRow(const RowSampler& s, const ColorTable::FastATable
     __m512i z[6], bytes01, bytes2;
     LoadBlock(s, i, z);
     PickChannelBytes(pick, lanes, z, &bytes01, &bytes2);
-    const __m512i a = ComputedA32(fast_a, bytes01, bytes2, s.r);
+    __m512i luminance;
+    const __m512i a = ComputedA32(fast_a, bytes01, bytes2, s.r, &luminance);
     if (kStoreA) _mm512_storeu_si512(a_out + i, a);
-    for (uint32_t mask = RisesIn32(s, lanes, thresholds, i, a, previous); mask; mask &= mask - 1) {
+    for (uint32_t mask = RisesIn32(s, lanes, thresholds, i, a, luminance, previous); mask;
+         mask &= mask - 1) {
       rises[n++] = i + __builtin_ctz(mask);
     }
     previous = a;
@@ -227,7 +237,7 @@ CHROMATAG_AVX512 void ComputedARowAvx512(const RowSampler& s, const ColorTable::
                                          int16_t* a) {
   // The highest thresholds: no rise is listed, only the values stored.
   RowSampler all = s;
-  all.threshold = all.step_thresh = all.red_floor = 32767;
+  all.threshold = all.step_thresh = all.red_floor = all.dim_two_step_thresh = 32767;
   all.green_limit = -32768;
   std::vector<int> rises(s.count);
   SampleRow<true>(all, tables, rises.data(), a);

@@ -30,9 +30,13 @@ TEST(Avx512KernelTest, ComputedAIsFastAForEveryColour) {
           row[12 * blue + 1] = static_cast<uint8_t>(green);
           row[12 * blue + b_offset] = static_cast<uint8_t>(blue);
         }
-        const RowSampler sampler{
-            row.data(), static_cast<int>(row.size()), 256, 12, r_offset, b_offset, nullptr, 0, 0, 0,
-            0};
+        const RowSampler sampler{row.data(), static_cast<int>(row.size()),
+                                 256,        12,
+                                 r_offset,   b_offset,
+                                 nullptr,    0,
+                                 0,          0,
+                                 0,          0,
+                                 0};
         ComputedARowAvx512(sampler, table.fast_a_tables(), a.data());
         for (int blue = 0; blue < 256; ++blue) {
           if (a[blue] != table.FastA(red, green, blue) && ++mismatches <= 5) {
@@ -65,7 +69,7 @@ TEST(Avx512KernelTest, ComputedAIsFastAWithGains) {
           row[12 * blue] = static_cast<uint8_t>(blue);
         }
         const RowSampler sampler{
-            row.data(), static_cast<int>(row.size()), 256, 12, 2, 0, nullptr, 0, 0, 0, 0};
+            row.data(), static_cast<int>(row.size()), 256, 12, 2, 0, nullptr, 0, 0, 0, 0, 0, 0};
         ComputedARowAvx512(sampler, table.fast_a_tables(), a.data());
         for (int blue = 0; blue < 256; ++blue)
           mismatches += a[blue] != table.FastA(red, green, blue);

@@ -82,6 +82,14 @@ ColorTable::ColorTable(const Gains& gains)
   }
 }
 
+int ColorTable::FastY(uint8_t r, uint8_t g, uint8_t b) const {
+  const FastATables& t = fast_a_;
+  const int16_t linear[3] = {t.linear[r >> 2], t.linear[g >> 2], t.linear[b >> 2]};
+  uint16_t y = 0;
+  for (int c = 0; c < 3; ++c) y = static_cast<uint16_t>(y + MulHighRound(linear[c], t.y_weight[c]));
+  return y;
+}
+
 int ColorTable::FastA(uint8_t r, uint8_t g, uint8_t b) const {
   const FastATables& t = fast_a_;
   const int16_t linear[3] = {t.linear[r >> 2], t.linear[g >> 2], t.linear[b >> 2]};

@@ -95,6 +95,11 @@ struct RowSampler {
   int step_thresh;      // Each of two steps rises above this...
   int green_limit;      // ...from a sample two back below this...
   int red_floor;        // ...to a sample above this.
+  // In dim light a rise in two steps may seed above this lower bar: where
+  // the kernel computes the sample's luminance (FastY units), only below
+  // dim_y_limit; elsewhere everywhere (FindADiff's accurate test decides).
+  int dim_two_step_thresh;
+  int dim_y_limit;
 };
 
 // One profile across an edge (refine_corners.cc, EdgePoint): centred on

@@ -38,7 +38,7 @@ inline bool CoarseRiseAt(const RowSampler& s, const int32_t* coarse, int i) {
   const int rise = coarse[i] - coarse[i - 1];
   if (rise > s.threshold) return true;
   return i >= 2 && coarse[i - 2] < s.green_limit && coarse[i] > s.red_floor &&
-         coarse[i] - coarse[i - 2] > s.threshold && rise > s.step_thresh &&
+         coarse[i] - coarse[i - 2] > s.dim_two_step_thresh && rise > s.step_thresh &&
          coarse[i - 1] - coarse[i - 2] > s.step_thresh;
 }
 
