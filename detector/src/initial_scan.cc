@@ -404,6 +404,18 @@ bool RejectedRegion::BorderContains(cv::Point2f p) const {
   return inside;
 }
 
+bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed) {
+  if (!rejected) return false;
+  RejectedRegion* retry = nullptr;
+  for (RejectedRegion& region : *rejected) {
+    if (!region.Contains(seed)) continue;
+    if (region.retries == 0) return true;
+    retry = &region;
+  }
+  if (retry) --retry->retries;
+  return false;
+}
+
 void ForgetRegionsAbove(float y, std::vector<RejectedRegion>* regions) {
   regions->erase(std::remove_if(regions->begin(), regions->end(),
                                 [y](const RejectedRegion& region) { return region.max_y < y; }),
@@ -460,13 +472,6 @@ void SettleCentre(const Centring& centring, Candidate* candidate) {
 // Red things that are not tags span many of FindADiff's rows, and each row
 // seeds them again: a seed inside a region already rejected in this frame
 // would be rejected again.
-bool InRejectedRegion(const std::vector<RejectedRegion>* rejected, cv::Point2f seed) {
-  if (!rejected) return false;
-  for (const RejectedRegion& region : *rejected) {
-    if (region.Contains(seed)) return true;
-  }
-  return false;
-}
 
 // Step 1, once: re-centres on the centroid of the polygon of red/green
 // border points CentringPass finds in eight directions, the centre's a*

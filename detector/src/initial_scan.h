@@ -34,7 +34,24 @@ struct RejectedRegion {
   // about its centre: the seeds of later rows lie on the region's left edge,
   // where the polygon's sides cut inside.
   static RejectedRegion Around(const std::array<cv::Point2f, 8>& red_border);
+  // Seeds that may still start inside the region before it drops them: a
+  // red the later stages lost (BuildPolygon to Decode, and GrowRegion) is
+  // tried again from seeds of later rows, which start from another part of
+  // its border and may find the tag the first lost.
+  int retries = 0;
 };
+
+// A candidate the later stages lost gets this many more seeds on its red:
+// as many tags as with no limit, 9 more on the camera set's 8,000 frames
+// with the defaults (10 with the calibrated `iccv17-faded` config, a 101 px
+// tag among them) and 10 more on the classic set's 10,000, while a tag that
+// cannot be read (a swapped print) costs at most five passes. Tag-free
+// frames have almost no such candidates.
+inline constexpr int kLostRedRetries = 4;
+
+// Whether `seed` lies in a region rejected so far (none with `rejected`
+// null) that has no retries left; a region that has some spends one.
+bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed);
 
 // Drops the regions that end above row y. Rows are sampled top to bottom,
 // so no later seed can lie in one, and a busy frame's seeds (thousands in

@@ -158,6 +158,42 @@ TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
   EXPECT_EQ(rejected.size(), 1u);
 }
 
+// A region the later stages rejected lets its retries through, one seed
+// each, then drops seeds as any other; on a tag, the seed that retries
+// starts InitialScan and passes it.
+TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
+  const int cx = 100, cy = 100;
+  const cv::Mat image = RenderRings({200, 200}, cx, cy);
+  std::array<cv::Point2f, 8> border;
+  const float e = EdgeOffset(kRedHalf);
+  const cv::Point2f offsets[8] = {{e, 0},  {e, e},   {0, e},  {-e, e},
+                                  {-e, 0}, {-e, -e}, {0, -e}, {e, -e}};
+  for (int i = 0; i < 8; ++i) border[i] = cv::Point2f(cx, cy) + offsets[i];
+  std::vector<RejectedRegion> rejected = {RejectedRegion::Around(border)};
+  rejected[0].retries = 2;
+  const cv::Point2f inside(cx, cy);
+  EXPECT_FALSE(InRejectedRegion(&rejected, inside));
+  EXPECT_EQ(rejected[0].retries, 1);
+  const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
+  Scratch scratch;
+  Candidate candidate;
+  RejectReason why = RejectReason::kPaleRed;
+  EXPECT_TRUE(InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, Seed::kSeed,
+                          &scratch.ring_scan, &candidate, &rejected, &why))
+      << RejectReasonName(why);
+  EXPECT_EQ(rejected[0].retries, 0);
+  EXPECT_TRUE(InRejectedRegion(&rejected, inside));
+  EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3}, &rejected),
+            RejectReason::kInRejectedRegion);
+  // Outside the region nothing is spent.
+  EXPECT_FALSE(InRejectedRegion(&rejected, cv::Point2f(cx + 60, cy)));
+  // A seed in two regions, one with retries left and one without, is dropped.
+  rejected[0].retries = 1;
+  rejected.push_back(RejectedRegion::Around(border));
+  EXPECT_TRUE(InRejectedRegion(&rejected, inside));
+  EXPECT_FALSE(InRejectedRegion(nullptr, inside));
+}
+
 // A red one pixel tall on green (a speck of a dark frame's chroma noise, or
 // a thin red line) is no tag's: dropped after the scans up and down, before
 // the other six and without a rejected region. A red five pixels across, in
