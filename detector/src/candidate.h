@@ -43,6 +43,9 @@ struct Candidate {
   std::array<cv::Point2f, 8> red_border;
   // The quiet zone's white from InitialScan's final scans, settled.
   TagLight light;
+  // Its seed lay in a rejected region and spent one of its retries
+  // (RejectedRegion::retries): when it fails it adds no region of its own.
+  bool retry = false;
 };
 
 // The eight directions InitialScan and QuadsFromScans scan in from a

@@ -422,21 +422,11 @@ class FrameStages {
     // InitialScan remembers the regions it rejects; so are those the later
     // stages reject, so that the seeds of later rows skip them once they
     // have had their retries. A retry that fails adds no region.
-    if (candidate.enclosed && after_scan && !InRetriedRegion(seed)) {
+    if (candidate.enclosed && after_scan && !candidate.retry) {
       scratch_.rejected.push_back(internal::RejectedRegion::Around(candidate.red_border));
       scratch_.rejected.back().retries = internal::kLostRedRetries;
     }
     if (options_.report_rejected) result_.rejected.push_back(std::move(rejection));
-    return false;
-  }
-
-  // Whether `seed` lies in a region the later stages rejected (one given
-  // retries), so that its candidate was a retry.
-  bool InRetriedRegion(cv::Point seed) const {
-    const cv::Point2f p(static_cast<float>(seed.x), static_cast<float>(seed.y));
-    for (const internal::RejectedRegion& region : scratch_.rejected) {
-      if (region.Contains(p) && region.retries < internal::kLostRedRetries) return true;
-    }
     return false;
   }
 

@@ -404,15 +404,19 @@ bool RejectedRegion::BorderContains(cv::Point2f p) const {
   return inside;
 }
 
-bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed) {
+bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed, bool* retry) {
+  if (retry) *retry = false;
   if (!rejected) return false;
-  RejectedRegion* retry = nullptr;
+  RejectedRegion* retried = nullptr;
   for (RejectedRegion& region : *rejected) {
     if (!region.Contains(seed)) continue;
     if (region.retries == 0) return true;
-    retry = &region;
+    retried = &region;
   }
-  if (retry) --retry->retries;
+  if (retried) {
+    --retried->retries;
+    if (retry) *retry = true;
+  }
   return false;
 }
 
@@ -440,7 +444,9 @@ struct Centring {
 // Returns false.
 bool Reject(const Centring& centring, RejectReason reason, Candidate* candidate,
             std::vector<RejectedRegion>* rejected, RejectReason* why) {
-  if (rejected && centring.have_region) rejected->push_back(centring.region);
+  // A retry that fails adds no region: its region's retries bound the
+  // seeds spent on the red.
+  if (rejected && centring.have_region && !candidate->retry) rejected->push_back(centring.region);
   candidate->centre = centring.centre;
   candidate->reference_red = centring.reference_red;
   if (centring.have_region) {
@@ -456,6 +462,7 @@ bool Reject(const Centring& centring, RejectReason reason, Candidate* candidate,
 void StartCandidate(cv::Point2f centre, Candidate* candidate) {
   candidate->centre = centre;
   candidate->enclosed = false;
+  candidate->retry = false;
   candidate->light = TagLight();
   for (auto& ring : candidate->points) ring.clear();
 }
@@ -556,7 +563,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   Centring centring;
   centring.centre = cv::Point2f(static_cast<float>(seed.x), static_cast<float>(seed.y));
   StartCandidate(centring.centre, candidate);
-  if (InRejectedRegion(rejected, centring.centre)) {
+  if (InRejectedRegion(rejected, centring.centre, &candidate->retry)) {
     *why = RejectReason::kInRejectedRegion;
     return false;
   }

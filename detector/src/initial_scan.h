@@ -37,7 +37,8 @@ struct RejectedRegion {
   // Seeds that may still start inside the region before it drops them: a
   // red the later stages lost (BuildPolygon to Decode, and GrowRegion) is
   // tried again from seeds of later rows, which start from another part of
-  // its border and may find the tag the first lost.
+  // its border and may find the tag the first lost. The reds InitialScan
+  // itself rejects have none: tag-free frames have dozens of those.
   int retries = 0;
 };
 
@@ -50,8 +51,10 @@ struct RejectedRegion {
 inline constexpr int kLostRedRetries = 4;
 
 // Whether `seed` lies in a region rejected so far (none with `rejected`
-// null) that has no retries left; a region that has some spends one.
-bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed);
+// null) that has no retries left; a region that has some spends one, and
+// *retry says so.
+bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed,
+                      bool* retry = nullptr);
 
 // Drops the regions that end above row y. Rows are sampled top to bottom,
 // so no later seed can lie in one, and a busy frame's seeds (thousands in

@@ -181,10 +181,19 @@ TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
   EXPECT_TRUE(InitialScan(view, DetectorOptions{}, {cx - kRedHalf + 1, cy}, Seed::kSeed,
                           &scratch.ring_scan, &candidate, &rejected, &why))
       << RejectReasonName(why);
+  EXPECT_TRUE(candidate.retry);
   EXPECT_EQ(rejected[0].retries, 0);
   EXPECT_TRUE(InRejectedRegion(&rejected, inside));
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3}, &rejected),
             RejectReason::kInRejectedRegion);
+  // A retry that fails adds no region.
+  const cv::Mat no_black =
+      RenderRings({200, 200}, cx, cy, /*with_green=*/true, /*with_black=*/false);
+  std::vector<RejectedRegion> one = {RejectedRegion::Around(border)};
+  one[0].retries = 1;
+  EXPECT_EQ(RejectionOf(no_black, {cx - kRedHalf + 1, cy}, &one), RejectReason::kRingScan);
+  EXPECT_EQ(one.size(), 1u);
+  EXPECT_EQ(RejectionOf(no_black, {cx - kRedHalf + 1, cy}, &one), RejectReason::kInRejectedRegion);
   // Outside the region nothing is spent.
   EXPECT_FALSE(InRejectedRegion(&rejected, cv::Point2f(cx + 60, cy)));
   // A seed in two regions, one with retries left and one without, is dropped.
