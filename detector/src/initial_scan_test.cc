@@ -141,18 +141,23 @@ TEST(InitialScanTest, RejectsRedOnWhiteAtTheFirstScan) {
   EXPECT_NE(why, RejectReason::kNotGreen);
 }
 
-// A seed inside a region already rejected in this frame is dropped at once,
-// even on a tag, and adds no region.
-TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
-  const int cx = 100, cy = 100;
-  const cv::Mat image = RenderRings({200, 200}, cx, cy);
-  // The drawn red/green border in the eight directions of a centring pass.
+// The red/green border RenderRings draws about (cx, cy), in the eight
+// directions of a centring pass.
+std::array<cv::Point2f, 8> DrawnRedBorder(int cx, int cy) {
   std::array<cv::Point2f, 8> border;
   const float e = EdgeOffset(kRedHalf);
   const cv::Point2f offsets[8] = {{e, 0},  {e, e},   {0, e},  {-e, e},
                                   {-e, 0}, {-e, -e}, {0, -e}, {e, -e}};
   for (int i = 0; i < 8; ++i) border[i] = cv::Point2f(cx, cy) + offsets[i];
-  std::vector<RejectedRegion> rejected = {RejectedRegion::Around(border)};
+  return border;
+}
+
+// A seed inside a region already rejected in this frame is dropped at once,
+// even on a tag, and adds no region.
+TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
+  const int cx = 100, cy = 100;
+  const cv::Mat image = RenderRings({200, 200}, cx, cy);
+  std::vector<RejectedRegion> rejected = {RejectedRegion::Around(DrawnRedBorder(cx, cy))};
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 1, cy}, &rejected),
             RejectReason::kInRejectedRegion);
   EXPECT_EQ(rejected.size(), 1u);
@@ -164,11 +169,7 @@ TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
 TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
   const int cx = 100, cy = 100;
   const cv::Mat image = RenderRings({200, 200}, cx, cy);
-  std::array<cv::Point2f, 8> border;
-  const float e = EdgeOffset(kRedHalf);
-  const cv::Point2f offsets[8] = {{e, 0},  {e, e},   {0, e},  {-e, e},
-                                  {-e, 0}, {-e, -e}, {0, -e}, {e, -e}};
-  for (int i = 0; i < 8; ++i) border[i] = cv::Point2f(cx, cy) + offsets[i];
+  const std::array<cv::Point2f, 8> border = DrawnRedBorder(cx, cy);
   std::vector<RejectedRegion> rejected = {RejectedRegion::Around(border)};
   rejected[0].retries = 2;
   const cv::Point2f inside(cx, cy);
