@@ -15,6 +15,7 @@
 #include "chromatag/detector/detector.h"
 #include "chromatag/families/color.h"
 #include "chromatag/families/family.h"
+#include "initial_scan.h"
 #include "stage_switches.h"
 #include "synthetic_scene.h"
 
@@ -265,19 +266,24 @@ TEST(DetectorSceneTest, SwappedShadesNeverDecode) {
   }
 }
 
+// A 16h5 tag of ID 3 printed with its shades swapped: refused at Decode.
+SceneTag SwappedPrint(double black_square_px, cv::Point2d centre) {
+  SceneTag tag;
+  tag.id = 3;
+  tag.swap_shades = true;
+  tag.black_square_px = black_square_px;
+  tag.centre = centre;
+  return tag;
+}
+
 // With report_rejected, a tag that fails (here: printed with swapped shades,
 // so it is refused at Decode) comes back as a rejected candidate lying on the
 // tag, with its stage, reason and outer quad; a red disc on a grey card is
 // rejected by InitialScan where it lies. Without the option nothing is kept.
 TEST(DetectorSceneTest, RejectedCandidatesSayWhereAndWhy) {
-  SceneTag tag;
-  tag.id = 3;
-  tag.swap_shades = true;
-  tag.black_square_px = 90;
-  tag.centre = {100, 120};
+  SceneTag tag = SwappedPrint(90, {100, 120});
   tag.rotation_deg = 20;
-  SceneOptions scene_options;
-  const Scene scene = RenderScene({tag}, scene_options);
+  const Scene scene = RenderScene({tag}, SceneOptions{});
   cv::Mat bgr = scene.bgr.clone();
   cv::circle(bgr, {250, 120}, 25, cv::Scalar(40, 40, 200), cv::FILLED);
 
@@ -325,6 +331,28 @@ TEST(DetectorSceneTest, RejectedCandidatesSayWhereAndWhy) {
   const DetectionResult quiet = detector->Detect(bgr);
   EXPECT_TRUE(quiet.rejected.empty());
   EXPECT_EQ(quiet.summary.rejected, result.summary.rejected);
+}
+
+// A red that passes InitialScan and is then lost (a swapped print, refused
+// at Decode and by GrowRegion) is tried again by the next seeds inside it,
+// kLostRedRetries of them; the seeds after those are dropped at once.
+TEST(DetectorSceneTest, ALostRedIsRetriedThenDropped) {
+  const Scene scene = RenderScene({SwappedPrint(160, {120, 120})}, SceneOptions{});
+  DetectorOptions options;
+  options.families = {"16h5"};
+  options.report_rejected = true;
+  const DetectionResult result = Detector::Create(options)->Detect(scene.bgr);
+  EXPECT_TRUE(result.detections.empty());
+  const std::vector<cv::Point2f> square(scene.truth[0].corners.begin(),
+                                        scene.truth[0].corners.end());
+  int lost_later = 0, dropped = 0;
+  for (const RejectedCandidate& r : result.rejected) {
+    if (cv::pointPolygonTest(square, cv::Point2f(r.seed), false) <= 0) continue;
+    lost_later += r.stage != Stage::kInitialScan;
+    dropped += r.reason == RejectReason::kInRejectedRegion;
+  }
+  EXPECT_EQ(lost_later, 1 + internal::kLostRedRetries);
+  EXPECT_GT(dropped, 0);
 }
 
 // Small tags (black squares of 22-30 px, cells of 3.7-5 px), blurred in linear

@@ -83,19 +83,13 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
   const int step = options.step;
   const int count = (image.width() + step - 1) / step;
   // The row's samples; each path sets the table and thresholds of its units.
-  RowSampler sampler{image.Pixel(0, y),
-                     3 * image.width(),
-                     count,
-                     3 * step,
-                     image.r_offset(),
-                     image.b_offset(),
-                     nullptr,
-                     0,
-                     0,
-                     0,
-                     0,
-                     0,
-                     0};
+  RowSampler sampler;
+  sampler.row = image.Pixel(0, y);
+  sampler.row_bytes = 3 * image.width();
+  sampler.count = count;
+  sampler.pixel_step = 3 * step;
+  sampler.r = image.r_offset();
+  sampler.b = image.b_offset();
   if (RowScanComputesA(image, options)) {
     // The computed a* (ColorTable::FastA units) has thresholds of its own.
     sampler.threshold = ComputedARiseThreshold(options.adiff_thresh);

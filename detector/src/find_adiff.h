@@ -144,8 +144,9 @@ inline constexpr float kTwoStepCastMinRedA = 8.f;
 // a pale red does (Seed::kInACast). The camera set's JPEG-target tag (50 px,
 // 0.34 of the light, 3.9 px of motion blur, JPEG 64, red at L* 30) rises by
 // a* 24 over two samples against ADiffThresh 25. On the camera set's 2,033
-// tag-free frames the lower bar adds 2.5 % of seeds where it is held to
-// dim reds, 4.7 % where it is not.
+// tag-free frames the lower bar adds 2.5 % of seeds; the AVX-512 row
+// kernel reads the samples' luminance with their a* (ComputedDimYLimit), so
+// that the rises into lighter reds do not reach the accurate test.
 inline constexpr float kDimTwoStepMaxL = 40.f;
 inline constexpr float kDimTwoStepShare = 0.9f;
 

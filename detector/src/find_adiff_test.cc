@@ -194,35 +194,47 @@ TEST(FindADiffTwoStepTest, RisesThatOnlyACastExplainsAreSeedsInACast) {
 }
 
 // Dim light: a rise over two samples from green into a red darker than
-// kDimTwoStepMaxL seeds above kDimTwoStepShare of ADiffThresh (as a seed that
-// must show a tag's colours in its own light); the same rise in lighter
-// colours does not. On every kernel path.
+// kDimTwoStepMaxL seeds above kDimTwoStepShare of ADiffThresh, as a seed that
+// must show a tag's colours in its own light, however red the red (an
+// ordinary seed needs the whole ADiffThresh); below that share, or in
+// lighter colours, it does not seed. On every kernel path.
 TEST(FindADiffTwoStepTest, InDimLightALowerRiseSeeds) {
   const ColorTable& table = ColorTable::Get();
   const DetectorOptions options;
-  for (float lightness : {30.f, 55.f}) {
-    const Rgb8 green = LabToSrgb8({lightness, -12.5f, 10}), blend = LabToSrgb8({lightness, 0, 10}),
-               red = LabToSrgb8({lightness, 11.5f, 10});
-    // The colours as the detector reads them: a rise under ADiffThresh but
-    // over the dim light's bar, each step over kTwoStepShare of it.
-    auto a_of = [&](const Rgb8& c) { return table.A(c.r, c.g, c.b); };
+  const float thresh = static_cast<float>(options.adiff_thresh);
+  struct Case {
+    float lightness, green_a, blend_a, red_a;
+    bool seeds;
+  };
+  // Rises of a* 24 (a pale red, and a red of a* 18 and more) and 21.5.
+  for (const Case& c : {Case{30, -12.5f, 0, 11.5f, true}, Case{30, -6, 6, 18.5f, true},
+                        Case{30, -6, 4, 15.5f, false}, Case{55, -12.5f, 0, 11.5f, false}}) {
+    const Rgb8 green = LabToSrgb8({c.lightness, c.green_a, 10}),
+               blend = LabToSrgb8({c.lightness, c.blend_a, 10}),
+               red = LabToSrgb8({c.lightness, c.red_a, 10});
+    // The colours as the detector reads them: each step over kTwoStepShare
+    // of ADiffThresh, the rise under ADiffThresh and on the case's side of
+    // the dim light's bar.
+    auto a_of = [&](const Rgb8& v) { return table.A(v.r, v.g, v.b); };
     const float rise = a_of(red) - a_of(green);
-    ASSERT_GT(rise, kDimTwoStepShare * options.adiff_thresh) << lightness;
-    ASSERT_LT(rise, options.adiff_thresh) << lightness;
-    ASSERT_GT(a_of(blend) - a_of(green), kTwoStepShare * options.adiff_thresh);
-    ASSERT_GT(a_of(red) - a_of(blend), kTwoStepShare * options.adiff_thresh);
-    ASSERT_EQ(table.L(red.r, red.g, red.b) < kDimTwoStepMaxL, lightness < 40.f);
+    const auto where = testing::Message() << "L* " << c.lightness << ", rise " << rise;
+    ASSERT_LT(rise, thresh) << where;
+    ASSERT_EQ(rise > kDimTwoStepShare * thresh, c.seeds || c.lightness >= kDimTwoStepMaxL) << where;
+    ASSERT_GT(a_of(blend) - a_of(green), kTwoStepShare * thresh) << where;
+    ASSERT_GT(a_of(red) - a_of(blend), kTwoStepShare * thresh) << where;
+    ASSERT_EQ(table.L(red.r, red.g, red.b) < kDimTwoStepMaxL, c.lightness < kDimTwoStepMaxL)
+        << where;
     const cv::Mat image = Stripes({{40, green}, {44, blend}, {120, red}});
     for (KernelPath path : {KernelPath::kAvx512, KernelPath::kAvx2, KernelPath::kScalar}) {
       if (!Kernels::Available(path)) continue;
       const ImageView view(image, PixelOrder::kBgr, table, Kernels::ForPath(path));
       std::vector<Seed> kinds;
       const std::vector<cv::Point> seeds = Seeds(view, options, {}, 4, &kinds);
-      if (lightness < 40.f) {
-        EXPECT_EQ(seeds, (std::vector<cv::Point>{{44, 4}})) << static_cast<int>(path);
-        EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kInACast})) << static_cast<int>(path);
+      if (c.seeds) {
+        EXPECT_EQ(seeds, (std::vector<cv::Point>{{44, 4}})) << where << ", path " << int(path);
+        EXPECT_EQ(kinds, (std::vector<Seed>{Seed::kInACast})) << where << ", path " << int(path);
       } else {
-        EXPECT_TRUE(seeds.empty()) << static_cast<int>(path) << ": " << seeds.size();
+        EXPECT_TRUE(seeds.empty()) << where << ", path " << int(path) << ": " << seeds.size();
       }
     }
   }
@@ -232,32 +244,35 @@ TEST(FindADiffTwoStepTest, InDimLightALowerRiseSeeds) {
 // lets through every colour darker than kDimTwoStepMaxL by the accurate L*,
 // with the default table and with white balances folded in; and it is a
 // gate: most colours of L* 50 and up are kept out.
-TEST(FindADiffTwoStepTest, DimGateHoldsEveryDimColour) {
+TEST(FindADiffTwoStepTest, DimGateLetsEveryDimColourThrough) {
+  const int limit = ComputedDimYLimit();
   for (const ColorTable::Gains& gains :
        {ColorTable::Gains{1.0, 1.0, 1.0}, ColorTable::Gains{0.6, 1.0, 1.0},
         ColorTable::Gains{1.0, 0.7, 0.5}, ColorTable::Gains{0.5, 0.6, 1.0}}) {
     const ColorTable table(gains);
-    const int limit = ComputedDimYLimit();
+    // L* below a level exactly when Y is below YForL of it.
+    const int32_t dim_y = table.YForL(kDimTwoStepMaxL), light_y = table.YForL(50.f);
     long dim = 0, dim_kept_out = 0, light = 0, light_let_through = 0;
     for (int r = 0; r < 256; ++r) {
       for (int g = 0; g < 256; ++g) {
         for (int b = 0; b < 256; ++b) {
-          const float l = table.L(r, g, b);
+          const int32_t y = table.Y(r, g, b);
           const bool below = table.FastY(r, g, b) < limit;
-          if (l < kDimTwoStepMaxL) {
+          if (y < dim_y) {
             ++dim;
             dim_kept_out += !below;
-          } else if (l >= 50.f) {
+          } else if (y >= light_y) {
             ++light;
             light_let_through += below;
           }
         }
       }
     }
-    EXPECT_GT(dim, 0);
-    EXPECT_EQ(dim_kept_out, 0) << "gains " << gains[0] << " " << gains[1] << " " << gains[2];
-    EXPECT_LT(light_let_through, light / 100)
-        << "gains " << gains[0] << " " << gains[1] << " " << gains[2];
+    const auto where = testing::Message()
+                       << "gains " << gains[0] << " " << gains[1] << " " << gains[2];
+    EXPECT_GT(dim, 0) << where;
+    EXPECT_EQ(dim_kept_out, 0) << where;
+    EXPECT_LT(light_let_through, light / 100) << where;
   }
 }
 
@@ -285,15 +300,18 @@ cv::Mat RandomRows(int width, cv::RNG* rng) {
 // the samples that seed by ColorTable::FastA with its thresholds, so that
 // the vector code is its scalar reference.
 TEST(ScanRowTest, EveryPathListsEveryTrueRise) {
-  const ColorTable& table = ColorTable::Get();
   cv::RNG rng(17);
   int paths_run = 0, true_rises = 0;
+  // The default table, and one with a white balance folded in (for a third
+  // of the widths: the gains move the luminance the dim light's bar reads).
+  const ColorTable gained(ColorTable::Gains{0.6, 1.0, 0.8});
   for (KernelPath path : {KernelPath::kAvx512, KernelPath::kAvx2, KernelPath::kScalar}) {
     if (!Kernels::Available(path)) continue;
     const Kernels& kernels = Kernels::ForPath(path);
     ++paths_run;
     for (int width : {1, 2, 4, 5, 124, 125, 128, 129, 131, 255, 256, 257, 383, 752}) {
       const cv::Mat image = RandomRows(width, &rng);
+      const ColorTable& table = width % 3 == 0 ? gained : ColorTable::Get();
       for (PixelOrder order : {PixelOrder::kBgr, PixelOrder::kRgb}) {
         const ImageView view(image, order, table, kernels);
         const int ri = order == PixelOrder::kBgr ? 2 : 0, bi = 2 - ri;

@@ -404,20 +404,17 @@ bool RejectedRegion::BorderContains(cv::Point2f p) const {
   return inside;
 }
 
-bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed, bool* retry) {
-  if (retry) *retry = false;
-  if (!rejected) return false;
+SeedAdmission AdmitSeed(std::vector<RejectedRegion>* rejected, cv::Point2f seed) {
+  if (!rejected) return SeedAdmission::kFree;
   RejectedRegion* retried = nullptr;
   for (RejectedRegion& region : *rejected) {
     if (!region.Contains(seed)) continue;
-    if (region.retries == 0) return true;
+    if (region.retries == 0) return SeedAdmission::kDropped;
     retried = &region;
   }
-  if (retried) {
-    --retried->retries;
-    if (retry) *retry = true;
-  }
-  return false;
+  if (!retried) return SeedAdmission::kFree;
+  --retried->retries;
+  return SeedAdmission::kRetry;
 }
 
 void ForgetRegionsAbove(float y, std::vector<RejectedRegion>* regions) {
@@ -475,10 +472,6 @@ void SettleCentre(const Centring& centring, Candidate* candidate) {
   candidate->enclosed = true;
   candidate->red_border = centring.border;
 }
-
-// Red things that are not tags span many of FindADiff's rows, and each row
-// seeds them again: a seed inside a region already rejected in this frame
-// would be rejected again.
 
 // Step 1, once: re-centres on the centroid of the polygon of red/green
 // border points CentringPass finds in eight directions, the centre's a*
@@ -563,10 +556,12 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   Centring centring;
   centring.centre = cv::Point2f(static_cast<float>(seed.x), static_cast<float>(seed.y));
   StartCandidate(centring.centre, candidate);
-  if (InRejectedRegion(rejected, centring.centre, &candidate->retry)) {
+  const SeedAdmission admission = AdmitSeed(rejected, centring.centre);
+  if (admission == SeedAdmission::kDropped) {
     *why = RejectReason::kInRejectedRegion;
     return false;
   }
+  candidate->retry = admission == SeedAdmission::kRetry;
   // The seed may sit on the blurred edge of the red; the reddest of it and
   // its neighbourhood is the better ReferenceRed.
   centring.reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));

@@ -19,8 +19,10 @@
 
 namespace chromatag::internal {
 
-// The red/green border polygon of a red region InitialScan rejected after at
-// least one centring pass (eight points, star-shaped around its centre).
+// The red/green border polygon of a red region rejected in this frame after
+// at least one centring pass, by InitialScan or by a later stage (eight
+// points, star-shaped around its centre). Red things that are not tags span
+// many of FindADiff's rows, and each row seeds them again.
 struct RejectedRegion {
   std::array<cv::Point2f, 8> border;
   float min_x = 0, max_x = 0, min_y = 0, max_y = 0;
@@ -35,26 +37,30 @@ struct RejectedRegion {
   // where the polygon's sides cut inside.
   static RejectedRegion Around(const std::array<cv::Point2f, 8>& red_border);
   // Seeds that may still start inside the region before it drops them: a
-  // red the later stages lost (BuildPolygon to Decode, and GrowRegion) is
-  // tried again from seeds of later rows, which start from another part of
-  // its border and may find the tag the first lost. The reds InitialScan
-  // itself rejects have none: tag-free frames have dozens of those.
+  // red that passed InitialScan and was then lost (BuildPolygon to Decode,
+  // then GrowRegion) is tried again by the next seeds inside it, which
+  // start from other points of its border and may find the tag the first
+  // lost. The reds InitialScan itself rejects have none: tag-free frames
+  // have dozens of those.
   int retries = 0;
 };
 
 // A candidate the later stages lost gets this many more seeds on its red:
-// as many tags as with no limit, 9 more on the camera set's 8,000 frames
-// with the defaults (10 with the calibrated `iccv17-faded` config, a 101 px
-// tag among them) and 10 more on the classic set's 10,000, while a tag that
-// cannot be read (a swapped print) costs at most five passes. Tag-free
-// frames have almost no such candidates.
+// on the camera and classic sets as many tags as with no limit, while a
+// tag that cannot be read (a swapped print) costs at most five passes.
+// Tag-free frames have almost no such candidates.
 inline constexpr int kLostRedRetries = 4;
 
-// Whether `seed` lies in a region rejected so far (none with `rejected`
-// null) that has no retries left; a region that has some spends one, and
-// *retry says so.
-bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed,
-                      bool* retry = nullptr);
+// What a seed's place among the frame's rejected regions allows.
+enum class SeedAdmission {
+  kFree,     // In no region: it starts.
+  kRetry,    // In a region with retries left, and none without: it spends
+             // one and starts.
+  kDropped,  // In a region with no retries left.
+};
+// The admission of `seed` (kFree with `rejected` null); a kRetry spends one
+// of its region's retries.
+SeedAdmission AdmitSeed(std::vector<RejectedRegion>* rejected, cv::Point2f seed);
 
 // Drops the regions that end above row y. Rows are sampled top to bottom,
 // so no later seed can lie in one, and a busy frame's seeds (thousands in
@@ -63,8 +69,10 @@ bool InRejectedRegion(std::vector<RejectedRegion>* rejected, cv::Point2f seed,
 void ForgetRegionsAbove(float y, std::vector<RejectedRegion>* regions);
 
 // InitialScan from a seed of the given kind (FindADiff). With `rejected`
-// (the frame's regions rejected so far), a seed inside one of them is
-// dropped at once, and a region rejected after a centring pass is added.
+// (the frame's regions rejected so far), a seed is admitted first
+// (AdmitSeed: a dropped one fails at once, a retry sets Candidate::retry),
+// and a region rejected after a centring pass is added unless the
+// candidate is a retry.
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed, Seed kind,
                  RingScanBuffers* buffers, Candidate* candidate,
                  std::vector<RejectedRegion>* rejected, RejectReason* why);

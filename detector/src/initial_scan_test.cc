@@ -165,15 +165,18 @@ TEST(InitialScanTest, RejectsASeedInARejectedRegion) {
 
 // A region the later stages rejected lets its retries through, one seed
 // each, then drops seeds as any other; on a tag, the seed that retries
-// starts InitialScan and passes it.
+// starts InitialScan, passes it and is marked a retry; a retry that fails
+// adds no region.
 TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
   const int cx = 100, cy = 100;
   const cv::Mat image = RenderRings({200, 200}, cx, cy);
   const std::array<cv::Point2f, 8> border = DrawnRedBorder(cx, cy);
   std::vector<RejectedRegion> rejected = {RejectedRegion::Around(border)};
   rejected[0].retries = 2;
-  const cv::Point2f inside(cx, cy);
-  EXPECT_FALSE(InRejectedRegion(&rejected, inside));
+  const cv::Point2f inside(cx, cy), outside(cx + 60, cy);
+  EXPECT_EQ(AdmitSeed(&rejected, outside), SeedAdmission::kFree);
+  EXPECT_EQ(rejected[0].retries, 2);  // Nothing spent outside it.
+  EXPECT_EQ(AdmitSeed(&rejected, inside), SeedAdmission::kRetry);
   EXPECT_EQ(rejected[0].retries, 1);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Scratch scratch;
@@ -184,10 +187,20 @@ TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
       << RejectReasonName(why);
   EXPECT_TRUE(candidate.retry);
   EXPECT_EQ(rejected[0].retries, 0);
-  EXPECT_TRUE(InRejectedRegion(&rejected, inside));
+  EXPECT_EQ(AdmitSeed(&rejected, inside), SeedAdmission::kDropped);
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3}, &rejected),
             RejectReason::kInRejectedRegion);
-  // A retry that fails adds no region.
+  EXPECT_EQ(AdmitSeed(nullptr, inside), SeedAdmission::kFree);
+
+  // A seed in two regions, one with retries left and one without, is
+  // dropped and spends nothing.
+  rejected[0].retries = 1;
+  rejected.push_back(RejectedRegion::Around(border));
+  EXPECT_EQ(AdmitSeed(&rejected, inside), SeedAdmission::kDropped);
+  EXPECT_EQ(rejected[0].retries, 1);
+
+  // A retry that fails (red on green without a black ring: the ring scans
+  // fail) adds no region; the region's last retry is then spent.
   const cv::Mat no_black =
       RenderRings({200, 200}, cx, cy, /*with_green=*/true, /*with_black=*/false);
   std::vector<RejectedRegion> one = {RejectedRegion::Around(border)};
@@ -195,13 +208,10 @@ TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
   EXPECT_EQ(RejectionOf(no_black, {cx - kRedHalf + 1, cy}, &one), RejectReason::kRingScan);
   EXPECT_EQ(one.size(), 1u);
   EXPECT_EQ(RejectionOf(no_black, {cx - kRedHalf + 1, cy}, &one), RejectReason::kInRejectedRegion);
-  // Outside the region nothing is spent.
-  EXPECT_FALSE(InRejectedRegion(&rejected, cv::Point2f(cx + 60, cy)));
-  // A seed in two regions, one with retries left and one without, is dropped.
-  rejected[0].retries = 1;
-  rejected.push_back(RejectedRegion::Around(border));
-  EXPECT_TRUE(InRejectedRegion(&rejected, inside));
-  EXPECT_FALSE(InRejectedRegion(nullptr, inside));
+  // Without retries the same failure adds its region.
+  std::vector<RejectedRegion> none;
+  EXPECT_EQ(RejectionOf(no_black, {cx - kRedHalf + 1, cy}, &none), RejectReason::kRingScan);
+  EXPECT_EQ(none.size(), 1u);
 }
 
 // A red one pixel tall on green (a speck of a dark frame's chroma noise, or

@@ -11,6 +11,18 @@ namespace chromatag::internal {
 namespace {
 
 #ifdef CHROMATAG_HAVE_X86_KERNELS
+// A row of 256 samples at N = 4 (every fourth pixel of `row`).
+RowSampler EveryFourthPixel(const std::vector<uint8_t>& row, int r_offset, int b_offset) {
+  RowSampler sampler;
+  sampler.row = row.data();
+  sampler.row_bytes = static_cast<int>(row.size());
+  sampler.count = 256;
+  sampler.pixel_step = 12;
+  sampler.r = r_offset;
+  sampler.b = b_offset;
+  return sampler;
+}
+
 // The AVX-512 row scan computes exactly ColorTable::FastA, for every one of
 // the 16.7 million colours (a row per red and green level, one sample per
 // blue level at N = 4), in both pixel orders for some red levels.
@@ -30,13 +42,7 @@ TEST(Avx512KernelTest, ComputedAIsFastAForEveryColour) {
           row[12 * blue + 1] = static_cast<uint8_t>(green);
           row[12 * blue + b_offset] = static_cast<uint8_t>(blue);
         }
-        const RowSampler sampler{row.data(), static_cast<int>(row.size()),
-                                 256,        12,
-                                 r_offset,   b_offset,
-                                 nullptr,    0,
-                                 0,          0,
-                                 0,          0,
-                                 0};
+        const RowSampler sampler = EveryFourthPixel(row, r_offset, b_offset);
         ComputedARowAvx512(sampler, table.fast_a_tables(), a.data());
         for (int blue = 0; blue < 256; ++blue) {
           if (a[blue] != table.FastA(red, green, blue) && ++mismatches <= 5) {
@@ -68,8 +74,7 @@ TEST(Avx512KernelTest, ComputedAIsFastAWithGains) {
           row[12 * blue + 1] = static_cast<uint8_t>(green);
           row[12 * blue] = static_cast<uint8_t>(blue);
         }
-        const RowSampler sampler{
-            row.data(), static_cast<int>(row.size()), 256, 12, 2, 0, nullptr, 0, 0, 0, 0, 0, 0};
+        const RowSampler sampler = EveryFourthPixel(row, 2, 0);
         ComputedARowAvx512(sampler, table.fast_a_tables(), a.data());
         for (int blue = 0; blue < 256; ++blue)
           mismatches += a[blue] != table.FastA(red, green, blue);

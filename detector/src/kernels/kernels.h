@@ -85,21 +85,22 @@ struct PixelFrame {
 // and the thresholds a rise between their values must pass, in the units of
 // the values the kernel compares (coarse a*, or ColorTable::FastA units).
 struct RowSampler {
-  const uint8_t* row;
-  int row_bytes;        // Bytes that may be read from `row`: 3 times the frame's width.
-  int count;            // Samples on the row.
-  int pixel_step;       // Bytes between samples: 3 N.
-  int r, b;             // Byte offsets of red and blue in a pixel.
-  const int8_t* table;  // ColorTable::coarse_a_table() (coarse kernels only).
-  int threshold;        // A rise (one step, or two from green) above this may seed.
-  int step_thresh;      // Each of two steps rises above this...
-  int green_limit;      // ...from a sample two back below this...
-  int red_floor;        // ...to a sample above this.
-  // In dim light a rise in two steps may seed above this lower bar: where
-  // the kernel computes the sample's luminance (FastY units), only below
-  // dim_y_limit; elsewhere everywhere (FindADiff's accurate test decides).
-  int dim_two_step_thresh;
-  int dim_y_limit;
+  const uint8_t* row = nullptr;
+  int row_bytes = 0;              // Bytes that may be read from `row`: 3 times the frame's width.
+  int count = 0;                  // Samples on the row.
+  int pixel_step = 0;             // Bytes between samples: 3 N.
+  int r = 0, b = 0;               // Byte offsets of red and blue in a pixel.
+  const int8_t* table = nullptr;  // ColorTable::coarse_a_table() (coarse kernels only).
+  int threshold = 0;              // A rise (one step, or two from green) above this may seed.
+  int step_thresh = 0;            // Each of two steps rises above this...
+  int green_limit = 0;            // ...from a sample two back below this...
+  int red_floor = 0;              // ...to a sample above this.
+  // In dim light a rise in two steps from green may seed above this lower
+  // bar instead of `threshold`: a kernel that computes the sample's
+  // luminance (FastY units) applies it below dim_y_limit only, the others
+  // to every sample (FindADiff's accurate test decides).
+  int dim_two_step_thresh = 0;
+  int dim_y_limit = 0;
 };
 
 // One profile across an edge (refine_corners.cc, EdgePoint): centred on
