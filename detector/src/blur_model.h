@@ -5,7 +5,6 @@
 #ifndef CHROMATAG_DETECTOR_SRC_BLUR_MODEL_H_
 #define CHROMATAG_DETECTOR_SRC_BLUR_MODEL_H_
 
-#include <array>
 #include <limits>
 #include <vector>
 

@@ -64,7 +64,7 @@ int ComputedDimYLimit() {
   // FastY reads each channel at the centre of its top six bits, a few per
   // cent from the accurate Y; the limit sits 25 % above the Y of
   // kDimTwoStepMaxL (no colour darker than that is kept out, with or
-  // without a white balance: FindADiffTwoStepTest.DimGateHoldsEveryDimColour).
+  // without a white balance: FindADiffTwoStepTest.DimGateLetsEveryDimColourThrough).
   const double f = (kDimTwoStepMaxL + 16.0) / 116.0;
   return static_cast<int>(std::ceil(1.25 * f * f * f * 32768.0));
 }

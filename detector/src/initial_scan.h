@@ -46,8 +46,8 @@ struct RejectedRegion {
 };
 
 // A candidate the later stages lost gets this many more seeds on its red:
-// on the camera and classic sets as many tags as with no limit, while a
-// tag that cannot be read (a swapped print) costs at most five passes.
+// on the camera set as many tags as with no limit, while a tag that cannot
+// be read (a swapped print) costs at most five passes.
 // Tag-free frames have almost no such candidates.
 inline constexpr int kLostRedRetries = 4;
 

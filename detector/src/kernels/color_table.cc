@@ -82,25 +82,35 @@ ColorTable::ColorTable(const Gains& gains)
   }
 }
 
-int ColorTable::FastY(uint8_t r, uint8_t g, uint8_t b) const {
-  const FastATables& t = fast_a_;
+namespace {
+
+// X/Xn and Y of an 8-bit colour as FastA and the vector code sum them: 16-bit
+// sums, as the vector code's lanes. No overflow: each set of weights adds up
+// to 32768 within one unit and linear light stays below 32331, so a sum
+// stays below 32400.
+void FastSums(const ColorTable::FastATables& t, uint8_t r, uint8_t g, uint8_t b, uint16_t* x,
+              uint16_t* y) {
   const int16_t linear[3] = {t.linear[r >> 2], t.linear[g >> 2], t.linear[b >> 2]};
-  uint16_t y = 0;
-  for (int c = 0; c < 3; ++c) y = static_cast<uint16_t>(y + MulHighRound(linear[c], t.y_weight[c]));
+  *x = *y = 0;
+  for (int c = 0; c < 3; ++c) {
+    *x = static_cast<uint16_t>(*x + MulHighRound(linear[c], t.x_weight[c]));
+    *y = static_cast<uint16_t>(*y + MulHighRound(linear[c], t.y_weight[c]));
+  }
+}
+
+}  // namespace
+
+int ColorTable::FastY(uint8_t r, uint8_t g, uint8_t b) const {
+  uint16_t x = 0, y = 0;
+  FastSums(fast_a_, r, g, b, &x, &y);
   return y;
 }
 
 int ColorTable::FastA(uint8_t r, uint8_t g, uint8_t b) const {
   const FastATables& t = fast_a_;
-  const int16_t linear[3] = {t.linear[r >> 2], t.linear[g >> 2], t.linear[b >> 2]};
-  // 16-bit sums, as the vector code's lanes, then clamped below 1.0. No
-  // overflow: each set of weights adds up to 32768 within one unit and linear
-  // light stays below 32331, so a sum stays below 32400.
+  // Clamped below 1.0 before f().
   uint16_t x = 0, y = 0;
-  for (int c = 0; c < 3; ++c) {
-    x = static_cast<uint16_t>(x + MulHighRound(linear[c], t.x_weight[c]));
-    y = static_cast<uint16_t>(y + MulHighRound(linear[c], t.y_weight[c]));
-  }
+  FastSums(t, r, g, b, &x, &y);
   auto f = [&t](uint16_t v) -> int16_t {
     v = std::min<uint16_t>(v, 32767);
     const bool low = v < 4096;
