@@ -434,6 +434,7 @@ struct Centring {
   std::array<cv::Point2f, 8> border;
   RejectedRegion region;
   bool have_region = false;
+  bool converged = false;  // The centre converged; the final scans follow.
 };
 
 // Rejects the candidate for `reason`: leaves the last centre and red/green
@@ -443,7 +444,11 @@ bool Reject(const Centring& centring, RejectReason reason, Candidate* candidate,
             std::vector<RejectedRegion>* rejected, RejectReason* why) {
   // A retry that fails adds no region: its region's retries bound the
   // seeds spent on the red.
-  if (rejected && centring.have_region && !candidate->retry) rejected->push_back(centring.region);
+  if (rejected && centring.have_region && !candidate->retry) {
+    rejected->push_back(centring.region);
+    if (centring.converged && reason >= RejectReason::kRingScan)
+      rejected->back().retries = kCentredRedRetries;
+  }
   candidate->centre = centring.centre;
   candidate->reference_red = centring.reference_red;
   if (centring.have_region) {
@@ -597,6 +602,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
       return reject(pass_why);
   }
   if (!converged) return reject(RejectReason::kNoConvergence);
+  centring.converged = true;
   SettleCentre(centring, candidate);
   std::array<cv::Point, 4> greens;
   if (!FinalScans(image, options, buffers, candidate, &greens))

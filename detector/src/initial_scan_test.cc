@@ -265,7 +265,10 @@ TEST(InitialScanTest, AddsTheRegionRejectedAfterCentring) {
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 1, cy}, &rejected), RejectReason::kRingScan);
   ASSERT_EQ(rejected.size(), 1u);
   EXPECT_TRUE(rejected[0].Contains(cv::Point2f(cx, cy)));
-  // A later seed in the same red is now dropped at once.
+  // Rejected by the first centring pass's ring scans, before its centre
+  // converged: no retries, and a later seed in the same red is now dropped
+  // at once.
+  EXPECT_EQ(rejected[0].retries, 0);
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3}, &rejected),
             RejectReason::kInRejectedRegion);
   EXPECT_EQ(rejected.size(), 1u);
@@ -293,6 +296,31 @@ TEST(InitialScanTest, FinalScansCheckTheDirectionsTheFirstPassSkips) {
   std::vector<RejectedRegion> rejected;
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 1, cy}, &rejected), RejectReason::kRingScan);
   EXPECT_EQ(rejected.size(), 1u);
+}
+
+// A red rejected after its centre converged (here by the final scans: the
+// black ring is missing on the left only) keeps kCentredRedRetries: that
+// many later seeds in it run InitialScan again, adding no region, and the
+// next is dropped. One rejected before (AddsTheRegionRejectedAfterCentring)
+// has none.
+TEST(InitialScanTest, ARedRejectedAfterItsCentreConvergedIsRetried) {
+  const int cx = 100, cy = 100;
+  cv::Mat image = RenderRings({200, 200}, cx, cy);
+  cv::rectangle(image, {cx - kBlackHalf, cy - kBlackHalf}, {cx - kGreenHalf - 1, cy + kBlackHalf},
+                kWhite, cv::FILLED);
+  std::vector<RejectedRegion> rejected;
+  EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 1, cy}, &rejected), RejectReason::kRingScan);
+  ASSERT_EQ(rejected.size(), 1u);
+  EXPECT_EQ(rejected[0].retries, kCentredRedRetries);
+  for (int i = 0; i < kCentredRedRetries; ++i) {
+    EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3 + i}, &rejected),
+              RejectReason::kRingScan)
+        << "retry " << i;
+    EXPECT_EQ(rejected.size(), 1u);
+  }
+  EXPECT_EQ(rejected[0].retries, 0);
+  EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy - 3}, &rejected),
+            RejectReason::kInRejectedRegion);
 }
 
 }  // namespace
