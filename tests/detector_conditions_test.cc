@@ -630,9 +630,12 @@ Scene SwappedStressFrame(int index, const std::string& family_name, bool reds_al
   return RenderScene(tags, options);
 }
 
+// Frame 209: a red refused as fitting a swapped print, retried by later
+// seeds (kCentredRedRetries), read as ID 24 until such reds lost their
+// retries.
 TEST(DetectorConditionsTest, SwappedShadesUnderRandomCameraConditions) {
   auto detector = BothFamiliesDetector();
-  for (int index : {54, 239, 270, 302, 413, 570, 855, 932, 1370, 1491}) {
+  for (int index : {54, 209, 239, 270, 302, 413, 570, 855, 932, 1370, 1491}) {
     const DetectionResult result = detector->Detect(SwappedStressFrame(index, "16h5").bgr);
     for (const Detection& d : result.detections) {
       ADD_FAILURE() << "stress frame " << index << ": a swapped tag decoded as " << d.family->name()

@@ -46,6 +46,7 @@ struct Candidate {
   // Its seed lay in a rejected region and spent one of its retries
   // (RejectedRegion::retries): when it fails it adds no region of its own.
   bool retry = false;
+  int retry_region = -1;  // That region's index in the frame's rejected regions.
 };
 
 // The eight directions InitialScan and QuadsFromScans scan in from a

@@ -404,16 +404,17 @@ bool RejectedRegion::BorderContains(cv::Point2f p) const {
   return inside;
 }
 
-SeedAdmission AdmitSeed(std::vector<RejectedRegion>* rejected, cv::Point2f seed) {
+SeedAdmission AdmitSeed(std::vector<RejectedRegion>* rejected, cv::Point2f seed, int* region) {
   if (!rejected) return SeedAdmission::kFree;
-  RejectedRegion* retried = nullptr;
-  for (RejectedRegion& region : *rejected) {
-    if (!region.Contains(seed)) continue;
-    if (region.retries == 0) return SeedAdmission::kDropped;
-    retried = &region;
+  int retried = -1;
+  for (size_t i = 0; i < rejected->size(); ++i) {
+    if (!(*rejected)[i].Contains(seed)) continue;
+    if ((*rejected)[i].retries == 0) return SeedAdmission::kDropped;
+    retried = static_cast<int>(i);
   }
-  if (!retried) return SeedAdmission::kFree;
-  --retried->retries;
+  if (retried < 0) return SeedAdmission::kFree;
+  --(*rejected)[retried].retries;
+  if (region) *region = retried;
   return SeedAdmission::kRetry;
 }
 
@@ -465,6 +466,7 @@ void StartCandidate(cv::Point2f centre, Candidate* candidate) {
   candidate->centre = centre;
   candidate->enclosed = false;
   candidate->retry = false;
+  candidate->retry_region = -1;
   candidate->light = TagLight();
   for (auto& ring : candidate->points) ring.clear();
 }
@@ -561,7 +563,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   Centring centring;
   centring.centre = cv::Point2f(static_cast<float>(seed.x), static_cast<float>(seed.y));
   StartCandidate(centring.centre, candidate);
-  const SeedAdmission admission = AdmitSeed(rejected, centring.centre);
+  const SeedAdmission admission = AdmitSeed(rejected, centring.centre, &candidate->retry_region);
   if (admission == SeedAdmission::kDropped) {
     *why = RejectReason::kInRejectedRegion;
     return false;

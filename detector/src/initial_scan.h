@@ -57,8 +57,10 @@ inline constexpr int kLostRedRetries = 4;
 // (GrowRegion); a seed from another point of its border starts the scans
 // and the growing again from another centre and border, which on small
 // and steep tags often finds the square the first missed. On the camera
-// set 19 tags more (16 of them under 30 px or over 60 degrees), none lost;
-// tag-free frames grow 0.23 more reds each (8 %).
+// set 18 tags more (15 of them under 30 px or over 60 degrees), none lost;
+// tag-free frames grow 0.23 more reds each (8 %). A red read as fitting a
+// swapped print gets no retries (Detector: each would be another chance for
+// the swapped print to pass as another ID).
 inline constexpr int kCentredRedRetries = 4;
 
 // What a seed's place among the frame's rejected regions allows.
@@ -69,8 +71,10 @@ enum class SeedAdmission {
   kDropped,  // In a region with no retries left.
 };
 // The admission of `seed` (kFree with `rejected` null); a kRetry spends one
-// of its region's retries.
-SeedAdmission AdmitSeed(std::vector<RejectedRegion>* rejected, cv::Point2f seed);
+// of its region's retries and, with `region`, says which (its index in
+// `rejected`).
+SeedAdmission AdmitSeed(std::vector<RejectedRegion>* rejected, cv::Point2f seed,
+                        int* region = nullptr);
 
 // Drops the regions that end above row y. Rows are sampled top to bottom,
 // so no later seed can lie in one, and a busy frame's seeds (thousands in

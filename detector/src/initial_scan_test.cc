@@ -174,8 +174,10 @@ TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
   std::vector<RejectedRegion> rejected = {RejectedRegion::Around(border)};
   rejected[0].retries = 2;
   const cv::Point2f inside(cx, cy), outside(cx + 60, cy);
-  EXPECT_EQ(AdmitSeed(&rejected, outside), SeedAdmission::kFree);
+  int region = -1;
+  EXPECT_EQ(AdmitSeed(&rejected, outside, &region), SeedAdmission::kFree);
   EXPECT_EQ(rejected[0].retries, 2);  // Nothing spent outside it.
+  EXPECT_EQ(region, -1);
   EXPECT_EQ(AdmitSeed(&rejected, inside), SeedAdmission::kRetry);
   EXPECT_EQ(rejected[0].retries, 1);
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
@@ -186,6 +188,7 @@ TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
                           &scratch.ring_scan, &candidate, &rejected, &why))
       << RejectReasonName(why);
   EXPECT_TRUE(candidate.retry);
+  EXPECT_EQ(candidate.retry_region, 0);  // The region it spent a retry of.
   EXPECT_EQ(rejected[0].retries, 0);
   EXPECT_EQ(AdmitSeed(&rejected, inside), SeedAdmission::kDropped);
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3}, &rejected),
