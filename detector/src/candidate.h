@@ -46,7 +46,14 @@ struct Candidate {
   // Its seed lay in a rejected region and spent one of its retries
   // (RejectedRegion::retries): when it fails it adds no region of its own.
   bool retry = false;
-  int retry_region = -1;  // That region's index in the frame's rejected regions.
+  // Its red's index among the frame's rejected regions: the region it spent
+  // a retry of, or the one InitialScan added when it rejected it; -1 if
+  // neither. Valid while this seed's stages run (the regions are forgotten
+  // row by row, between seeds).
+  int region = -1;
+  // Some read of it, by Decode or GrowRegion in any family, was refused as
+  // fitting a swapped print (its region then keeps no retries).
+  bool fits_swapped_print = false;
 };
 
 // The eight directions InitialScan and QuadsFromScans scan in from a

@@ -894,12 +894,11 @@ bool BlurModelAccepts(const DetectorOptions& options, const FamilyDecoder& entry
 // (MisfitRatioRead).
 bool CloseCodeRead(const DetectorOptions& options, const FamilyDecoder& entry,
                    const std::vector<float>& b, bool decoded, double ring_misfit,
-                   CellReader* reader, ReadState* read, RejectReason* why) {
-  bool refused = false;
-  if (BlurModelAccepts(options, entry, b, decoded, reader, read, &refused, why)) return true;
+                   CellReader* reader, ReadState* read, bool* refused, RejectReason* why) {
+  if (BlurModelAccepts(options, entry, b, decoded, reader, read, refused, why)) return true;
   reader->ReadRingOnce();
   read->margin = read->read_margin;
-  if (!refused &&
+  if (!*refused &&
       SoftDecode(options, entry, read->observed, reader->grid, ring_misfit, &read->match))
     return true;
   return entry.misfit_ratio_read &&
@@ -974,7 +973,8 @@ void FillDetection(const ImageView& image, const TagFamily& family, const Candid
 
 bool DecodeAs(const ImageView& image, const DetectorOptions& options, const FamilyDecoder& entry,
               const Candidate& candidate, const cv::Matx33d& image_from_tag, double ring_misfit,
-              SideFitBuffers* buffers, Detection* detection, RejectReason* why) {
+              SideFitBuffers* buffers, Detection* detection, RejectReason* why,
+              bool* fits_swapped_print) {
   const TagFamily& family = *entry.family;
   const int d = family.payload_width();
   const int cells = family.black_square_cells();
@@ -996,7 +996,9 @@ bool DecodeAs(const ImageView& image, const DetectorOptions& options, const Fami
   read.read_margin = read.margin;
   const bool close_codes = family.min_hamming() - entry.decoder->radius() < kFarCodeBits;
   if (close_codes) {
-    decoded = CloseCodeRead(options, entry, b, decoded, ring_misfit, &reader, &read, why);
+    bool refused = false;
+    decoded = CloseCodeRead(options, entry, b, decoded, ring_misfit, &reader, &read, &refused, why);
+    *fits_swapped_print = *fits_swapped_print || refused;
   } else if (!decoded) {
     decoded = FarCodeRead(options, entry, samples, ring_misfit, &reader, &read);
   }
@@ -1033,8 +1035,10 @@ std::vector<Code> SwappedCodes(const TagFamily& family) {
 
 bool Decode(const ImageView& image, const DetectorOptions& options,
             const std::vector<FamilyDecoder>& families, const Candidate& candidate,
-            SideFitBuffers* buffers, Detection* detection, RejectReason* why) {
+            SideFitBuffers* buffers, Detection* detection, RejectReason* why,
+            bool* fits_swapped_print) {
   *why = RejectReason::kNoFamilyFits;
+  bool swapped = false;
   const cv::Matx33d image_from_tag = UnitSquareToQuad(candidate.quads[kBlackWhite]);
   // The ring proportions tell the families apart (red centre 2 of 6 cells for
   // 16h5, 4 of 8 for 36h11); try those that fit, best first.
@@ -1052,10 +1056,11 @@ bool Decode(const ImageView& image, const DetectorOptions& options,
     // The first family's reason is kept: it fits the rings best.
     RejectReason reason;
     if (DecodeAs(image, options, *fits[i].second, candidate, image_from_tag, fits[i].first, buffers,
-                 detection, &reason))
+                 detection, &reason, &swapped))
       return true;
     if (i == 0) *why = reason;
   }
+  if (fits_swapped_print) *fits_swapped_print = *fits_swapped_print || swapped;
   return false;
 }
 
@@ -1063,12 +1068,15 @@ bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
                      const StageSwitches& switches, const std::vector<FamilyDecoder>& families,
                      SideFitBuffers* buffers, Candidate* candidate, Detection* detection,
                      RejectReason* why) {
-  if (Decode(image, options, families, *candidate, buffers, detection, why)) return true;
+  if (Decode(image, options, families, *candidate, buffers, detection, why,
+             &candidate->fits_swapped_print))
+    return true;
   if (*why != RejectReason::kNoFamilyFits || !switches.refine_corners ||
       !RefineInnerQuads(image, buffers, candidate))
     return false;
   RejectReason again;
-  return Decode(image, options, families, *candidate, buffers, detection, &again);
+  return Decode(image, options, families, *candidate, buffers, detection, &again,
+                &candidate->fits_swapped_print);
 }
 
 }  // namespace chromatag::internal

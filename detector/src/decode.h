@@ -56,15 +56,21 @@ std::vector<Code> OrientedCodes(const TagFamily& family);
 PixelSums SumCellGrid(const ImageView& image, cv::Point2d centre, cv::Point2d du, cv::Point2d dv,
                       int samples);
 
+// Reads `candidate` as each family its rings fit, best first. *why: the
+// best-fitting family's reason. With `fits_swapped_print`, sets it (never
+// clears it) when any family's read was refused as a swapped print, whatever
+// reason *why gives.
 bool Decode(const ImageView& image, const DetectorOptions& options,
             const std::vector<FamilyDecoder>& families, const Candidate& candidate,
-            SideFitBuffers* buffers, Detection* detection, RejectReason* why);
+            SideFitBuffers* buffers, Detection* detection, RejectReason* why,
+            bool* fits_swapped_print = nullptr);
 
 // Decode for a candidate whose inner quads are still rough (from the scans or
 // the polygons; only the outer one has its sub-pixel sides): where they fit
 // no family's proportions, RefineInnerQuads (unless the benchmarks turned
 // StageSwitches::refine_corners off) and Decode once more. The first reason
-// stands if that fails too.
+// stands if that fails too. A read of either pass refused as a swapped print
+// sets Candidate::fits_swapped_print.
 bool DecodeCandidate(const ImageView& image, const DetectorOptions& options,
                      const StageSwitches& switches, const std::vector<FamilyDecoder>& families,
                      SideFitBuffers* buffers, Candidate* candidate, Detection* detection,

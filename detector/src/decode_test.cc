@@ -145,6 +145,7 @@ TEST(DecodeTest, BlurredSwappedShadesNeverDecode) {
   const auto families = Families({"16h5", "36h11"});
   const TagFamily& family = *families[0].family;
   std::map<RejectReason, int> reasons;
+  int flagged = 0;  // Reads with fits_swapped_print set.
   for (int id : family.kept_ids()) {
     Candidate candidate;
     const cv::Mat sharp = DrawTag(family, id, true, &candidate);
@@ -170,13 +171,21 @@ TEST(DecodeTest, BlurredSwappedShadesNeverDecode) {
       const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
       Detection detection;
       RejectReason why;
-      EXPECT_FALSE(
-          Decode(view, DetectorOptions{}, families, small, &scratch.side_fit, &detection, &why))
+      bool fits_swapped_print = false;
+      EXPECT_FALSE(Decode(view, DetectorOptions{}, families, small, &scratch.side_fit, &detection,
+                          &why, &fits_swapped_print))
           << "swapped ID " << id << " trial " << trial << " read as " << detection.id;
       ++reasons[why];
+      // The flag says so whenever a read was refused as a swapped print,
+      // also where the reason given is another family's or another rule's.
+      if (why == RejectReason::kSwappedPrint) {
+        EXPECT_TRUE(fits_swapped_print);
+      }
+      flagged += fits_swapped_print;
     }
   }
   EXPECT_GT(reasons[RejectReason::kSwappedPrint], 0);
+  EXPECT_GE(flagged, reasons[RejectReason::kSwappedPrint]);
 }
 
 // Inner rings where neither family puts them: no family fits.

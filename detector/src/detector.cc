@@ -409,7 +409,6 @@ class FrameStages {
     RejectedCandidate rejection;
     if (options_.report_rejected) rejection = Rejection(candidate, seed, why_);
     const bool after_scan = StageOf(why_) != Stage::kInitialScan;
-    bool swapped = why_ == RejectReason::kSwappedPrint;
     if (switches_.grow_regions && internal::WorthGrowing(candidate, why_)) {
       const bool grown = Run(Stage::kGrowRegion, [&] {
         return internal::GrowRegion(view_, options_, families_, &scratch_.region,
@@ -419,23 +418,21 @@ class FrameStages {
       if (grown) return true;
       rejection.grown = true;
       rejection.grow_reason = why_;
-      swapped = swapped || why_ == RejectReason::kSwappedPrint;
     }
     // InitialScan remembers the regions it rejects; so are those the later
     // stages reject, so that the seeds of later rows skip them once they
     // have had their retries. A retry that fails adds no region. A red read
-    // as fitting a swapped print gets no more retries: each would be
-    // another chance for a swapped print's cells to pass as another ID's
-    // (DetectorConditionsTest's swapped-print stress frames).
-    if (candidate.enclosed && !candidate.retry) {
-      if (after_scan) {
-        scratch_.rejected.push_back(internal::RejectedRegion::Around(candidate.red_border));
-        scratch_.rejected.back().retries = swapped ? 0 : internal::kLostRedRetries;
-      } else if (swapped && !scratch_.rejected.empty()) {
-        scratch_.rejected.back().retries = 0;  // The region InitialScan added for it.
-      }
+    // as fitting a swapped print, by any read of any family, keeps no
+    // retries: each would be another chance for a swapped print's cells to
+    // pass as another ID's (DetectorConditionsTest's swapped-print stress
+    // frames).
+    if (candidate.enclosed && after_scan && !candidate.retry) {
+      candidate.region = static_cast<int>(scratch_.rejected.size());
+      scratch_.rejected.push_back(internal::RejectedRegion::Around(candidate.red_border));
+      scratch_.rejected.back().retries = internal::kLostRedRetries;
     }
-    if (candidate.retry && swapped) scratch_.rejected[candidate.retry_region].retries = 0;
+    if (candidate.fits_swapped_print && candidate.region >= 0)
+      scratch_.rejected[candidate.region].retries = 0;
     if (options_.report_rejected) result_.rejected.push_back(std::move(rejection));
     return false;
   }

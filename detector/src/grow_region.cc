@@ -350,7 +350,9 @@ bool GrowRegion(const ImageView& image, const DetectorOptions& options,
     if (!PlaceInnerRings(image, *entry.family, side_buffers, candidate)) continue;
     // Decode tells the families apart by the rings' proportions, which now
     // follow this family's.
-    if (Decode(image, options, families, *candidate, side_buffers, detection, why)) return true;
+    if (Decode(image, options, families, *candidate, side_buffers, detection, why,
+               &candidate->fits_swapped_print))
+      return true;
   }
   return false;
 }

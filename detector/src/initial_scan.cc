@@ -446,6 +446,7 @@ bool Reject(const Centring& centring, RejectReason reason, Candidate* candidate,
   // A retry that fails adds no region: its region's retries bound the
   // seeds spent on the red.
   if (rejected && centring.have_region && !candidate->retry) {
+    candidate->region = static_cast<int>(rejected->size());
     rejected->push_back(centring.region);
     if (centring.converged && reason >= RejectReason::kRingScan)
       rejected->back().retries = kCentredRedRetries;
@@ -466,7 +467,8 @@ void StartCandidate(cv::Point2f centre, Candidate* candidate) {
   candidate->centre = centre;
   candidate->enclosed = false;
   candidate->retry = false;
-  candidate->retry_region = -1;
+  candidate->region = -1;
+  candidate->fits_swapped_print = false;
   candidate->light = TagLight();
   for (auto& ring : candidate->points) ring.clear();
 }
@@ -563,7 +565,7 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   Centring centring;
   centring.centre = cv::Point2f(static_cast<float>(seed.x), static_cast<float>(seed.y));
   StartCandidate(centring.centre, candidate);
-  const SeedAdmission admission = AdmitSeed(rejected, centring.centre, &candidate->retry_region);
+  const SeedAdmission admission = AdmitSeed(rejected, centring.centre, &candidate->region);
   if (admission == SeedAdmission::kDropped) {
     *why = RejectReason::kInRejectedRegion;
     return false;

@@ -52,15 +52,17 @@ struct RejectedRegion {
 // be read (a swapped print) costs at most five passes.
 // Tag-free frames have almost no such candidates.
 inline constexpr int kLostRedRetries = 4;
-// A red whose centre converged and whose final ring scans or their
-// proportions then failed gets this many more seeds. Such a red is grown
+// A red whose centre converged and whose final ring scans (their rings, or
+// the whites that settle its light) or their proportions then failed gets
+// this many more seeds. Such a red is grown
 // (GrowRegion); a seed from another point of its border starts the scans
 // and the growing again from another centre and border, which on small
 // and steep tags often finds the square the first missed. On the camera
 // set 18 tags more (15 of them under 30 px or over 60 degrees), none lost;
-// tag-free frames grow 0.23 more reds each (8 %). A red read as fitting a
-// swapped print gets no retries (Detector: each would be another chance for
-// the swapped print to pass as another ID).
+// tag-free frames grow 0.23 more reds each (8 %). A red any read refused as
+// fitting a swapped print keeps no retries (Candidate::fits_swapped_print:
+// each would be another chance for the swapped print to pass as another
+// ID).
 inline constexpr int kCentredRedRetries = 4;
 
 // What a seed's place among the frame's rejected regions allows.
@@ -72,7 +74,7 @@ enum class SeedAdmission {
 };
 // The admission of `seed` (kFree with `rejected` null); a kRetry spends one
 // of its region's retries and, with `region`, says which (its index in
-// `rejected`).
+// `rejected`; *region is left as it is otherwise).
 SeedAdmission AdmitSeed(std::vector<RejectedRegion>* rejected, cv::Point2f seed,
                         int* region = nullptr);
 
@@ -86,7 +88,9 @@ void ForgetRegionsAbove(float y, std::vector<RejectedRegion>* regions);
 // (the frame's regions rejected so far), a seed is admitted first
 // (AdmitSeed: a dropped one fails at once, a retry sets Candidate::retry),
 // and a region rejected after a centring pass is added unless the
-// candidate is a retry (with kCentredRedRetries if its centre converged).
+// candidate is a retry (with kCentredRedRetries if its centre converged and
+// its final ring scans or their proportions failed); the region's index goes
+// to Candidate::region either way.
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed, Seed kind,
                  RingScanBuffers* buffers, Candidate* candidate,
                  std::vector<RejectedRegion>* rejected, RejectReason* why);

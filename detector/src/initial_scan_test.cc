@@ -180,6 +180,14 @@ TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
   EXPECT_EQ(region, -1);
   EXPECT_EQ(AdmitSeed(&rejected, inside), SeedAdmission::kRetry);
   EXPECT_EQ(rejected[0].retries, 1);
+  // With a region elsewhere first, the one spent is named by its index.
+  std::array<cv::Point2f, 8> elsewhere = border;
+  for (cv::Point2f& p : elsewhere) p.x += 100;
+  std::vector<RejectedRegion> two = {RejectedRegion::Around(elsewhere), rejected[0]};
+  EXPECT_EQ(AdmitSeed(&two, inside, &region), SeedAdmission::kRetry);
+  EXPECT_EQ(region, 1);
+  EXPECT_EQ(two[1].retries, 0);
+  EXPECT_EQ(two[0].retries, 0);  // Untouched: it had none.
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Scratch scratch;
   Candidate candidate;
@@ -188,7 +196,7 @@ TEST(InitialScanTest, ARegionWithRetriesLetsThatManySeedsThrough) {
                           &scratch.ring_scan, &candidate, &rejected, &why))
       << RejectReasonName(why);
   EXPECT_TRUE(candidate.retry);
-  EXPECT_EQ(candidate.retry_region, 0);  // The region it spent a retry of.
+  EXPECT_EQ(candidate.region, 0);  // The region it spent a retry of.
   EXPECT_EQ(rejected[0].retries, 0);
   EXPECT_EQ(AdmitSeed(&rejected, inside), SeedAdmission::kDropped);
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3}, &rejected),
@@ -258,7 +266,7 @@ TEST(InitialScanTest, ForgetsRegionsThatEndAboveTheRow) {
   EXPECT_TRUE(regions.empty());
 }
 
-// Red on green without a black ring passes the centring but not the ring
+// Red on green without a black ring fails the first centring pass's ring
 // scans (white follows the green); the region then joins `rejected`, around
 // the drawn red.
 TEST(InitialScanTest, AddsTheRegionRejectedAfterCentring) {
