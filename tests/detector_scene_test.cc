@@ -334,8 +334,10 @@ TEST(DetectorSceneTest, RejectedCandidatesSayWhereAndWhy) {
 }
 
 // A red that passes InitialScan and is then lost (a swapped print, refused
-// at Decode and by GrowRegion) is tried again by the next seeds inside it,
-// kLostRedRetries of them; the seeds after those are dropped at once.
+// at Decode and by GrowRegion for other reasons than fitting a swapped
+// print, which would end its retries) is tried again by the next seeds
+// inside it, kLostRedRetries of them; the seeds after those are dropped at
+// once.
 TEST(DetectorSceneTest, ALostRedIsRetriedThenDropped) {
   const Scene scene = RenderScene({SwappedPrint(160, {120, 120})}, SceneOptions{});
   DetectorOptions options;
@@ -350,6 +352,8 @@ TEST(DetectorSceneTest, ALostRedIsRetriedThenDropped) {
     if (cv::pointPolygonTest(square, cv::Point2f(r.seed), false) <= 0) continue;
     lost_later += r.stage != Stage::kInitialScan;
     dropped += r.reason == RejectReason::kInRejectedRegion;
+    EXPECT_NE(r.reason, RejectReason::kSwappedPrint);
+    EXPECT_FALSE(r.grown && r.grow_reason == RejectReason::kSwappedPrint);
   }
   EXPECT_EQ(lost_later, 1 + internal::kLostRedRetries);
   EXPECT_GT(dropped, 0);

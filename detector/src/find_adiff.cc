@@ -101,12 +101,13 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
     return image.kernels().scan_row_computed_a(sampler, image.table().fast_a_tables(), rises);
   }
   // The coarse table is within kCoarseErrorBound of the accurate a*, so a
-  // true rise above ADiffThresh shows at least this much in coarse values.
+  // true rise above `accurate` shows at least this much in coarse values.
+  auto coarse_rise = [](double accurate) {
+    return static_cast<int>(std::floor(accurate)) - 2 * ColorTable::kCoarseErrorBound;
+  };
   sampler.table = image.table().coarse_a_table();
-  sampler.threshold =
-      static_cast<int>(std::floor(options.adiff_thresh)) - 2 * ColorTable::kCoarseErrorBound;
-  sampler.step_thresh = static_cast<int>(std::floor(kTwoStepShare * options.adiff_thresh)) -
-                        2 * ColorTable::kCoarseErrorBound;
+  sampler.threshold = coarse_rise(options.adiff_thresh);
+  sampler.step_thresh = coarse_rise(kTwoStepShare * options.adiff_thresh);
   // Without two_step_rises, no sample counts as green.
   sampler.green_limit =
       options.two_step_rises
@@ -114,9 +115,7 @@ int ScanRow(const ImageView& image, const DetectorOptions& options, int y, int32
           : INT_MIN;
   sampler.red_floor =
       static_cast<int>(std::floor(kTwoStepCastMinRedA)) - ColorTable::kCoarseErrorBound - 1;
-  sampler.dim_two_step_thresh =
-      static_cast<int>(std::floor(kDimTwoStepShare * options.adiff_thresh)) -
-      2 * ColorTable::kCoarseErrorBound;
+  sampler.dim_two_step_thresh = coarse_rise(kDimTwoStepShare * options.adiff_thresh);
   return image.kernels().scan_row_coarse(sampler, coarse, rises);
 }
 

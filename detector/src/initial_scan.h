@@ -49,15 +49,15 @@ struct RejectedRegion {
 
 // A candidate the later stages lost gets this many more seeds on its red:
 // on the camera set as many tags as with no limit, while a tag that cannot
-// be read (a swapped print) costs at most five passes.
+// be read costs at most five passes (one if a read fits a swapped print).
 // Tag-free frames have almost no such candidates.
 inline constexpr int kLostRedRetries = 4;
 // A red whose centre converged and whose final ring scans (their rings, or
 // the whites that settle its light) or their proportions then failed gets
-// this many more seeds. Such a red is grown
-// (GrowRegion); a seed from another point of its border starts the scans
-// and the growing again from another centre and border, which on small
-// and steep tags often finds the square the first missed. On the camera
+// this many more seeds. Such a red is grown (GrowRegion); a seed from
+// another point of its border starts the scans and the growing again from
+// another centre and border, which on small and steep tags often finds the
+// square the first missed. On the camera
 // set 18 tags more (15 of them under 30 px or over 60 degrees), none lost;
 // tag-free frames grow 0.23 more reds each (8 %). A red any read refused as
 // fitting a swapped print keeps no retries (Candidate::fits_swapped_print:
