@@ -58,6 +58,7 @@ struct StageTotals {
 void BM_Detect(benchmark::State& state, bool with_tag, std::vector<std::string> families) {
   DetectorOptions options;
   options.families = std::move(families);
+  options.time_stages = true;  // StageTotals.
   auto detector = Detector::Create(options);
   const cv::Mat frame = Frame(with_tag);
   DetectionResult result;
@@ -131,6 +132,7 @@ void BM_CameraSet(benchmark::State& state, bool with_tags, bool cold) {
   }
   DetectorOptions options;
   options.families = {"16h5", "36h11"};
+  options.time_stages = true;  // StageTotals.
   internal::StageSwitches switches;
   if (getenv("NOREFINE")) switches.refine_corners = false;
   auto detector = internal::CreateDetector(options, switches);

@@ -27,6 +27,8 @@ void SwitchOption(const std::string& off, const std::string& on, DetectorOptions
                   internal::StageSwitches* b_switches) {
   if (on == "cast_seeds") {
     b->cast_seeds = true;
+  } else if (on == "time_stages") {
+    b->time_stages = true;
   } else if (off == "two_step_rises") {
     b->two_step_rises = false;
   } else if (off == "colour_split_read") {
@@ -84,7 +86,7 @@ int main(int argc, char** argv) {
   CLI::Option* on_option =
       app.add_option("--on", on,
                      "the DetectorOptions switch, off by default, that the second setting turns on")
-          ->check(CLI::IsMember({"cast_seeds"}));
+          ->check(CLI::IsMember({"cast_seeds", "time_stages"}));
   off_option->excludes(on_option);
   try {
     app.parse(argc, argv);

@@ -42,8 +42,7 @@ namespace {
 
 // One detector on one frame, timed, scored against the truth, and its pose
 // measured when it found the tag. Returns the frame's touch sum.
-uint64_t DetectAndScore(const Frame& frame, int d, TagDetector* detector,
-                        ChromaTagDetector& chromatag, FrameRecord* record,
+uint64_t DetectAndScore(const Frame& frame, int d, TagDetector* detector, FrameRecord* record,
                         std::vector<FoundTag>* found) {
   const uint64_t touched = TouchFrame(frame.bgr);
   const auto start = Clock::now();
@@ -60,7 +59,6 @@ uint64_t DetectAndScore(const Frame& frame, int d, TagDetector* detector,
     other = d == kChromaTag ? &frame.truth.apriltag : &frame.truth.chromatag;
   }
   out.score = ScoreFrame(*found, own, other);
-  if (d == kChromaTag) record->chromatag_summary = chromatag.last_summary();
   if (out.score.found) {
     const FoundTag& tag = (*found)[out.score.found_index];
     const cv::Matx33d k(own->fx, 0, own->cx, 0, own->fx, own->cy, 0, 0, 1);
@@ -153,7 +151,7 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       for (int turn = 0; turn < kNumDetectors; ++turn) {
         const int d = (first + i + turn) % kNumDetectors;
         if (!detectors[d]) continue;
-        touched += DetectAndScore(frames[i], d, detectors[d], chromatag, &record, &found);
+        touched += DetectAndScore(frames[i], d, detectors[d], &record, &found);
       }
     }
     // ChromaTag again on the chunk, with nothing else in between.
@@ -161,6 +159,8 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       touched += TimeChromaTagAlone(frames, chromatag, &records[first], &found);
     local.detect_s += Seconds(detect_start, Clock::now());
     const auto analysis_start = Clock::now();
+    for (int i = 0; i < count; ++i)
+      records[first + i].chromatag_summary = chromatag.TimeStages(frames[i].bgr);
     for (int i = 0; i < count; ++i)
       RunCalibrated(frames[i], calibrated, &records[first + i], &found);
     for (int i = 0; i < count; ++i) {

@@ -204,7 +204,8 @@ std::unique_ptr<TagDetector> MakeArucoDetector(const std::vector<std::string>& f
 struct ChromaTagDetector::Impl {
   std::unique_ptr<Detector> detector;
   std::unique_ptr<Detector> reporting;  // The same, with report_rejected on.
-  DetectionResult result, analysis;
+  std::unique_ptr<Detector> staged;     // The same, with time_stages on.
+  DetectionResult result, analysis, staged_result;
   const std::string name = "ChromaTag";
 };
 
@@ -229,6 +230,10 @@ std::unique_ptr<ChromaTagDetector> ChromaTagDetector::CreateWithOptions(
   options.report_rejected = true;
   impl->reporting = Detector::Create(options, error);
   if (!impl->reporting) return nullptr;
+  options.report_rejected = false;
+  options.time_stages = true;
+  impl->staged = Detector::Create(options, error);
+  if (!impl->staged) return nullptr;
   return std::unique_ptr<ChromaTagDetector>(new ChromaTagDetector(std::move(impl)));
 }
 
@@ -310,6 +315,11 @@ bool AssumedPoseCovariance(const FoundTag& tag, const cv::Matx33d& k, double tag
 }
 
 const DetectorSummary& ChromaTagDetector::last_summary() const { return impl_->result.summary; }
+
+const DetectorSummary& ChromaTagDetector::TimeStages(const cv::Mat& bgr) {
+  impl_->staged->Detect(bgr, PixelOrder::kBgr, &impl_->staged_result);
+  return impl_->staged_result.summary;
+}
 
 MissCause ChromaTagDetector::ExplainMiss(const cv::Mat& bgr, const FrameTruth& truth) {
   impl_->reporting->Detect(bgr, PixelOrder::kBgr, &impl_->analysis);

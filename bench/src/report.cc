@@ -133,7 +133,9 @@ std::string StageTable(const Context& c) {
   for (int g = 0; g < 3; ++g) total.push_back(Fixed(counts[g] ? totals[g] / counts[g] : kNaN, 1));
   rows.push_back(total);
   return "### Table 2: ChromaTag time per stage\n\n"
-         "Mean µs per frame (share of the detector's total). The paper reports frames with a "
+         "Mean µs per frame (share of the detector's total), from a pass of its own with each "
+         "stage timed (`time_stages`: the clock read around each candidate's stages adds a few "
+         "per cent, which Table 1's times do not carry). The paper reports frames with a "
          "detection (its Table 2: 0.52, 0.03, 0.08, 0.74, 0.04 ms on a 3.5 GHz Ivy Bridge).\n\n" +
          Markdown({"stage", "frames with the tag found (" + Grouped(counts[0]) + ")",
                    "tag-free frames (" + Grouped(counts[1]) + ")",

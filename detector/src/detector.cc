@@ -349,6 +349,7 @@ class FrameStages {
   // Runs one stage, adding its time; Run also counts a rejection.
   template <typename Body>
   bool Timed(Stage stage, Body&& body) {
+    if (!options_.time_stages) return body();
     const Clock::time_point start = Clock::now();
     const bool passed = body();
     summary_.stage_time_us[static_cast<int>(stage)] += MicrosecondsSince(start);
@@ -447,10 +448,11 @@ class FrameStages {
   RejectReason why_ = RejectReason::kPaleRed;  // Why the last stage to fail failed.
 };
 
-// The frame's total time, and FindADiff's: what the other stages and the
-// poses did not take.
-void FinishTimes(Clock::time_point frame_start, DetectorSummary* summary) {
+// The frame's total time and, when the stages were timed, FindADiff's:
+// what the other stages and the poses did not take.
+void FinishTimes(Clock::time_point frame_start, bool stages_timed, DetectorSummary* summary) {
   summary->total_time_us = MicrosecondsSince(frame_start);
+  if (!stages_timed) return;
   double others = 0;
   for (int s = 1; s < kNumStages; ++s) others += summary->stage_time_us[s];
   summary->stage_time_us[0] =
@@ -490,7 +492,7 @@ void Detector::Detect(const cv::Mat& image, PixelOrder order, DetectionResult* r
       if (stages.FromSeed(seed, kind, &detection)) stages.Accept(&detection);
     }
   }
-  FinishTimes(frame_start, &summary);
+  FinishTimes(frame_start, options.time_stages, &summary);
 }
 
 }  // namespace chromatag

@@ -64,6 +64,31 @@ TEST(DetectorTest, RedOnGreenWithoutRingsIsRejectedAndCounted) {
   EXPECT_EQ(result.summary.rejected[static_cast<int>(Stage::kInitialScan)], result.summary.seeds);
 }
 
+// The stages are timed only when asked (each timing reads the clock twice a
+// candidate); the frame's total always is.
+TEST(DetectorTest, StagesAreTimedOnlyWithTimeStages) {
+  cv::Mat image(200, 200, CV_8UC3, cv::Scalar(60, 160, 40));  // BGR green.
+  cv::rectangle(image, cv::Rect(80, 80, 40, 40), cv::Scalar(60, 20, 220), cv::FILLED);
+  for (bool time_stages : {false, true}) {
+    DetectorOptions options;
+    options.time_stages = time_stages;
+    auto detector = Detector::Create(options);
+    ASSERT_TRUE(detector);
+    const DetectorSummary summary = detector->Detect(image).summary;
+    ASSERT_GT(summary.seeds, 0);
+    EXPECT_GT(summary.total_time_us, 0.0);
+    const double find_adiff = summary.stage_time_us[static_cast<int>(Stage::kFindADiff)];
+    const double initial_scan = summary.stage_time_us[static_cast<int>(Stage::kInitialScan)];
+    if (time_stages) {
+      EXPECT_GT(initial_scan, 0.0);
+      EXPECT_GT(find_adiff, 0.0);
+      EXPECT_LE(find_adiff + initial_scan, summary.total_time_us);
+    } else {
+      for (double us : summary.stage_time_us) EXPECT_EQ(us, 0.0);
+    }
+  }
+}
+
 // FindADiff samples every sampled_row_step()-th row from the top: a red square
 // on green seeds once on each sampled row that crosses it, at its left edge.
 TEST(DetectorTest, RowStepSetsTheRowsThatSeed) {

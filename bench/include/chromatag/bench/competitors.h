@@ -105,6 +105,11 @@ class ChromaTagDetector : public TagDetector {
   bool Pose(const FoundTag& tag, const cv::Matx33d& k, double tag_size,
             PoseEstimate* pose) const override;
   const DetectorSummary& last_summary() const;
+  // Runs the detector again on `bgr` with DetectorOptions::time_stages on
+  // and returns its summary: each stage's time. Timing the stages reads the
+  // clock around each candidate's stages, so this is never part of a timed
+  // call either.
+  const DetectorSummary& TimeStages(const cv::Mat& bgr);
 
   // Runs the detector again on `bgr`, with rejected candidates reported,
   // and says why the tag of `truth` (a tagged frame) was missed: Table 4(b).

@@ -25,7 +25,7 @@ namespace chromatag {
 inline constexpr const char* kDetectorConfigSchema = "chromatag-detector-config";
 
 // The names "options" may hold, as in the file: every DetectorOptions field
-// but report_rejected (a run's choice), camera and tag_size (a rig's, not a
+// but report_rejected and time_stages (a run's choices), camera and tag_size (a rig's, not a
 // print's). Python's Detector takes the same names as keyword arguments.
 std::vector<std::string> DetectorConfigFieldNames();
 

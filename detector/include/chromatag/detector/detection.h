@@ -97,7 +97,8 @@ inline constexpr int kNumStages = 6;
 const char* StageName(Stage stage);  // "FindADiff", ..., "GrowRegion"
 
 struct DetectorSummary {
-  // Wall time spent in each stage, microseconds. FindADiff is the frame's
+  // Wall time spent in each stage, microseconds, with
+  // DetectorOptions::time_stages (else zero). FindADiff is the frame's
   // time minus the other stages (its loop encloses them). The fast path's
   // quads count as BuildPolygon, its sub-pixel sides as PolyToQuad and its
   // reads as Decode.
