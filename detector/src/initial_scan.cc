@@ -436,6 +436,9 @@ struct Centring {
   RejectedRegion region;
   bool have_region = false;
   bool converged = false;  // The centre converged; the final scans follow.
+  // Its colours were a tag's only in its own light (ColoursInProbeLight):
+  // a cast or dim light explained them.
+  bool judged_in_own_light = false;
 };
 
 // Rejects the candidate for `reason`: leaves the last centre and red/green
@@ -444,8 +447,15 @@ struct Centring {
 bool Reject(const Centring& centring, RejectReason reason, Candidate* candidate,
             std::vector<RejectedRegion>* rejected, RejectReason* why) {
   // A retry that fails adds no region: its region's retries bound the
-  // seeds spent on the red.
-  if (rejected && centring.have_region && !candidate->retry) {
+  // seeds spent on the red. Nor does a red whose colours passed only in
+  // its own light: the drops a cast or dim light explains can also be the
+  // way out of a large red object that is no tag, into the card of a tag
+  // beside it, and its region would then drop that tag's seeds. With
+  // cast_seeds, a red-brown background under a warm cast so took a 63 px
+  // tag (camera set, frame 3924); on the camera set's 8,000 frames the
+  // defaults find the same tags in the same time without these regions,
+  // and with cast_seeds that tag is found and none lost.
+  if (rejected && centring.have_region && !candidate->retry && !centring.judged_in_own_light) {
     candidate->region = static_cast<int>(rejected->size());
     rejected->push_back(centring.region);
     if (centring.converged && reason >= RejectReason::kRingScan)
@@ -574,7 +584,9 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // The seed may sit on the blurred edge of the red; the reddest of it and
   // its neighbourhood is the better ReferenceRed.
   centring.reference_red = std::max(image.A(seed.x, seed.y), image.MeanA3x3(seed.x, seed.y));
+  bool in_own_light = false;
   auto reject = [&](RejectReason reason) {
+    centring.judged_in_own_light = in_own_light;
     return Reject(centring, reason, candidate, rejected, why);
   };
   // A tag's red half-width is under half the frame unless the tag is larger
@@ -587,7 +599,6 @@ bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Poi
   // than kMinTagRedA, must show a tag's colours in its own light first: one
   // ring scan back along the row, where the rise came from (the seed lies
   // at the red's edge, so the rings follow within a few cells).
-  bool in_own_light = false;
   if (kind == Seed::kInACast || centring.reference_red < static_cast<float>(kMinTagRedA)) {
     if (!ColoursInProbeLight(image, options, centring.centre, seed, kScanDirections[4], 0,
                              2 * options.step + kProbeSlack, centring.reference_red, buffers)) {

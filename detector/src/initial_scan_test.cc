@@ -38,13 +38,13 @@ const cv::Point2f kAxes[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
 
 // Why InitialScan rejects the seed (a failure is added if it does not).
 RejectReason RejectionOf(const cv::Mat& image, cv::Point seed,
-                         std::vector<RejectedRegion>* rejected) {
+                         std::vector<RejectedRegion>* rejected, Seed kind = Seed::kSeed) {
   const ImageView view(image, PixelOrder::kBgr, ColorTable::Get());
   Scratch scratch;
   Candidate candidate;
   RejectReason why = RejectReason::kPaleRed;
-  EXPECT_FALSE(InitialScan(view, DetectorOptions{}, seed, Seed::kSeed, &scratch.ring_scan,
-                           &candidate, rejected, &why))
+  EXPECT_FALSE(InitialScan(view, DetectorOptions{}, seed, kind, &scratch.ring_scan, &candidate,
+                           rejected, &why))
       << "seed " << seed << " accepted";
   return why;
 }
@@ -283,6 +283,27 @@ TEST(InitialScanTest, AddsTheRegionRejectedAfterCentring) {
   EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 2, cy + 3}, &rejected),
             RejectReason::kInRejectedRegion);
   EXPECT_EQ(rejected.size(), 1u);
+}
+
+// A red whose colours passed only in its own light (a seed only a cast or
+// dim light explains) leaves no region when it is rejected: those looser
+// judgements can lead out of a large red object into a tag beside it. The
+// same red seeded as a plain rise does.
+TEST(InitialScanTest, ARedJudgedInItsOwnLightAddsNoRegion) {
+  const int cx = 100, cy = 100;
+  cv::Mat image = RenderRings({200, 200}, cx, cy);
+  // White over the black ring's right side: the first pass's ring scan to
+  // the right fails; the probe of the seed's own light looks left, from a
+  // seed far enough inside the red for a ring scan to start.
+  cv::rectangle(image, {cx + kGreenHalf + 1, cy - kBlackHalf}, {cx + kBlackHalf, cy + kBlackHalf},
+                kWhite, cv::FILLED);
+  for (Seed kind : {Seed::kSeed, Seed::kInACast}) {
+    std::vector<RejectedRegion> rejected;
+    EXPECT_EQ(RejectionOf(image, {cx - kRedHalf + 3, cy}, &rejected, kind),
+              RejectReason::kRingScan);
+    EXPECT_EQ(rejected.size(), kind == Seed::kSeed ? 1u : 0u)
+        << (kind == Seed::kSeed ? "a plain rise" : "a seed in a cast");
+  }
 }
 
 // After the first centring pass only the rings to the right and below are
