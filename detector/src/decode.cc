@@ -464,6 +464,32 @@ bool SwappedPrintsFitFarWorse(const FamilyDecoder& entry, Code observed, Code co
          kMinSwappedRmsRatio * code_fit.abs_rms;
 }
 
+// A far family's (36h11) swapped print differs from every code by more
+// than the soft read's reach, but under blur and noise its cells can still
+// lie within that reach of another code: a 36h11 tag printed with its
+// shades swapped, among detector_conditions_test's stress frames, read as
+// ID 247 with five bits corrected while its own pattern lay further than
+// five bits from the observed ones. Swapped prints within
+// kFarSwappedRivalBits of the observed bits must then fit worse than the
+// code by kMinSoftRivalRatio, as the code's rivals must. On the camera
+// set's 8,000 frames this refused 5 true 36h11 reads (13-45 px), the
+// likelihood-ratio read (FarMisfitRatioRead) took 2 of them back.
+constexpr int kFarSwappedRivalBits = 12;
+
+// Whether a swapped print within kFarSwappedRivalBits of the observed bits
+// fits the cells (FitBlurModel's rms) within kMinSoftRivalRatio of a far
+// family's best code (`best_rms`).
+bool SwappedPrintFitsAsWell(const FamilyDecoder& entry, Code observed, const PayloadGrid& grid,
+                            double best_rms) {
+  for (Code swapped : entry.swapped_codes) {
+    if (HammingDistance(swapped, observed) <= kFarSwappedRivalBits &&
+        FitBlurModel(*entry.family, swapped, grid).rms <
+            kMinSoftRivalRatio(/*close_codes=*/false) * best_rms)
+      return true;
+  }
+  return false;
+}
+
 // Fills *match on success; *swapped_fits_best tells whether a swapped print
 // fits the cells kMinSwappedOverCodeRatio times better than every code.
 bool BlurModelRead(const FamilyDecoder& entry, Code observed, const PayloadGrid& grid,
@@ -485,6 +511,7 @@ bool BlurModelRead(const FamilyDecoder& entry, Code observed, const PayloadGrid&
   if (NearASwappedPrint(entry, search.best_pattern) &&
       !SwappedPrintsFitFarWorse(entry, observed, search.best_pattern, fit, grid))
     return false;
+  if (!close_codes && SwappedPrintFitsAsWell(entry, observed, grid, search.best)) return false;
   *match = search.best_match;
   return true;
 }
@@ -675,7 +702,8 @@ bool AlikeRedsRivalFitsBetter(const FamilyDecoder& entry, Code code, Code observ
   return false;
 }
 
-// The last read of a family of close codes (16h5), for a read every rule
+// The last read of a family of close codes (16h5; far codes have one too,
+// below), for a read every rule
 // above refuses, whether for its margin, a correction or a swapped print: a
 // likelihood-ratio test between every pattern a tag could show. Each code of
 // the family (each kept ID in each orientation) and each swapped print is
@@ -709,30 +737,58 @@ constexpr int kMaxRatioReadBits = 3;
 constexpr double kMinMisfitRatioTest(int bits) { return bits <= 2 ? 15.0 : 30.0; }
 constexpr double kMinShadeNoise = 0.5;
 
+// The same test for a family of far codes (36h11), after every other read
+// failed: the best code within kMaxFarRatioReadBits of the observed bits
+// (beyond the soft read's five; 36h11's codes lie 11 or more apart), every
+// code and swapped print within kFarRatioRivalBits fitting worse by
+// kMinFarMisfitRatioTest times the noise. Small 36h11 tags lose many cells
+// to JPEG's half-resolution chroma and blur (3-4 px cells at 30-40 px).
+// Measured with the bar at 0 (every best code read):
+// - on detector_conditions_test's stress frames 0-2999, 36h11 printed with
+//   its shades swapped and with its reds alike (48,000 tags), 17 wrong IDs
+//   (6 to 8 bits corrected), at statistics of 13.0 and less;
+// - on the camera set's 8,000 frames no wrong ID.
+// At 30, with up to 8 bits read, the camera set finds 30 more 36h11 tags
+// (17 of them 30-46 px), none wrong, and the stress frames read no wrong
+// ID; reads of up to 6 and 7 bits found 15 and 22 more. With the soft
+// read's check of swapped prints (SwappedPrintFitsAsWell) the set loses 3
+// tags it found before: 4,336 -> 4,363 in all.
+constexpr int kMaxFarRatioReadBits = 8;
+constexpr int kFarRatioRivalBits = 16;
+constexpr double kMinFarMisfitRatioTest = 30.0;
+
 // The patterns are fitted nearest the observed bits first, and the read is
 // given up at the first that fits within the test's bar: most reads that come
 // here fail on one of the first few.
-bool MisfitRatioRead(const FamilyDecoder& entry, Code observed, const PayloadGrid& grid,
-                     double ring_misfit, CodeMatch* match) {
+bool MisfitRatioRead(const DetectorOptions& options, const FamilyDecoder& entry, Code observed,
+                     const PayloadGrid& grid, double ring_misfit, bool close_codes,
+                     CodeMatch* match) {
   if (ring_misfit > kMaxSoftRingMisfitCells) return false;
   const TagFamily& family = *entry.family;
+  // A max_hamming the user set caps this read too.
+  int max_read_bits = close_codes ? kMaxRatioReadBits : kMaxFarRatioReadBits;
+  if (options.max_hamming >= 0) max_read_bits = std::min(max_read_bits, options.max_hamming);
+  const int rival_bits = close_codes ? family.num_bits() : kFarRatioRivalBits;
   const size_t num_codes = entry.oriented_codes.size();
   auto pattern_at = [&](size_t i) {
     return i < num_codes ? entry.oriented_codes[i] : entry.swapped_codes[i - num_codes];
   };
-  // Every pattern's index, nearest the observed bits first.
+  // The patterns within reach, nearest the observed bits first.
   const size_t num_patterns = num_codes + entry.swapped_codes.size();
-  std::vector<std::pair<int, size_t>> order(num_patterns);
-  for (size_t i = 0; i < num_patterns; ++i)
-    order[i] = {HammingDistance(pattern_at(i), observed), i};
+  std::vector<std::pair<int, size_t>> order;
+  order.reserve(close_codes ? num_patterns : 64);
+  for (size_t i = 0; i < num_patterns; ++i) {
+    const int bits = HammingDistance(pattern_at(i), observed);
+    if (bits <= rival_bits) order.push_back({bits, i});
+  }
   std::sort(order.begin(), order.end());
-  // The best code within kMaxRatioReadBits; the misfits fitted on the way
-  // (the nearest patterns) are kept for the test.
+  // The best code within max_read_bits; the misfits fitted on the way (the
+  // nearest patterns) are kept for the test.
   std::vector<double> misfit(num_patterns, -1.0);
   double best = std::numeric_limits<double>::infinity();
   size_t best_index = num_patterns;
   for (const auto& [bits, i] : order) {
-    if (bits > kMaxRatioReadBits) break;
+    if (bits > max_read_bits) break;
     if (i >= num_codes) continue;
     misfit[i] = OrderedMisfit(family, pattern_at(i), grid);
     if (misfit[i] < best) best = misfit[i], best_index = i;
@@ -740,7 +796,8 @@ bool MisfitRatioRead(const FamilyDecoder& entry, Code observed, const PayloadGri
   if (best_index == num_patterns) return false;
   const int read_bits = HammingDistance(pattern_at(best_index), observed);
   const double noise = std::max(best / (family.num_bits() - 5), kMinShadeNoise * kMinShadeNoise);
-  const double bar = best + kMinMisfitRatioTest(read_bits) * noise;
+  const double ratio = close_codes ? kMinMisfitRatioTest(read_bits) : kMinFarMisfitRatioTest;
+  const double bar = best + ratio * noise;
   for (const auto& [bits, i] : order) {
     if (i == best_index) continue;
     const double m = misfit[i] >= 0 ? misfit[i] : OrderedMisfit(family, pattern_at(i), grid, bar);
@@ -902,13 +959,15 @@ bool CloseCodeRead(const DetectorOptions& options, const FamilyDecoder& entry,
       SoftDecode(options, entry, read->observed, reader->grid, ring_misfit, &read->match))
     return true;
   return entry.misfit_ratio_read &&
-         MisfitRatioRead(entry, read->observed, reader->grid, ring_misfit, &read->match);
+         MisfitRatioRead(options, entry, read->observed, reader->grid, ring_misfit,
+                         /*close_codes=*/true, &read->match);
 }
 
 // The reads for a family of far codes (36h11) after the hard read failed.
 // Blur, demosaicing and JPEG's chroma mix each cell with its neighbours;
 // small cells lose their shade to them. Read again with the neighbours'
-// share taken out; then the soft read, its margin the hard read's. Only
+// share taken out; then the soft read, its margin the hard read's, and the
+// likelihood-ratio read (MisfitRatioRead). Only
 // where every read stays kFarCodeBits from any other code: sharpening moves
 // cells across the split, and a 16h5 tag printed with its shades swapped
 // then read as another ID exactly (DetectorConditionsTest).
@@ -922,7 +981,10 @@ bool FarCodeRead(const DetectorOptions& options, const FamilyDecoder& entry, int
       return true;
   }
   read->margin = read->read_margin;
-  return SoftDecode(options, entry, read->observed, reader->grid, ring_misfit, &read->match);
+  return SoftDecode(options, entry, read->observed, reader->grid, ring_misfit, &read->match) ||
+         (entry.misfit_ratio_read &&
+          MisfitRatioRead(options, entry, read->observed, reader->grid, ring_misfit,
+                          /*close_codes=*/false, &read->match));
 }
 
 // Fills *detection from a read: its code, margin and corners in the decoded

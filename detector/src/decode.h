@@ -36,9 +36,8 @@ struct FamilyDecoder {
   // Whether a read the blur model refuses gets the colour-by-colour soft
   // read (StageSwitches::colour_split_read; always on for users).
   bool colour_split_read = true;
-  // Whether a close-code read every other rule refuses gets the
-  // likelihood-ratio read (StageSwitches::misfit_ratio_read; always on for
-  // users).
+  // Whether a read every other rule refuses gets the likelihood-ratio read
+  // (StageSwitches::misfit_ratio_read; always on for users).
   bool misfit_ratio_read = true;
 };
 

@@ -35,9 +35,10 @@ struct StageSwitches {
   // each colour's split of the cells against that colour's own gap.
   bool colour_split_read = true;
 
-  // Decode's last read for families of close codes (MisfitRatioRead in
-  // decode.cc): the likelihood-ratio test between every code and swapped
-  // print, for reads the other rules refuse.
+  // Decode's last read (MisfitRatioRead in decode.cc): the likelihood-ratio
+  // test between the codes and swapped prints (every one for close codes,
+  // those near the observed bits for far ones), for reads the other rules
+  // refuse.
   bool misfit_ratio_read = true;
 };
 
