@@ -10,7 +10,6 @@
 
 #include "chromatag/bench/dataset.h"
 #include "chromatag/detector/detector.h"
-#include "stage_switches.h"
 #include "synthetic_scene.h"
 
 namespace chromatag {
@@ -133,9 +132,7 @@ void BM_CameraSet(benchmark::State& state, bool with_tags, bool cold) {
   DetectorOptions options;
   options.families = {"16h5", "36h11"};
   options.time_stages = true;  // StageTotals.
-  internal::StageSwitches switches;
-  if (getenv("NOREFINE")) switches.refine_corners = false;
-  auto detector = internal::CreateDetector(options, switches);
+  auto detector = Detector::Create(options);
   DetectionResult result;
   StageTotals totals;
   size_t next = 0;
