@@ -351,6 +351,12 @@ TEST(ComparisonTest, ChromaTagIsAlsoTimedAloneWhenOthersRun) {
     EXPECT_GT(alone[i].detectors[kChromaTag].time_us, 0.0) << i;
     EXPECT_EQ(both[i].detectors[kChromaTag].score.found, alone[i].detectors[kChromaTag].score.found)
         << i;
+    // Table 2's stage times, from the pass with the stages timed, in either run.
+    for (const auto* records : {&both, &alone}) {
+      const DetectorSummary& summary = (*records)[i].chromatag_summary;
+      EXPECT_GT(summary.total_time_us, 0.0) << i;
+      EXPECT_GT(summary.stage_time_us[static_cast<int>(Stage::kFindADiff)], 0.0) << i;
+    }
   }
 }
 

@@ -142,6 +142,7 @@ std::vector<FrameRecord> RunComparison(const Dataset& dataset, ChromaTagDetector
       for (TagDetector* detector : detectors) {
         for (int i = 0; i < 3 && detector; ++i) detector->Detect(frames[0].bgr, &found);
       }
+      for (int i = 0; i < 3; ++i) chromatag.TimeStages(frames[0].bgr);
       warmed_up = true;
     }
     for (int i = 0; i < count; ++i) {

@@ -225,6 +225,7 @@ std::unique_ptr<ChromaTagDetector> ChromaTagDetector::CreateWithOptions(
   auto impl = std::make_unique<Impl>();
   DetectorOptions options = given;
   options.report_rejected = false;
+  options.time_stages = false;
   impl->detector = Detector::Create(options, error);
   if (!impl->detector) return nullptr;
   options.report_rejected = true;

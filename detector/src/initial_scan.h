@@ -88,9 +88,10 @@ void ForgetRegionsAbove(float y, std::vector<RejectedRegion>* regions);
 // (the frame's regions rejected so far), a seed is admitted first
 // (AdmitSeed: a dropped one fails at once, a retry sets Candidate::retry),
 // and a region rejected after a centring pass is added unless the
-// candidate is a retry (with kCentredRedRetries if its centre converged and
-// its final ring scans or their proportions failed); the region's index goes
-// to Candidate::region either way.
+// candidate is a retry or its colours passed only in its own light (with
+// kCentredRedRetries if its centre converged and its final ring scans or
+// their proportions failed); the region's index goes to Candidate::region
+// when one is added.
 bool InitialScan(const ImageView& image, const DetectorOptions& options, cv::Point seed, Seed kind,
                  RingScanBuffers* buffers, Candidate* candidate,
                  std::vector<RejectedRegion>* rejected, RejectReason* why);

@@ -51,9 +51,10 @@ struct DetectorRecord {
 struct FrameRecord {
   FrameTruth truth;
   std::array<DetectorRecord, kNumDetectors> detectors;
-  // Per-stage times and rejections, from an untimed pass with the stages
-  // timed (ChromaTagDetector::TimeStages): its total_time_us includes the
-  // clock's own cost, unlike detectors[kChromaTag].time_us.
+  // Per-stage times and rejections, from a separate pass outside Table 1's
+  // timing, with the stages timed (ChromaTagDetector::TimeStages): its
+  // total_time_us includes the clock's own cost, unlike
+  // detectors[kChromaTag].time_us.
   DetectorSummary chromatag_summary;
   // ChromaTag's time on the frame again, in a pass over each chunk with
   // ChromaTag alone (one call after another on successive frames, as on a

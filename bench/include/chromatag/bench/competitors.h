@@ -89,7 +89,7 @@ bool AssumedPoseCovariance(const FoundTag& tag, const cv::Matx33d& k, double tag
 
 // This project's detector (default DetectorOptions, the given families, as
 // `chromatag detect --family all` for both; or the options given). The last frame's summary
-// (per-stage times and rejections) is kept for Tables 2 and 4.
+// (rejections; no stage times) is kept; TimeStages gives Tables 2 and 4 theirs.
 class ChromaTagDetector : public TagDetector {
  public:
   static std::unique_ptr<ChromaTagDetector> Create(

@@ -140,8 +140,11 @@ struct DetectorOptions {
   // Largest number of bit errors corrected while decoding; -1 picks the
   // family's default: 2 (never above its safe radius), and for a read the
   // hard split refuses, a soft-decision read (the cells fitted to each code
-  // near them) up to the safe radius of a family of far codes (36h11: 5).
-  // A number set here caps both.
+  // near them) up to the safe radius of a family of far codes (36h11: 5),
+  // then a likelihood-ratio read (every code and swapped print near the
+  // observed bits fitted, the best taken only where all others fit far
+  // worse) up to 3 bits for 16h5 and 8 for 36h11. A number set here (at
+  // most the family's safe radius) caps all three.
   int max_hamming = -1;
 
   // Smallest accepted decision margin: the gap between the two b* clusters of
@@ -171,8 +174,8 @@ struct DetectorOptions {
   // Time each stage (DetectorSummary::stage_time_us). Each stage a candidate
   // goes through then reads the clock twice (about 20 ns each); on the
   // camera set that adds about 2 % to the median frame without tags, which
-  // seeds dozens of candidates. Off, the stage times stay zero and only the
-  // frame's total time is taken.
+  // seeds dozens of candidates. Off, the stage times stay zero; the frame's
+  // total (and the poses', DetectorSummary::pose_time_us) is always taken.
   bool time_stages = false;
 
   // Pose (spec section 7): when both are set, every detection carries the
