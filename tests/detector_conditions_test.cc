@@ -643,7 +643,7 @@ Scene SwappedStressFrame(int index, const std::string& family_name, bool reds_al
 // retries. 36h11 frame 1761: a swapped print read as ID 247 with five bits
 // corrected by the blur model's soft read, its own pattern further than
 // that from the observed bits, until swapped prints within twelve bits had
-// to fit worse (SwappedPrintFitsAsWell in decode.cc); of frames 0-2999 of
+// to fit worse (kFarSwappedRivalBits in decode.cc); of frames 0-2999 of
 // 36h11 (24,000 swapped tags), none decodes.
 TEST(DetectorConditionsTest, SwappedShadesUnderRandomCameraConditions) {
   auto detector = BothFamiliesDetector();

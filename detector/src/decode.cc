@@ -414,13 +414,16 @@ struct PatternSearch {
   bool best_is_code = false;
 };
 
+// Swapped prints are looked for within `swapped_bits` of the observed bits
+// (rival_bits if negative).
 template <typename Score>
 PatternSearch SearchPatterns(const FamilyDecoder& entry, Code observed, int rival_bits,
-                             const Score& score) {
+                             const Score& score, int swapped_bits = -1) {
   PatternSearch search;
+  if (swapped_bits < 0) swapped_bits = rival_bits;
   auto consider = [&](Code pattern, bool is_code, int id, int rotation) {
     const int bits = HammingDistance(pattern, observed);
-    if (bits > rival_bits) return;
+    if (bits > (is_code ? rival_bits : swapped_bits)) return;
     const double value = score(pattern);
     double& best_of_kind = is_code ? search.best_code_score : search.best_swapped_score;
     best_of_kind = std::min(best_of_kind, value);
@@ -469,26 +472,13 @@ bool SwappedPrintsFitFarWorse(const FamilyDecoder& entry, Code observed, Code co
 // lie within that reach of another code: a 36h11 tag printed with its
 // shades swapped, among detector_conditions_test's stress frames, read as
 // ID 247 with five bits corrected while its own pattern lay further than
-// five bits from the observed ones. Swapped prints within
-// kFarSwappedRivalBits of the observed bits must then fit worse than the
-// code by kMinSoftRivalRatio, as the code's rivals must. On the camera
-// set's 8,000 frames this refused 5 true 36h11 reads (13-45 px), the
-// likelihood-ratio read (MisfitRatioRead) took 2 of them back.
+// five bits from the observed ones. The blur model's read of a far family
+// therefore weighs the swapped prints within kFarSwappedRivalBits of the
+// observed bits as rivals: each must fit worse than the code by
+// kMinSoftRivalRatio, as the codes must. On the camera set's 8,000 frames
+// this refused 5 true 36h11 reads (13-45 px), the likelihood-ratio read
+// (MisfitRatioRead) took 2 of them back.
 constexpr int kFarSwappedRivalBits = 12;
-
-// Whether a swapped print within kFarSwappedRivalBits of the observed bits
-// fits the cells (FitBlurModel's rms) within kMinSoftRivalRatio of a far
-// family's best code (`best_rms`).
-bool SwappedPrintFitsAsWell(const FamilyDecoder& entry, Code observed, const PayloadGrid& grid,
-                            double best_rms) {
-  for (Code swapped : entry.swapped_codes) {
-    if (HammingDistance(swapped, observed) <= kFarSwappedRivalBits &&
-        FitBlurModel(*entry.family, swapped, grid).rms <
-            kMinSoftRivalRatio(/*close_codes=*/false) * best_rms)
-      return true;
-  }
-  return false;
-}
 
 // Fills *match on success; *swapped_fits_best tells whether a swapped print
 // fits the cells kMinSwappedOverCodeRatio times better than every code.
@@ -496,9 +486,10 @@ bool BlurModelRead(const FamilyDecoder& entry, Code observed, const PayloadGrid&
                    int read_bits, bool close_codes, CodeMatch* match, bool* swapped_fits_best) {
   const TagFamily& family = *entry.family;
   const int rival_bits = close_codes ? kSoftRivalBits : family.max_safe_radius();
-  const PatternSearch search = SearchPatterns(entry, observed, rival_bits, [&](Code pattern) {
-    return FitBlurModel(family, pattern, grid).rms;
-  });
+  const PatternSearch search = SearchPatterns(
+      entry, observed, rival_bits,
+      [&](Code pattern) { return FitBlurModel(family, pattern, grid).rms; },
+      close_codes ? rival_bits : kFarSwappedRivalBits);
   *swapped_fits_best =
       std::isfinite(search.best_swapped_score) &&
       kMinSwappedOverCodeRatio * search.best_swapped_score <= search.best_code_score;
@@ -511,7 +502,6 @@ bool BlurModelRead(const FamilyDecoder& entry, Code observed, const PayloadGrid&
   if (NearASwappedPrint(entry, search.best_pattern) &&
       !SwappedPrintsFitFarWorse(entry, observed, search.best_pattern, fit, grid))
     return false;
-  if (!close_codes && SwappedPrintFitsAsWell(entry, observed, grid, search.best)) return false;
   *match = search.best_match;
   return true;
 }
@@ -751,7 +741,7 @@ constexpr double kMinShadeNoise = 0.5;
 // At 30, with up to 8 bits read, the camera set finds 30 more 36h11 tags
 // (17 of them 30-46 px), none wrong, and the stress frames read no wrong
 // ID; reads of up to 6 and 7 bits found 15 and 22 more. With the soft
-// read's check of swapped prints (SwappedPrintFitsAsWell), which refuses 3
+// read weighing swapped prints further out (kFarSwappedRivalBits), which refuses 3
 // of the set's tags that neither read then takes, it finds 4,363 tags
 // against 4,336 without the two.
 constexpr int kMaxFarRatioReadBits = 8;
